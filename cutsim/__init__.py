@@ -1,0 +1,99 @@
+"""cutsim: CNC cutting-process simulator with exact material removal.
+
+Public API::
+
+    result = cutsim.simulate("part.nc", "setup.toml")
+    result.part          # manifold3d.Manifold, workpiece frame, mm
+    result.mesh()        # trimesh.Trimesh of the part
+    result.report        # the report.json dict
+
+Errors in the program or the setup raise :class:`CutsimError` (``FILE:LINE:COL: error: TEXT``).
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Callable
+
+from cutsim.interp import InterpConfig, interpret
+from cutsim.interp.canon import Program
+from cutsim.interp.errors import CutsimError
+from cutsim.setup import Setup, load_setup
+
+__version__ = "0.1.0"
+__all__ = ["CutsimError", "Result", "Setup", "load_setup", "read_program", "simulate", "__version__"]
+
+
+@dataclass
+class Result:
+    setup: Setup
+    program: Program
+    plan: object
+    stock: object  # manifold3d.Manifold before cutting
+    part: object  # manifold3d.Manifold after cutting
+    report: dict = field(default_factory=dict)
+
+    def mesh(self):
+        """The part as a trimesh.Trimesh (workpiece frame, mm)."""
+        import trimesh
+
+        from cutsim.reports.report import mesh_arrays
+
+        v, f = mesh_arrays(self.part)
+        return trimesh.Trimesh(vertices=v, faces=f, process=False)
+
+    @property
+    def warnings(self) -> list[dict]:
+        return self.report.get("warnings", [])
+
+
+def read_program(path: str) -> str:
+    try:
+        with open(path, "rb") as f:
+            raw = f.read()
+    except OSError as e:
+        raise CutsimError(path, 0, 0, f"cannot read the program: {e.strerror}") from None
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return raw.decode("cp1250", errors="replace")  # controllers of the region write Central European code pages
+
+
+def default_start(setup: Setup, stock) -> tuple[float, float, float]:
+    """A start position clear of the stock: 5 mm outside it radially and above it (lathe), or 10 mm
+    above the middle of its top (mill)."""
+    b = stock.bounding_box()
+    lo, hi = b[:3], b[3:]
+    if setup.machine.kind == "lathe":
+        r = max(abs(lo[0]), abs(hi[0]), abs(lo[1]), abs(hi[1])) + 5.0
+        return (2 * r if setup.machine.diameter_programming else r, 0.0, hi[2] + 5.0)
+    return ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 10.0)
+
+
+def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,
+             progress: Callable[[str, int, int], None] | None = None) -> Result:
+    """Simulate ``program`` (a file path; or a name with ``text``) on ``setup`` (a path or a Setup)."""
+    from cutsim.kinematics import plan as make_plan
+    from cutsim.reports import build_report
+    from cutsim.stock import build_stock, remove
+
+    if not isinstance(setup, Setup):
+        setup = load_setup(setup)
+    tol = tolerance if tolerance is not None else setup.tolerance
+    if text is None:
+        text = read_program(program)
+    stock = build_stock(setup.stock, tol, setup.path)
+    start = setup.machine.start if setup.machine.start is not None else default_start(setup, stock)
+    cfg = InterpConfig(dialect=setup.machine.dialect, machine_kind=setup.machine.kind,
+                       diameter_programming=setup.machine.diameter_programming, start=start,
+                       parameters=dict(setup.parameters), constants=dict(setup.constants))
+    prog = interpret(program, text, cfg)
+    pl = make_plan(prog, setup.machine, setup.tools, tol)
+    removal = remove(stock, setup.stock, pl.paths, tol, progress)
+    part = removal.part
+    warnings = sorted(prog.warnings + pl.warnings + removal.warnings, key=lambda w: (w[0].line, w[0].col))
+    report = build_report(program=os.path.basename(program), dialect=setup.machine.dialect, machine=setup.machine,
+                          blocks=prog.blocks, moves=len(prog.moves), stock_volume=stock.volume(),
+                          part_volume=part.volume(), cycle_time=pl.cycle_time, warnings=warnings,
+                          final_position=pl.final_position, tolerance=tol, triangles=part.num_tri())
+    return Result(setup, prog, pl, stock, part, report)

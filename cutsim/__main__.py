@@ -1,0 +1,3 @@
+from cutsim.cli import main
+
+main()

@@ -1,0 +1,283 @@
+"""The setup file (TOML): machine, parameters, stock, tools, simulation. See docs/setup.md.
+
+Every problem is a CutsimError naming the setup file, the line of the offending key, the table and
+the key.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+import tomllib
+from dataclasses import dataclass, field
+
+from cutsim.interp.errors import CutsimError
+from cutsim.kinematics.machine import MachineSpec
+from cutsim.stock.specs import StockSpec, ToolSpec
+
+KINDS = ("lathe", "mill")
+DIALECTS = ("cnc8x6", "isg", "sinumerik")
+# Diameter programming when the setup does not say: CNC8x6 lathes program diameters; ISG and
+# Sinumerik start in radius mode (G52 / DIAMOF) and switch in the program.
+DEFAULT_DIAMETER = {"cnc8x6": True, "isg": False, "sinumerik": False}
+TOOL_KEYS = {
+    "thread": {"angle", "tip_radius", "height", "thickness"},
+    "turning": {"angle", "tip_radius", "height", "thickness"},
+    "profile": {"points", "thickness"},
+    "endmill": {"diameter", "length", "corner_radius"},
+    "ballmill": {"diameter", "length"},
+}
+
+
+@dataclass
+class Setup:
+    path: str
+    machine: MachineSpec
+    stock: StockSpec
+    tools: list[ToolSpec]
+    parameters: dict[int, float] = field(default_factory=dict)
+    constants: dict[int, float] = field(default_factory=dict)
+    tolerance: float = 0.002
+    fail_on_warning: bool = False
+    checks: list[dict] = field(default_factory=list)
+
+
+class _Reader:
+    """Typed access to one TOML table that remembers which keys were read."""
+
+    def __init__(self, loader: "_Loader", table: dict, where: str, index: int | None = None):
+        self.loader, self.table, self.where, self.index = loader, table, where, index
+        self.used: set[str] = set()
+
+    def fail(self, key: str | None, message: str) -> CutsimError:
+        line, col = self.loader.locate(self.where, key, self.index)
+        head = f"[{self.where}]" if self.index is None else f"[[{self.where}]] #{self.index + 1}"
+        return CutsimError(self.loader.path, line, col, f"{head} {key + ': ' if key else ''}{message}")
+
+    def get(self, key: str, kind, default=..., check=None, why: str = ""):
+        self.used.add(key)
+        if key not in self.table:
+            if default is ...:
+                raise self.fail(key, "is required")
+            return default
+        v = self.table[key]
+        if kind is float:
+            ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            v = float(v) if ok else v
+        elif kind is int:
+            ok = isinstance(v, int) and not isinstance(v, bool)
+        else:
+            ok = isinstance(v, kind)
+        if not ok:
+            tname = {float: "a number", int: "a whole number", bool: "true or false", str: "a string",
+                     list: "a list", dict: "a table"}[kind]
+            raise self.fail(key, f"must be {tname}, not {v!r}")
+        if check is not None and not check(v):
+            raise self.fail(key, f"{why} (got {v!r})")
+        return v
+
+    def pair(self, key: str, default=..., increasing: bool = True):
+        v = self.get(key, list, default)
+        if v is default:
+            return v
+        if len(v) != 2 or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v):
+            raise self.fail(key, f"must be two numbers [low, high], not {v!r}")
+        if increasing and not v[0] < v[1]:
+            raise self.fail(key, f"must be [low, high] with low < high, not {v!r}")
+        return (float(v[0]), float(v[1]))
+
+    def points(self, key: str, minimum: int = 3):
+        v = self.get(key, list)
+        if len(v) < minimum or not all(isinstance(p, list) and len(p) == 2 and
+                                       all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in p) for p in v):
+            raise self.fail(key, f"must be a list of at least {minimum} [a, b] number pairs")
+        return tuple((float(p[0]), float(p[1])) for p in v)
+
+    def done(self) -> None:
+        for key in self.table:
+            if key not in self.used:
+                raise self.fail(key, "unknown key")
+
+
+class _Loader:
+    def __init__(self, path: str, text: str):
+        self.path = path
+        self.lines = text.splitlines()
+
+    def locate(self, table: str, key: str | None, index: int | None) -> tuple[int, int]:
+        """Line and column of ``key`` in ``[table]`` (or its ``index``-th ``[[table]]``); the
+        table header when the key is absent; 1:1 when the table is absent."""
+        cur, count, header = None, -1, None
+        hdr = re.compile(r"^\s*(\[\[?)\s*([^\]]+?)\s*\]\]?")
+        keyre = re.compile(r"^\s*(\"?)([A-Za-z0-9_\-]+)\1\s*=")
+        for n, line in enumerate(self.lines, start=1):
+            m = hdr.match(line)
+            if m:
+                cur = m.group(2)
+                if cur == table:
+                    count += 1
+                    if index is None or count == index:
+                        header = header or n
+                continue
+            if cur == table and (index is None or count == index):
+                k = keyre.match(line)
+                if k and k.group(2) == key:
+                    return n, line.index(key) + 1
+        return (header, 1) if header else (1, 1)
+
+    def load(self, data: dict) -> Setup:
+        for top in data:
+            if top not in ("machine", "parameters", "stock", "tool", "simulation", "check"):
+                line, col = self.locate(top, None, None)
+                raise CutsimError(self.path, line, col, f"unknown table [{top}]")
+        if "machine" not in data:
+            raise CutsimError(self.path, 1, 1, "the setup needs a [machine] table")
+        m = _Reader(self, data["machine"], "machine")
+        kind = m.get("kind", str, check=lambda v: v in KINDS, why=f"must be one of {', '.join(KINDS)}")
+        dialect = m.get("dialect", str, check=lambda v: v in DIALECTS, why=f"must be one of {', '.join(DIALECTS)}")
+        diam = m.get("diameter_programming", bool, DEFAULT_DIAMETER[dialect] if kind == "lathe" else False)
+        m03 = m.get("m03", str, "positive", check=lambda v: v in ("positive", "negative"), why="must be positive or negative")
+        start = m.get("start", list, None)
+        if start is not None:
+            if len(start) != 3 or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in start):
+                raise m.fail("start", "must be three numbers [x, y, z]")
+            start = tuple(float(c) for c in start)
+        rapid = m.get("rapid", float, 10000.0, check=lambda v: v > 0, why="must be positive (mm/min)")
+        feed = m.get("feed", float, 100.0, check=lambda v: v > 0, why="must be positive (mm/min)")
+        constants = {}
+        consts = m.get("constants", dict, {})
+        for k, v in consts.items():
+            if not re.fullmatch(r"\d+", k):
+                raise _Reader(self, consts, "machine.constants").fail(k, "constant names are numbers")
+            c = _Reader(self, consts, "machine.constants")
+            constants[int(k)] = c.get(k, float)
+        m.done()
+        machine = MachineSpec(kind, dialect, diam, m03, start, rapid, feed)
+
+        params = {}
+        if "parameters" in data:
+            p = _Reader(self, data["parameters"], "parameters")
+            for k in data["parameters"]:
+                if not re.fullmatch(r"R\d{1,3}", k):
+                    raise p.fail(k, "parameter names are R followed by a number (R04)")
+                params[int(k[1:])] = p.get(k, float)
+
+        if "stock" not in data:
+            raise CutsimError(self.path, 1, 1, "the setup needs a [stock] table")
+        stock = self.stock(_Reader(self, data["stock"], "stock"))
+
+        tools = []
+        raw_tools = data.get("tool", [])
+        if not isinstance(raw_tools, list):
+            raise CutsimError(self.path, *self.locate("tool", None, None), "tools are written [[tool]] (an array of tables)")
+        numbers = set()
+        for i, t in enumerate(raw_tools):
+            tool = self.tool(_Reader(self, t, "tool", i), i)
+            if tool.number in numbers:
+                raise _Reader(self, t, "tool", i).fail("number", f"tool {tool.number} is defined twice")
+            numbers.add(tool.number)
+            tools.append(tool)
+        if not tools:
+            raise CutsimError(self.path, 1, 1, "the setup needs at least one [[tool]]")
+        for t in tools:
+            if kind == "lathe" and not t.is_lathe_tool or kind == "mill" and t.is_lathe_tool:
+                i = tools.index(t)
+                raise _Reader(self, raw_tools[i], "tool", i).fail("kind", f"a {t.kind} tool does not fit a {kind}")
+
+        tol, fow = 0.002, False
+        if "simulation" in data:
+            s = _Reader(self, data["simulation"], "simulation")
+            tol = s.get("tolerance", float, 0.002, check=lambda v: 1e-5 <= v <= 1.0, why="must be between 0.00001 and 1 mm")
+            fow = s.get("fail_on_warning", bool, False)
+            s.done()
+        checks = data.get("check", [])
+        if checks:
+            raise CutsimError(self.path, *self.locate("check", None, 0), "[[check]] tables are not supported yet")
+        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, list(checks))
+
+    def stock(self, s: _Reader) -> StockSpec:
+        shape = s.get("shape", str, check=lambda v: v in ("cylinder", "revolve", "box", "mesh"),
+                      why="must be cylinder, revolve, box or mesh")
+        if shape == "cylinder":
+            d = s.get("diameter", float, check=lambda v: v > 0, why="must be positive")
+            spec = StockSpec(shape, diameter=d, z=s.pair("z"))
+        elif shape == "revolve":
+            prof = s.points("profile")
+            if any(r < 0 for r, _ in prof):
+                raise s.fail("profile", "radii must not be negative")
+            if _area(prof) == 0:
+                raise s.fail("profile", "the outline encloses no area")
+            spec = StockSpec(shape, profile=prof)
+        elif shape == "box":
+            spec = StockSpec(shape, x=s.pair("x"), y=s.pair("y"), z=s.pair("z"))
+        else:
+            rel = s.get("path", str)
+            path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(self.path)), rel))
+            if not os.path.isfile(path):
+                raise s.fail("path", f"no such file: {path}")
+            spec = StockSpec(shape, path=path)
+        s.done()
+        return spec
+
+    def tool(self, t: _Reader, i: int) -> ToolSpec:
+        number = t.get("number", int, i + 1, check=lambda v: v >= 0, why="must not be negative")
+        kind = t.get("kind", str, check=lambda v: v in TOOL_KEYS, why=f"must be one of {', '.join(TOOL_KEYS)}")
+        allowed = TOOL_KEYS[kind]
+        for k in t.table:
+            if k not in allowed | {"number", "kind"}:
+                raise t.fail(k, f"unknown key for a {kind} tool (known: {', '.join(sorted(allowed))})")
+        pos = dict(check=lambda v: v > 0, why="must be positive")
+        nonneg = dict(check=lambda v: v >= 0, why="must not be negative")
+        kw: dict = {}
+        if kind in ("thread", "turning"):
+            kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0,
+                                check=lambda v: 0 < v < 180, why="must be between 0 and 180 degrees")
+            kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4, **nonneg)
+            kw["height"] = t.get("height", float, 10.0, **pos)
+        if kind == "profile":
+            pts = t.points("points")
+            if _area(pts) == 0:
+                raise t.fail("points", "the polygon encloses no area")
+            kw["points"] = pts
+        if kind in ("thread", "turning", "profile"):
+            kw["thickness"] = t.get("thickness", float, 5.0, **pos)
+        if kind in ("endmill", "ballmill"):
+            kw["diameter"] = t.get("diameter", float, **pos)
+            kw["length"] = t.get("length", float, 4.0 * kw["diameter"], **pos)
+            if kind == "endmill":
+                kw["corner_radius"] = t.get("corner_radius", float, 0.0, check=lambda v: 0 <= v <= kw["diameter"] / 2,
+                                            why="must be between 0 and half the diameter")
+            else:
+                kw["corner_radius"] = kw["diameter"] / 2
+        if kind in ("thread", "turning") and kw["tip_radius"] > 0:
+            half = math.radians(kw["angle"]) / 2
+            # the nose arc must fit inside the V up to its height
+            if kw["tip_radius"] * (1 / math.sin(half) - 1) >= kw["height"]:
+                raise t.fail("tip_radius", "is too large for the tool's height")
+        t.done()
+        return ToolSpec(number, kind, **kw)
+
+
+def _area(pts) -> float:
+    return 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
+
+
+def load_setup(path: str) -> Setup:
+    """Read and validate a setup file. Raises CutsimError (exit status 2 in the CLI)."""
+    try:
+        with open(path, "rb") as f:
+            raw = f.read()
+    except OSError as e:
+        raise CutsimError(path, 0, 0, f"cannot read the setup: {e.strerror}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise CutsimError(path, 0, 0, f"the setup is not UTF-8 text (byte {e.start})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        line = getattr(e, "lineno", 0) or 0
+        col = getattr(e, "colno", 0) or 0
+        msg = getattr(e, "msg", str(e))
+        raise CutsimError(path, line, col, f"not valid TOML: {msg}") from None
+    return _Loader(path, text).load(data)

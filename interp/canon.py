@@ -1,0 +1,172 @@
+"""Canonical machine operations: what the interpreter emits and the kinematics consumes.
+
+Every record carries ``src``, the place in the program text that caused it. Positions are absolute
+program values of the axes X, Y, Z (``diameter`` says whether X is a diameter); the kinematics turns
+them into tool poses.  Nothing here knows about text or meshes.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Src:
+    """Where a record comes from: program name, 1-based line and column, the block label if any.
+
+    ``calls`` lists the call sites (program, line) that led here for subprogram bodies.
+    """
+
+    program: str
+    line: int
+    col: int = 1
+    label: str = ""
+    calls: tuple[tuple[str, int], ...] = ()
+
+
+@dataclass(frozen=True)
+class Ramp:
+    """A lead-in or runout: over ``length`` mm of travel along the thread's lead axis the tool
+    also moves along ``axis`` by ``length*tan(angle)`` in ``direction`` (+1 or -1)."""
+
+    length: float
+    angle: float  # degrees, 0..60
+    axis: str  # "X", "Y" or "Z"
+    direction: int
+
+    @property
+    def displacement(self) -> float:
+        """Signed physical displacement along ``axis`` over the whole ramp (mm)."""
+        return self.direction * self.length * math.tan(math.radians(self.angle))
+
+
+@dataclass(frozen=True)
+class Motion:
+    src: Src
+    start: Vec3
+    end: Vec3
+    diameter: bool  # X values are diameters
+
+
+@dataclass(frozen=True)
+class Rapid(Motion):
+    pass
+
+
+@dataclass(frozen=True)
+class Feed(Motion):
+    feed: float  # mm/min, or mm/rev when per_rev
+    per_rev: bool
+
+
+@dataclass(frozen=True)
+class Arc(Motion):
+    """Circular (or helical) move in ``plane`` about ``center`` (absolute program values).
+
+    ``clockwise`` is seen from the positive end of the plane normal (G17: +Z, G18: +Y, G19: +X).
+    ``full_turn`` means start and end coincide in the plane and the arc is a whole circle; the
+    linear axis moves from start to end in proportion to the angle (a helix).
+    """
+
+    center: Vec3
+    plane: str  # "XY" (G17), "ZX" (G18), "YZ" (G19)
+    clockwise: bool
+    full_turn: bool
+    feed: float
+    per_rev: bool
+
+
+@dataclass(frozen=True)
+class SyncedFeed(Motion):
+    """Spindle-synchronised move (G33): waits for the spindle angle ``start_angle`` (degrees past the
+    zero pulse in the direction of rotation), then advances ``lead`` mm per revolution along
+    ``lead_axis`` (None: the axis with the larger travel)."""
+
+    lead: float
+    lead_axis: str | None
+    start_angle: float
+    leadin: Ramp | None = None
+    runout: Ramp | None = None
+
+
+@dataclass(frozen=True)
+class Spindle:
+    src: Src
+    direction: int  # +1 M03, -1 M04, 0 M05
+    speed: float  # rpm, as programmed by S
+
+
+@dataclass(frozen=True)
+class ToolChange:
+    src: Src
+    tool: int
+    offset: int | None = None
+
+
+@dataclass(frozen=True)
+class ProgramEnd:
+    src: Src
+
+
+Record = Rapid | Feed | Arc | SyncedFeed | Spindle | ToolChange | ProgramEnd
+MOTIONS = (Rapid, Feed, Arc, SyncedFeed)
+
+
+@dataclass
+class Program:
+    """The interpreter's result: the canonical records in execution order and the block count."""
+
+    name: str
+    dialect: str
+    records: list = field(default_factory=list)
+    blocks: int = 0
+    warnings: list = field(default_factory=list)  # (Src, message)
+    final_position: tuple[float, float, float] | None = None  # program values after the last block
+
+    @property
+    def moves(self) -> list:
+        return [r for r in self.records if isinstance(r, MOTIONS)]
+
+
+def _fmt(v: float) -> str:
+    s = f"{v:.6f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+def _vec(v: Vec3) -> str:
+    return "(" + " ".join(_fmt(c) for c in v) + ")"
+
+
+def describe(rec) -> str:
+    """One stable text line for a record: the golden-transcript format."""
+    where = f"{rec.src.line:>4}"
+    if isinstance(rec, Rapid):
+        body = f"RAPID {_vec(rec.start)} -> {_vec(rec.end)}"
+    elif isinstance(rec, Feed):
+        body = f"FEED {_vec(rec.start)} -> {_vec(rec.end)} F{_fmt(rec.feed)}{'/rev' if rec.per_rev else '/min'}"
+    elif isinstance(rec, Arc):
+        body = (f"ARC {'CW' if rec.clockwise else 'CCW'} {rec.plane} {_vec(rec.start)} -> {_vec(rec.end)} "
+                f"C{_vec(rec.center)}{' FULL' if rec.full_turn else ''} F{_fmt(rec.feed)}{'/rev' if rec.per_rev else '/min'}")
+    elif isinstance(rec, SyncedFeed):
+        body = (f"SYNC {_vec(rec.start)} -> {_vec(rec.end)} LEAD {_fmt(rec.lead)}"
+                f"{'' if rec.lead_axis is None else ' ON ' + rec.lead_axis} START {_fmt(rec.start_angle)}")
+        for name, r in (("LEADIN", rec.leadin), ("RUNOUT", rec.runout)):
+            if r is not None:
+                body += f" {name} {_fmt(r.length)}@{_fmt(r.angle)}{'+' if r.direction > 0 else '-'}{r.axis}"
+    elif isinstance(rec, Spindle):
+        body = f"SPINDLE {({1: 'M03', -1: 'M04', 0: 'M05'})[rec.direction]} S{_fmt(rec.speed)}"
+    elif isinstance(rec, ToolChange):
+        body = f"TOOL T{rec.tool}" + ("" if rec.offset is None else f" D{rec.offset}")
+    elif isinstance(rec, ProgramEnd):
+        body = "END"
+    else:  # pragma: no cover - every record type is listed above
+        raise TypeError(rec)
+    if isinstance(rec, (Rapid, Feed, Arc, SyncedFeed)) and rec.diameter:
+        body += " DIAM"
+    return f"{where} {body}"
+
+
+def transcript(program: Program) -> str:
+    return "".join(describe(r) + "\n" for r in program.records)

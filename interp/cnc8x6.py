@@ -1,0 +1,469 @@
+"""MEFI CNC8x6 dialect (lathes and mills): seeds 000/001 (G33 threads) and 002 (helix, jumps).
+
+See docs/dialects.md for what the simulator assumes where the manuals are silent.
+"""
+from __future__ import annotations
+
+import math
+
+from . import canon
+from .canon import Ramp, Src
+from .errors import CutsimError
+from .lexer import Block, Word, parse_number, split_lines
+from .modal import AXES, PLANE_AXES, PLANES, InterpConfig, ModalMachine
+
+# The double quote opens a comment; OCR'd manuals show it as one of these.
+COMMENT_CHARS = '"\u201c\u201d\u201e\u00cd\u0148'
+LETTERS = set("GMSTDFXYZIJKERLQ")
+KNOWN_G = {0, 1, 2, 3, 9, 10, 17, 18, 19, 33, 73, 90, 91, 94, 95, 98}
+# M words: spindle, program end, stops, coolant and gear ranges (the last ones have no geometric effect).
+KNOWN_M = {0, 1, 2, 3, 4, 5, 8, 9, 30, 41, 42, 43, 44}
+MAX_DIRECT_LEAD = 99.99
+RESERVED_PARAMS = (0, 80)
+
+
+def scan(name: str, lineno: int, text: str) -> Block | None:
+    """One CNC8x6 line -> Block (None for a blank line)."""
+    block = Block(line=lineno, col=1, text=text)
+    i, n = 0, len(text)
+    seen: dict[str, int] = {}
+    while i < n:
+        c = text[i]
+        if c in " \t\f\v":
+            i += 1
+            continue
+        if c in COMMENT_CHARS:
+            block.comment = text[i + 1:]
+            break
+        col = i + 1
+        if c == "&":
+            if not (i + 1 < n and text[i + 1].isdigit()):
+                raise CutsimError(name, lineno, col, "'&' must be followed by a number")
+            j = i + 1
+            while j < n and text[j].isdigit():
+                j += 1
+            block.words.append(Word("&", float(text[i + 1:j]), text[i + 1:j], col))
+            i = j
+            continue
+        if not c.isalpha() or not c.isascii():
+            raise CutsimError(name, lineno, col, f"unexpected character '{c}'")
+        letter = c.upper()
+        i += 1
+        if letter == "N":
+            j = i
+            while j < n and text[j].isdigit():
+                j += 1
+            if j == i:
+                raise CutsimError(name, lineno, col, "N must be followed by a block number")
+            if block.label or block.words or block.assigns:
+                raise CutsimError(name, lineno, col, "the block number N must open the block")
+            block.label = "N" + text[i:j]
+            i = j
+            continue
+        if letter == "R":  # parameter assignment R<nn>=<value>
+            j = i
+            while j < n and text[j].isdigit():
+                j += 1
+            k = j
+            while k < n and text[k] in " \t":
+                k += 1
+            if j == i or k >= n or text[k] != "=":
+                raise CutsimError(name, lineno, col, "R must be written R<number>=<value> (a parameter assignment)")
+            num = int(text[i:j])
+            k += 1
+            while k < n and text[k] in " \t":
+                k += 1
+            value, _raw, i = parse_number(name, lineno, text, k, f"R{text[i:j]}=")
+            block.assigns.append((num, value, col))
+            continue
+        if letter not in LETTERS:
+            raise CutsimError(name, lineno, col, f"address '{letter}' is not used by the CNC8x6 dialect")
+        if letter in seen and letter not in "GM":
+            raise CutsimError(name, lineno, col, f"address {letter} appears twice in one block")
+        seen[letter] = col
+        if i < n and text[i] in "rR" and i + 1 < n and text[i + 1].isdigit():  # FR10: value from a parameter
+            j = i + 1
+            while j < n and text[j].isdigit():
+                j += 1
+            block.words.append(Word(letter, None, text[i:j], col, param=int(text[i + 1:j])))
+            i = j
+            continue
+        value, raw, i = parse_number(name, lineno, text, i, letter)
+        block.words.append(Word(letter, value, raw, col))
+    if not block.label and not block.words and not block.assigns and not block.comment.strip():
+        return None if not text.strip() else block
+    return block
+
+
+def parse(name: str, text: str) -> list[Block]:
+    blocks = []
+    for lineno, line in enumerate(split_lines(text), start=1):
+        b = scan(name, lineno, line)
+        if b is not None:
+            blocks.append(b)
+    return blocks
+
+
+def decode_angle_code(value: float) -> tuple[int, int, float]:
+    """An angle code (machine constant 8 in angle mode, or an R parameter) -> (sign, axis, degrees).
+
+    The code has eight decades: 8-7 zero, 6 the axis number, 5..1 the angle in thousandths of a
+    degree. A parameter holds it as a decimal whose integer part is decades 8..4 and whose three
+    decimals are decades 3..1 (``R04=-00120.000``: minus, axis 1, 20.000 degrees).
+    """
+    sign = -1 if value < 0 else 1
+    digits = f"{round(abs(value) * 1000):08d}"
+    if len(digits) > 8:
+        raise ValueError("more than eight decades")
+    return sign, int(digits[2]), int(digits[3:]) / 1000.0
+
+
+class Cnc8x6(ModalMachine):
+    def __init__(self, name: str, cfg: InterpConfig):
+        super().__init__(name, cfg)
+        self.params: dict[int, float] = dict(cfg.parameters)
+        self.motion = 0
+        self.lead: float | None = None
+        self.helix_on = False
+        self.helix_pitch: float | None = None
+        self.after_ramp: tuple[Src, int] | None = None  # (G33 src, 1 = expect empty, 2 = expect all axes)
+
+    # -- main loop -------------------------------------------------------------------------------
+    def run(self, text: str) -> canon.Program:
+        blocks = parse(self.name, text)
+        labels: dict[int, int] = {}
+        for idx, b in enumerate(blocks):
+            if b.label:
+                labels.setdefault(int(b.label[1:]), idx)
+        loops: dict[int, int] = {}  # G73 block index -> repeats still to do
+        pc = 0
+        executed = 0
+        while pc < len(blocks):
+            b = blocks[pc]
+            executed += 1
+            if executed > self.cfg.max_blocks:
+                raise self.error(b.line, b.col, f"the program does not end: more than {self.cfg.max_blocks} blocks executed (jump loop)")
+            jump, ended = self.block(b, labels, pc)
+            if ended:
+                break
+            if jump is not None:
+                target, rep, word = jump
+                if pc not in loops:
+                    loops[pc] = rep
+                if loops[pc] > 0:
+                    loops[pc] -= 1
+                    pc = target
+                    continue
+                del loops[pc]
+            pc += 1
+        else:
+            if self.after_ramp is not None and self.after_ramp[1] == 1:
+                src = self.after_ramp[0]
+                raise self.error(src.line, src.col, "a thread with runout or lead-in must be followed by an empty block")
+        self.program.blocks = executed
+        self.program.final_position = tuple(self.pos)
+        return self.program
+
+    # -- one block -------------------------------------------------------------------------------
+    def block(self, b: Block, labels: dict[int, int], pc: int):
+        src = Src(self.name, b.line, 1, b.label)
+        ramp_rule = self.after_ramp
+        if ramp_rule is not None:
+            g33src, stage = ramp_rule
+            if stage == 1:
+                if not b.empty:
+                    raise self.error(b.line, 1, f"line {g33src.line} cuts a thread with runout or lead-in: "
+                                     "the next block must be empty")
+                self.after_ramp = (g33src, 2)
+                return None, False
+            missing = [a for a in self.machine_axes() if not b.find(a)]
+            if missing:
+                raise self.error(b.line, 1, f"after the empty block that follows the thread at line {g33src.line}, "
+                                 f"this block must program every axis (missing {', '.join(missing)})")
+            self.after_ramp = None
+
+        for num, value, col in b.assigns:
+            if num in RESERVED_PARAMS:
+                raise self.error(b.line, col, f"R{num:02d} is reserved and cannot be assigned")
+            self.params[num] = value
+        words: dict[str, Word] = {}
+        gs: list[Word] = []
+        ms: list[Word] = []
+        for w in b.words:
+            if w.param is not None:
+                if w.letter in "GM":
+                    raise self.error(b.line, w.col, f"{w.letter} cannot take its value from a parameter")
+                if w.param in RESERVED_PARAMS:
+                    raise self.error(b.line, w.col, f"R{w.param:02d} is reserved")
+                if w.param not in self.params:
+                    raise self.error(b.line, w.col, f"parameter R{w.param:02d} is used before it is set")
+                w = Word(w.letter, self.params[w.param], w.raw, w.col, w.param)
+            if w.letter == "G":
+                gs.append(w)
+            elif w.letter == "M":
+                ms.append(w)
+            else:
+                words[w.letter] = w
+
+        # G words by modal group
+        motion = None
+        jump = None
+        g10 = g98 = g09 = False
+        groups: dict[str, Word] = {}
+        for g in gs:
+            code = g.value
+            if code != int(code) or int(code) not in KNOWN_G:
+                raise self.error(b.line, g.col, f"unknown G code G{g.raw}")
+            code = int(code)
+            group = ("motion" if code in (0, 1, 2, 3, 33) else "dist" if code in (90, 91)
+                     else "feed" if code in (94, 95) else "plane" if code in PLANES else str(code))
+            if group in groups:
+                raise self.error(b.line, g.col, f"G{g.raw} conflicts with G{groups[group].raw} in the same block")
+            groups[group] = g
+            if group == "motion":
+                motion = code
+            elif code == 90:
+                self.absolute = True
+            elif code == 91:
+                self.absolute = False
+            elif code == 94:
+                self.per_rev = False
+            elif code == 95:
+                self.per_rev = True
+            elif code in PLANES:
+                self.plane = PLANES[code]
+            elif code == 9:
+                g09 = True
+            elif code == 10:
+                g10 = True
+            elif code == 98:
+                g98 = True
+            elif code == 73:
+                jump = g
+        if g98:
+            if len(b.words) != 1 or b.assigns:
+                raise self.error(b.line, groups["98"].col, "G98 (helix off) must stand alone in its block")
+            self.helix_on = False
+            return None, False
+
+        # spindle, tool and the other non-motion words take effect before the motion
+        direction = None
+        ended = False
+        for m in ms:
+            code = m.value
+            if code != int(code) or int(code) not in KNOWN_M:
+                raise self.error(b.line, m.col, f"unknown M code M{m.raw}")
+            code = int(code)
+            if code in (3, 4, 5):
+                if direction is not None:
+                    raise self.error(b.line, m.col, "two spindle M codes in one block")
+                direction = {3: 1, 4: -1, 5: 0}[code]
+            elif code in (2, 30):
+                ended = True
+        speed = words.pop("S").value if "S" in words else None
+        if speed is not None and speed < 0:
+            raise self.error(b.line, 1, "spindle speed S must not be negative")
+        if direction is not None or speed is not None:
+            self.spindle(src, direction, speed)
+        if "T" in words:
+            t = words.pop("T")
+            d = words.pop("D", None)
+            self.tool(src, int(t.value), None if d is None else int(d.value))
+        elif "D" in words:
+            words.pop("D")  # offset selection without a tool change: no geometric effect
+        words.pop("&", None)  # recorded, no effect (docs/dialects.md)
+
+        if jump is not None:
+            jump = self.parse_jump(b, words, labels, pc, jump)
+
+        if g10:  # trailing-axis pitch for the helix: not a motion
+            axes = [a for a in AXES if a in words]
+            if len(axes) != 1:
+                raise self.error(b.line, groups["10"].col, "G10 takes exactly one axis word: the helix pitch")
+            self.helix_pitch = words.pop(axes[0]).value
+            self.helix_axis = axes[0]
+            if motion is not None or any(a in words for a in AXES):
+                raise self.error(b.line, groups["10"].col, "G10 sets the helix pitch and cannot move the tool")
+        if g09:
+            if self.helix_pitch is None:
+                raise self.error(b.line, groups["9"].col, "G09 switches the helix on, but no pitch was set with G10")
+            self.helix_on = True
+
+        if motion is not None:
+            self.motion = motion
+        if "F" in words and self.motion != 33:
+            f = words.pop("F")
+            if f.value <= 0:
+                raise self.error(b.line, f.col, "feed F must be positive")
+            self.feed = f.value
+
+        axis_words = {AXES.index(a): words[a] for a in AXES if a in words}
+        if self.motion == 33 and (motion == 33 or axis_words):
+            self.thread(b, src, words, axis_words)
+        elif axis_words or motion in (2, 3):
+            values = {i: w.value for i, w in axis_words.items()}
+            if self.motion in (0, 1):
+                for a in "IJKEQL":
+                    if a in words:
+                        raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G0{self.motion} block")
+                end = self.target(values)
+                (self.rapid if self.motion == 0 else self.linear)(src, end)
+            else:
+                self.circle(b, src, words, values)
+        else:
+            for a in "IJKE":
+                if a in words:
+                    raise self.error(b.line, words[a].col, f"address {a} without a motion")
+        if ended:
+            self.end(src)
+        return jump, ended
+
+    def machine_axes(self) -> tuple[str, ...]:
+        return ("X", "Z") if self.cfg.machine_kind == "lathe" else ("X", "Y", "Z")
+
+    # -- G73 jump --------------------------------------------------------------------------------
+    def parse_jump(self, b: Block, words: dict[str, Word], labels: dict[int, int], pc: int, g: Word):
+        lw, qw = words.pop("L", None), words.pop("Q", None)
+        if lw is None:
+            raise self.error(b.line, g.col, "G73 needs L<block number> to jump to")
+        if qw is None:
+            raise self.error(b.line, g.col, "G73 needs Q<repeats>: without it the jump never ends")
+        if lw.value != int(lw.value) or int(lw.value) not in labels:
+            raise self.error(b.line, lw.col, f"G73 jumps to block N{lw.raw}, which does not exist")
+        if qw.value != int(qw.value) or qw.value < 0:
+            raise self.error(b.line, qw.col, "Q must be a whole number of repeats, 0 or more")
+        target = labels[int(lw.value)]
+        if target > pc:
+            raise self.error(b.line, lw.col, f"G73 jumps back; N{lw.raw} comes after this block")
+        return target, int(qw.value), g
+
+    # -- circles and helices ---------------------------------------------------------------------
+    def circle(self, b: Block, src: Src, words: dict[str, Word], values: dict[int, float]) -> None:
+        a, c, normal = PLANE_AXES[self.plane]
+        centre = list(self.pos)
+        offsets = {0: "I", 1: "J", 2: "K"}
+        for i in (a, c):
+            w = words.get(offsets[i])
+            if w is not None:
+                # I/J/K are incremental from the start point; I is a radius even in diameter mode
+                centre[i] = self.pos[i] + w.value * (2.0 if (i == 0 and self.diameter) else 1.0)
+        if not any(offsets[i] in words for i in (a, c)):
+            raise self.error(b.line, 1, f"circle needs its centre ({offsets[a]}/{offsets[c]})")
+        if offsets[normal] in words:
+            raise self.error(b.line, words[offsets[normal]].col,
+                             f"{offsets[normal]} is not in the plane {self.plane} of the circle")
+        end = list(self.target(values))
+        if self.helix_on:
+            ax = AXES.index(self.helix_axis)
+            if ax in values:
+                raise self.error(b.line, words[self.helix_axis].col,
+                                 f"with the helix on, {self.helix_axis} follows the pitch set by G10 and cannot be programmed")
+            sweep = _sweep_degrees(self.pos, end, centre, (a, c), self.motion == 2, self.diameter)
+            end[ax] = self.pos[ax] + self.helix_pitch * sweep / 360.0
+        self.arc(src, (end[0], end[1], end[2]), (centre[0], centre[1], centre[2]), self.motion == 2)
+
+    # -- G33 -------------------------------------------------------------------------------------
+    def thread(self, b: Block, src: Src, words: dict[str, Word], axis_words: dict[int, Word]) -> None:
+        if "F" in words:
+            f = words.pop("F")
+            if f.param is None and f.value > MAX_DIRECT_LEAD:
+                raise self.error(b.line, f.col, f"lead F{f.raw} exceeds {MAX_DIRECT_LEAD} mm/rev; "
+                                 "program a larger lead through a parameter (FR10)")
+            if f.value <= 0:
+                raise self.error(b.line, f.col, "the lead F of G33 must be greater than zero")
+            self.lead = f.value
+        if self.lead is None:
+            raise self.error(b.line, 1, "G33 without a lead: program F (mm/rev)")
+        if not axis_words:
+            raise self.error(b.line, 1, "G33 needs an end point")
+        angle = 0.0
+        if "I" in words:
+            iw = words.pop("I")
+            if not 0.0 <= iw.value <= 360.0:
+                raise self.error(b.line, iw.col, f"start angle I{iw.raw} is outside 0..360 degrees")
+            angle = iw.value
+        end = self.target({i: w.value for i, w in axis_words.items()})
+        runout = leadin = None
+        if "J" in words:
+            jw = words.pop("J")
+            if jw.value < 0:
+                raise self.error(b.line, jw.col, "runout length J is always positive")
+            if jw.value > 0:
+                runout = self.ramp(b, jw, "runout", jw.value)
+        if "E" in words:
+            ew = words.pop("E")
+            if ew.param is None and "." not in ew.raw:
+                raise self.error(b.line, ew.col, f"lead-in E{ew.raw} must be written with a decimal point "
+                                 f"(E{ew.raw}. or E{ew.raw}.0)")
+            if ew.value < 0:
+                raise self.error(b.line, ew.col, "lead-in length E must be positive")
+            if ew.value > 0:
+                leadin = self.ramp(b, ew, "lead-in", ew.value)
+        for a in "KLQ":
+            if a in words:
+                raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G33 block")
+        if leadin or runout:
+            travel = self.thread_travel(end)
+            total = (leadin.length if leadin else 0.0) + (runout.length if runout else 0.0)
+            if total > travel + 1e-9:
+                raise self.error(b.line, 1, f"lead-in and runout ({total:g} mm) are longer than the thread ({travel:g} mm)")
+            self.after_ramp = (src, 1)
+        self.synced(src, end, self.lead, None, angle, leadin, runout)
+
+    def thread_travel(self, end) -> float:
+        dx = abs(end[0] - self.pos[0]) / (2.0 if self.diameter else 1.0)
+        return max(dx, abs(end[1] - self.pos[1]), abs(end[2] - self.pos[2]))
+
+    def ramp(self, b: Block, w: Word, what: str, length: float) -> Ramp:
+        """Angle and axis of a runout or lead-in from machine constant 8 or the parameter it names."""
+        const = self.cfg.constants.get(8)
+        if const is None:
+            raise self.error(b.line, w.col, f"{what} needs its angle: set machine constant 8 ([machine.constants] 8 = ...)")
+        code = f"{abs(int(const)):08d}"
+        if len(code) > 8:
+            raise self.error(b.line, w.col, f"machine constant 8 = {const} has more than eight decades")
+        if code[:2] == "00":  # angle mode: one angle and axis for runout and lead-in
+            sign = -1 if const < 0 else 1
+            axis, angle = int(code[2]), int(code[3:]) / 1000.0
+            origin = f"machine constant 8 = {int(const)}"
+        else:
+            pnum = int(code[:2]) if what == "runout" else int(code[2:4])
+            if pnum == 0:
+                raise self.error(b.line, w.col, f"machine constant 8 = {int(const)} names no {what} parameter")
+            if pnum in RESERVED_PARAMS:
+                raise self.error(b.line, w.col, f"machine constant 8 names the reserved parameter R{pnum:02d}")
+            if pnum not in self.params:
+                raise self.error(b.line, w.col, f"the {what} angle parameter R{pnum:02d} (machine constant 8) is not set")
+            try:
+                sign, axis, angle = decode_angle_code(self.params[pnum])
+            except ValueError:
+                raise self.error(b.line, w.col, f"R{pnum:02d} = {self.params[pnum]} is not an angle code") from None
+            origin = f"R{pnum:02d} = {self.params[pnum]:g}"
+        if axis not in (1, 2, 3):
+            raise self.error(b.line, w.col, f"{what} axis {axis} from {origin} is not 1 (X), 2 (Y) or 3 (Z)")
+        if not 0.0 <= angle <= 60.0:
+            raise self.error(b.line, w.col, f"{what} angle {angle:.3f} degrees from {origin} is outside 0..60")
+        # + means the runout moves towards + on its axis; the lead-in comes from that side
+        direction = sign if what == "runout" else -sign
+        return Ramp(length, angle, AXES[axis - 1], direction)
+
+
+def _sweep_degrees(start, end, centre, plane_idx, clockwise: bool, diameter: bool) -> float:
+    a, c = plane_idx
+
+    def phys(p, i):
+        return p[i] / 2.0 if (i == 0 and diameter) else p[i]
+
+    a0 = math.atan2(phys(start, c) - phys(centre, c), phys(start, a) - phys(centre, a))
+    a1 = math.atan2(phys(end, c) - phys(centre, c), phys(end, a) - phys(centre, a))
+    d = math.degrees(a1 - a0)
+    if clockwise:
+        d = -d
+    d %= 360.0
+    if d < 1e-9:
+        d = 360.0
+    return d
+
+
+def interpret(name: str, text: str, cfg: InterpConfig) -> canon.Program:
+    return Cnc8x6(name, cfg).run(text)

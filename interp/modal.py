@@ -1,0 +1,137 @@
+"""The modal machine every dialect drives: position, modal groups, and emission of canonical records.
+
+A dialect scans its own syntax and calls these methods; the rules that are the same on every
+controller (absolute/incremental targets, arcs by centre, diameter values) live here once.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from . import canon
+from .canon import Src, Vec3
+from .errors import CutsimError
+
+AXES = ("X", "Y", "Z")
+PLANES = {17: "XY", 18: "ZX", 19: "YZ"}
+# Plane -> (first axis, second axis, normal axis) as indices into (X, Y, Z).
+PLANE_AXES = {"XY": (0, 1, 2), "ZX": (2, 0, 1), "YZ": (1, 2, 0)}
+
+
+@dataclass
+class InterpConfig:
+    """What the interpreter needs from the setup: nothing geometric beyond the start position."""
+
+    dialect: str
+    machine_kind: str = "lathe"  # "lathe" | "mill"
+    diameter_programming: bool = False
+    start: Vec3 = (0.0, 0.0, 0.0)  # program values
+    parameters: dict[int, float] = field(default_factory=dict)
+    constants: dict[int, float] = field(default_factory=dict)
+    max_blocks: int = 5_000_000  # executed blocks before a program is declared endless
+
+
+class ModalMachine:
+    def __init__(self, name: str, cfg: InterpConfig):
+        self.name = name
+        self.cfg = cfg
+        self.pos: list[float] = list(cfg.start)
+        self.diameter = cfg.diameter_programming if cfg.machine_kind == "lathe" else False
+        self.absolute = True
+        self.per_rev = False
+        self.feed: float | None = None
+        self.spindle_dir = 0
+        self.speed = 0.0
+        self.plane = "ZX" if cfg.machine_kind == "lathe" else "XY"
+        self.program = canon.Program(name=name, dialect=cfg.dialect)
+        self._warned_feed = False
+
+    # -- helpers ---------------------------------------------------------------------------------
+    def error(self, line: int, col: int, message: str) -> CutsimError:
+        return CutsimError(self.name, line, col, message)
+
+    def emit(self, rec) -> None:
+        self.program.records.append(rec)
+
+    def warn(self, src: Src, message: str) -> None:
+        self.program.warnings.append((src, message))
+
+    def set_diameter(self, on: bool) -> None:
+        """Switch X between diameter and radius values; the tool does not move."""
+        if on != self.diameter:
+            self.pos[0] = self.pos[0] * 2.0 if on else self.pos[0] / 2.0
+            self.diameter = on
+
+    def target(self, values: dict[int, float], absolute: dict[int, bool] | None = None) -> Vec3:
+        """End point from axis values (index -> value), honouring G90/G91 or a per-axis override."""
+        end = list(self.pos)
+        for i, v in values.items():
+            ab = self.absolute if absolute is None or i not in absolute else absolute[i]
+            end[i] = v if ab else self.pos[i] + v
+        return (end[0], end[1], end[2])
+
+    # -- motions ---------------------------------------------------------------------------------
+    def rapid(self, src: Src, end: Vec3) -> None:
+        self.emit(canon.Rapid(src, tuple(self.pos), end, self.diameter))
+        self.pos = list(end)
+
+    def need_feed(self, src: Src) -> float:
+        """The modal feed; 0.0 (with one warning) when none was programmed: the feed only changes
+        the cycle time, so a fragment without F still simulates."""
+        if self.feed is None:
+            if not self._warned_feed:
+                self.warn(src, "feed motion with no feed rate programmed (F); the cycle time assumes the machine's default feed")
+                self._warned_feed = True
+            return 0.0
+        return self.feed
+
+    def linear(self, src: Src, end: Vec3) -> None:
+        feed = self.need_feed(src)
+        self.emit(canon.Feed(src, tuple(self.pos), end, self.diameter, feed, self.per_rev))
+        self.pos = list(end)
+
+    def arc(self, src: Src, end: Vec3, center: Vec3, clockwise: bool) -> None:
+        """Arc about an absolute centre in the current plane; start = end in the plane is a full
+        circle. The end must lie on the circle through the start."""
+        feed = self.need_feed(src)
+        a, b, _ = PLANE_AXES[self.plane]
+        start = tuple(self.pos)
+
+        def rad(p, i):  # physical coordinate (X as radius in diameter mode)
+            return p[i] / 2.0 if (i == 0 and self.diameter) else p[i]
+
+        r0 = math.hypot(rad(start, a) - rad(center, a), rad(start, b) - rad(center, b))
+        r1 = math.hypot(rad(end, a) - rad(center, a), rad(end, b) - rad(center, b))
+        if r0 < 1e-9:
+            raise self.error(src.line, src.col, "arc centre coincides with its start point")
+        if abs(r1 - r0) > max(0.005, 1e-4 * r0):
+            raise self.error(src.line, src.col,
+                             f"arc end point is not on the circle (radius {r0:.4f} at the start, {r1:.4f} at the end)")
+        full = abs(rad(end, a) - rad(start, a)) < 1e-9 and abs(rad(end, b) - rad(start, b)) < 1e-9
+        self.emit(canon.Arc(src, start, end, self.diameter, center, self.plane, clockwise, full, feed, self.per_rev))
+        self.pos = list(end)
+
+    def synced(self, src: Src, end: Vec3, lead: float, lead_axis: str | None, start_angle: float,
+               leadin: canon.Ramp | None = None, runout: canon.Ramp | None = None) -> None:
+        """G33. The tool ends at the programmed end point moved by the ramps' displacements."""
+        self.emit(canon.SyncedFeed(src, tuple(self.pos), end, self.diameter, lead, lead_axis,
+                                   start_angle, leadin, runout))
+        final = list(end)
+        for r in (leadin, runout):
+            if r is not None:
+                i = AXES.index(r.axis)
+                final[i] += r.displacement * (2.0 if (i == 0 and self.diameter) else 1.0)
+        self.pos = final
+
+    def spindle(self, src: Src, direction: int | None, speed: float | None) -> None:
+        if direction is not None:
+            self.spindle_dir = direction
+        if speed is not None:
+            self.speed = speed
+        self.emit(canon.Spindle(src, self.spindle_dir, self.speed))
+
+    def tool(self, src: Src, number: int, offset: int | None) -> None:
+        self.emit(canon.ToolChange(src, number, offset))
+
+    def end(self, src: Src) -> None:
+        self.emit(canon.ProgramEnd(src))

@@ -1,0 +1,126 @@
+"""Tool paths in the workpiece frame: what the kinematics hands to material removal.
+
+- ScrewPath: a spindle-synchronised cut (G33) on a lathe; the tool profile stays in the axial
+  half-plane at workpiece angle phi(s) while its point moves along (r(s), z(s)), s in [0, 1].
+- PlanarPath: a move on a turning spindle, as a polyline in the (r, z) half-plane; it removes the
+  solid of revolution of the tool profile swept along it.
+- SpatialPath: a tool moving through space without spindle rotation (a mill, or a lathe with the
+  spindle stopped), as a 3D polyline of the control point; ``angle`` turns the tool body about +Z.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cutsim.interp.canon import Src
+from cutsim.stock.specs import ToolSpec
+
+
+@dataclass(frozen=True)
+class RampGeom:
+    start: float  # lead-axis travel where the ramp begins, mm
+    length: float  # lead-axis travel it lasts, mm
+    offset: float  # total signed displacement along ``axis`` over the ramp, mm (physical)
+    axis: str  # "r" or "z"
+
+
+@dataclass(frozen=True)
+class ScrewPath:
+    src: Src
+    tool: ToolSpec
+    r0: float
+    z0: float
+    r1: float
+    z1: float
+    travel: float  # length along the lead axis, mm
+    revolutions: float
+    phi0: float  # workpiece angle of the tool at the start, degrees
+    sense: int  # +1: phi grows with the spindle angle progress, -1: it falls
+    ramps: tuple[RampGeom, ...] = ()
+
+    def breakpoints(self) -> list[float]:
+        """Parameters s where the path has a kink (ramp ends), including 0 and 1."""
+        pts = {0.0, 1.0}
+        for rp in self.ramps:
+            for d in (rp.start, rp.start + rp.length):
+                pts.add(min(1.0, max(0.0, d / self.travel)))
+        return sorted(pts)
+
+    def pose(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(r, z, phi in radians) of the tool point at parameters ``s``."""
+        s = np.asarray(s, dtype=float)
+        r = self.r0 + (self.r1 - self.r0) * s
+        z = self.z0 + (self.z1 - self.z0) * s
+        d = s * self.travel
+        for rp in self.ramps:
+            frac = np.clip((d - rp.start) / rp.length, 0.0, 1.0)
+            if rp.axis == "r":
+                r = r + rp.offset * frac
+            else:
+                z = z + rp.offset * frac
+        phi = np.radians(self.phi0 + self.sense * 360.0 * self.revolutions * s)
+        return r, z, phi
+
+    def radius_range(self) -> tuple[float, float]:
+        s = np.array(self.breakpoints())
+        r, _, _ = self.pose(s)
+        return float(r.min()), float(r.max())
+
+
+@dataclass(frozen=True)
+class PlanarPath:
+    src: Src
+    tool: ToolSpec
+    points: np.ndarray  # (k, 2): r, z
+    rapid: bool
+
+
+@dataclass(frozen=True)
+class SpatialPath:
+    src: Src
+    tool: ToolSpec
+    points: np.ndarray  # (k, 3)
+    rapid: bool
+    angle: float = 0.0  # degrees about +Z applied to the tool body
+
+
+def arc_points(start, end, center, plane: str, clockwise: bool, full: bool, tol: float) -> np.ndarray:
+    """Points along an arc/helix (physical coordinates), chord error at most ``tol``; includes both ends."""
+    from cutsim.interp.modal import PLANE_AXES
+
+    a, b, n = PLANE_AXES[plane]
+    p0, p1, c = (np.asarray(v, dtype=float) for v in (start, end, center))
+    r = math.hypot(p0[a] - c[a], p0[b] - c[b])
+    t0 = math.atan2(p0[b] - c[b], p0[a] - c[a])
+    t1 = math.atan2(p1[b] - c[b], p1[a] - c[a])
+    sweep = (t0 - t1) if clockwise else (t1 - t0)
+    sweep %= 2 * math.pi
+    if full or sweep < 1e-12:
+        sweep = 2 * math.pi if full else sweep
+    step = segment_angle(r, tol)
+    k = max(1, math.ceil(sweep / step))
+    t = np.linspace(0.0, 1.0, k + 1)
+    ang = t0 + (-1 if clockwise else 1) * sweep * t
+    r1 = math.hypot(p1[a] - c[a], p1[b] - c[b])
+    rr = r + (r1 - r) * t
+    pts = np.empty((k + 1, 3))
+    pts[:, a] = c[a] + rr * np.cos(ang)
+    pts[:, b] = c[b] + rr * np.sin(ang)
+    pts[:, n] = p0[n] + (p1[n] - p0[n]) * t
+    pts[-1] = p1
+    return pts
+
+
+def segment_angle(radius: float, tol: float) -> float:
+    """Largest angle (radians) whose chord on a circle of ``radius`` deviates at most ``tol``."""
+    if radius <= tol:
+        return math.pi / 2
+    return min(math.pi / 2, 2.0 * math.acos(1.0 - tol / radius))
+
+
+def circle_segments(radius: float, tol: float) -> int:
+    """Segments of a full circle of ``radius`` at chordal tolerance ``tol`` (a multiple of 4)."""
+    n = math.ceil(2 * math.pi / segment_angle(radius, tol))
+    return max(8, 4 * math.ceil(n / 4))

@@ -1,0 +1,87 @@
+"""report.json and the part file. Writing is all-or-nothing: files go to temporary names in the
+output directory and are renamed into place only when every one was written."""
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+
+import numpy as np
+
+
+def _round(v: float, nd: int = 6) -> float:
+    r = round(float(v), nd)
+    return 0.0 if r == 0 else r
+
+
+def build_report(*, program: str, dialect: str, machine, blocks: int, moves: int, stock_volume: float,
+                 part_volume: float, cycle_time: float, warnings: list, final_position, tolerance: float,
+                 triangles: int, checks: list | None = None) -> dict:
+    return {
+        "program": program,
+        "dialect": dialect,
+        "machine": {"kind": machine.kind, "diameter_programming": machine.diameter_programming, "m03": machine.m03},
+        "tolerance": tolerance,
+        "blocks": blocks,
+        "moves": moves,
+        "stock_volume": _round(stock_volume),
+        "part_volume": _round(part_volume),
+        "removed_volume": _round(stock_volume - part_volume),
+        "cycle_time_s": _round(cycle_time, 3),
+        "final_position": [_round(v) for v in final_position],
+        "triangles": triangles,
+        "warnings": [{"line": src.line, "column": src.col, "program": src.program, "message": msg}
+                     for src, msg in warnings],
+        "checks": checks or [],
+    }
+
+
+def mesh_arrays(part):
+    """Vertices (float64) and faces of a manifold, in a deterministic order."""
+    mesh = part.to_mesh()
+    verts = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
+    faces = np.asarray(mesh.tri_verts, dtype=np.int64)
+    return verts, faces
+
+
+def stl_bytes(verts: np.ndarray, faces: np.ndarray) -> bytes:
+    """Binary STL with unit normals, little-endian, zero header: same mesh, same bytes."""
+    tri = verts[faces].astype(np.float64)
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    ln = np.linalg.norm(nrm, axis=1, keepdims=True)
+    nrm = np.divide(nrm, ln, out=np.zeros_like(nrm), where=ln > 0)
+    rec = np.zeros(len(faces), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"] = nrm
+    rec["v"] = tri
+    header = b"cutsim binary STL".ljust(80, b"\0")
+    return header + np.uint32(len(faces)).astype("<u4").tobytes() + rec.tobytes()
+
+
+def write_outputs(out_dir: str, files: dict[str, bytes]) -> None:
+    """Write ``files`` (name -> bytes) into ``out_dir`` atomically as a set."""
+    os.makedirs(out_dir, exist_ok=True)
+    tmp = []
+    try:
+        for name, data in files.items():
+            fd, path = tempfile.mkstemp(prefix=f".{name}.", dir=out_dir)
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+            os.chmod(path, 0o666 & ~_umask())
+            tmp.append((path, os.path.join(out_dir, name)))
+        for path, final in tmp:
+            os.replace(path, final)
+    except BaseException:
+        for path, _ in tmp:
+            if os.path.exists(path):
+                os.unlink(path)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def report_bytes(report: dict) -> bytes:
+    return (json.dumps(report, indent=2, ensure_ascii=False, sort_keys=False) + "\n").encode("utf-8")

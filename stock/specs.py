@@ -1,0 +1,44 @@
+"""What the setup says about the stock and the tools (plain data; shapes are built in stock/)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class StockSpec:
+    shape: str  # "cylinder" | "revolve" | "box" | "mesh"
+    diameter: float = 0.0
+    z: tuple[float, float] = (0.0, 0.0)
+    profile: tuple[tuple[float, float], ...] = ()  # revolve: (r, z) outline
+    x: tuple[float, float] = (0.0, 0.0)
+    y: tuple[float, float] = (0.0, 0.0)
+    path: str = ""  # mesh: absolute path
+
+    def bounds(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """Axis-aligned bounds (lo, hi) without building the solid (mesh stock: filled in by the loader)."""
+        if self.shape == "cylinder":
+            r = self.diameter / 2
+            return (-r, -r, self.z[0]), (r, r, self.z[1])
+        if self.shape == "revolve":
+            r = max(p[0] for p in self.profile)
+            zs = [p[1] for p in self.profile]
+            return (-r, -r, min(zs)), (r, r, max(zs))
+        return (self.x[0], self.y[0], self.z[0]), (self.x[1], self.y[1], self.z[1])
+
+
+@dataclass(frozen=True)
+class ToolSpec:
+    number: int
+    kind: str  # "thread" | "turning" | "profile" | "endmill" | "ballmill" | "bullnose"
+    angle: float = 60.0  # thread/turning: included angle of the V, degrees
+    tip_radius: float = 0.0  # thread/turning: nose radius
+    height: float = 10.0  # lathe tools: how far the profile reaches out from the tip, mm
+    thickness: float = 5.0  # lathe tools: insert thickness along Y (cuts with the spindle stopped)
+    points: tuple[tuple[float, float], ...] = ()  # profile: (x, z) polygon, control point at (0, 0)
+    diameter: float = 0.0  # mills
+    length: float = 0.0  # mills: flute length
+    corner_radius: float = 0.0  # mills: bull-nose corner radius (ballmill: diameter / 2)
+
+    @property
+    def is_lathe_tool(self) -> bool:
+        return self.kind in ("thread", "turning", "profile")

@@ -1,0 +1,97 @@
+"""Exact swept solids of tools along kinematic paths.
+
+- screw_sweep: the tool profile under (generalised) screw motion, built directly: the profile is
+  extruded along a parameter axis and warped onto the helix (``warp_batch``). Stations are spaced
+  so the chord of the outermost point deviates at most ``tol``; ramp kinks are stations.
+- planar_region: the 2D area a lathe profile sweeps along an (r, z) polyline (hulls of convex
+  pieces), later unioned with the others and revolved once.
+- spatial_hulls: a convex tool body on straight segments, one hull per segment.
+"""
+from __future__ import annotations
+
+import math
+
+import manifold3d as m3d
+import numpy as np
+
+from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, segment_angle
+
+from .tools import convex_pieces
+
+MAX_CHUNK_DEGREES = 300.0  # a chunk narrower than one turn never overlaps itself
+
+
+def clipped_profile(profile: np.ndarray, height: float) -> m3d.CrossSection:
+    """The profile cut off at u = ``height``: the part of the tool that can reach the stock."""
+    cs = m3d.CrossSection([profile], m3d.FillRule.Positive)
+    lo, hi = profile[:, 1].min() - 1.0, profile[:, 1].max() + 1.0
+    box = m3d.CrossSection([np.array([[-1.0, lo], [height, lo], [height, hi], [-1.0, hi]])])
+    return cs ^ box
+
+
+def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float) -> list[m3d.Manifold]:
+    """Solids whose union is the profile swept along ``path`` (workpiece frame)."""
+    bounds = profile.bounds()  # (umin, vmin, umax, vmax)
+    width = bounds[3] - bounds[1]
+    rmin, rmax = path.radius_range()
+    reach = rmax + bounds[2]
+    total = 360.0 * path.revolutions
+    lead = path.travel / path.revolutions if path.revolutions > 0 else math.inf
+    step = math.degrees(segment_angle(reach, tol))
+    # The whole cut is one piece unless the profile is wider than the lead (turns would overlap);
+    # then pieces narrower than a turn. Ramp ends are piece ends, so the kinks are exact.
+    brk = path.breakpoints()
+    single = width < 0.999 * lead
+    limit = math.inf if single else MAX_CHUNK_DEGREES
+    edges = [brk[0]]
+    for a, b in zip(brk, brk[1:]):
+        span = (b - a) * total
+        k = max(1, math.ceil(span / limit)) if span > 0 else 1
+        edges.extend(np.linspace(a, b, k + 1)[1:].tolist())
+    # orientation: the map (u, v, t) -> space keeps handedness when phi falls with t
+    flip = path.sense > 0
+    prof = profile.mirror((0.0, 1.0)) if flip else profile
+    out = []
+    for a, b in zip(edges, edges[1:]):
+        if b - a <= 0:
+            continue
+        n = max(1, math.ceil((b - a) * total / step))
+        solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=n - 1)
+
+        def warp(p, a=a, b=b):
+            s = a + (b - a) * np.clip(p[:, 2], 0.0, 1.0)
+            r, z, phi = path.pose(s)
+            u = p[:, 0]
+            v = -p[:, 1] if flip else p[:, 1]
+            rr = r + u
+            return np.column_stack([rr * np.cos(phi), rr * np.sin(phi), z + v])
+
+        out.append(solid.warp_batch(warp))
+    return out
+
+
+def sweep_polygon_2d(poly: np.ndarray, pts: np.ndarray) -> list[m3d.CrossSection]:
+    """Regions whose union is ``poly`` translated along the polyline ``pts``."""
+    pieces = convex_pieces(poly)
+    regions = []
+    for piece in pieces:
+        for p0, p1 in zip(pts[:-1], pts[1:]):
+            regions.append(m3d.CrossSection.hull_points(np.vstack([piece + p0, piece + p1])))
+        if len(pts) == 1:
+            regions.append(m3d.CrossSection([piece + pts[0]]))
+    return regions
+
+
+def planar_region(path: PlanarPath, profile: np.ndarray) -> m3d.CrossSection:
+    return m3d.CrossSection.batch_boolean(sweep_polygon_2d(profile, path.points), m3d.OpType.Add)
+
+
+def spatial_hulls(path: SpatialPath, body: list[np.ndarray]) -> list[m3d.Manifold]:
+    c, s = math.cos(math.radians(path.angle)), math.sin(math.radians(path.angle))
+    rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    out = []
+    for piece in body:
+        v = piece @ rot.T
+        for p0, p1 in zip(path.points[:-1], path.points[1:]):
+            out.append(m3d.Manifold.hull_points(np.vstack([v + p0, v + p1])))
+    return out
