@@ -86,7 +86,8 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
     start = setup.machine.start if setup.machine.start is not None else default_start(setup, stock)
     cfg = InterpConfig(dialect=setup.machine.dialect, machine_kind=setup.machine.kind,
                        diameter_programming=setup.machine.diameter_programming, start=start,
-                       parameters=dict(setup.parameters), constants=dict(setup.constants))
+                       parameters=dict(setup.parameters), constants=dict(setup.constants),
+                       tool_radii={t.number: t.diameter / 2.0 for t in setup.tools})
     prog = interpret(program, text, cfg)
     pl = make_plan(prog, setup.machine, setup.tools, tol)
     removal = remove(stock, setup.stock, pl.paths, tol, progress)

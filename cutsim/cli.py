@@ -120,7 +120,8 @@ def moves(program, setup_path):
         m = setup.machine
         start = m.start if m.start is not None else cutsim.default_start(setup, _stock(setup))
         cfg = InterpConfig(dialect=m.dialect, machine_kind=m.kind, diameter_programming=m.diameter_programming,
-                           start=start, parameters=dict(setup.parameters), constants=dict(setup.constants))
+                           start=start, parameters=dict(setup.parameters), constants=dict(setup.constants),
+                           tool_radii={t.number: t.diameter / 2.0 for t in setup.tools})
         click.echo(transcript(interpret(program, text, cfg)), nl=False)
     except CutsimError as e:
         click.echo(str(e), err=True)

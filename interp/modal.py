@@ -29,6 +29,7 @@ class InterpConfig:
     parameters: dict[int, float] = field(default_factory=dict)
     constants: dict[int, float] = field(default_factory=dict)
     max_blocks: int = 5_000_000  # executed blocks before a program is declared endless
+    tool_radii: dict[int, float] = field(default_factory=dict)  # tool number -> radius (mills; first = active at start)
 
 
 class ModalMachine:
