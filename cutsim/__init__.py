@@ -21,7 +21,16 @@ from cutsim.interp.errors import CutsimError
 from cutsim.setup import Setup, load_setup
 
 __version__ = "0.1.0"
-__all__ = ["CutsimError", "Result", "Setup", "load_setup", "read_program", "simulate", "__version__"]
+
+
+def __getattr__(name):  # the pytest helpers, loaded on first use (cutsim.testing)
+    if name in ("assert_thread", "assert_matches_design", "assert_checks_pass"):
+        import cutsim.testing
+
+        return getattr(cutsim.testing, name)
+    raise AttributeError(f"module 'cutsim' has no attribute {name!r}")
+__all__ = ["CutsimError", "Result", "Setup", "load_setup", "read_program", "simulate", "__version__",
+           "assert_thread", "assert_matches_design", "assert_checks_pass"]
 
 
 @dataclass
@@ -45,6 +54,60 @@ class Result:
     @property
     def warnings(self) -> list[dict]:
         return self.report.get("warnings", [])
+
+    @property
+    def checks(self) -> list[dict]:
+        """The check records (report.json "checks")."""
+        return self.report.get("checks", [])
+
+    @property
+    def passed(self) -> bool:
+        """True when every check passed (and vacuously without checks)."""
+        return all(c["passed"] for c in self.checks)
+
+    # measuring functions on the part (cutsim.stock.measure; mm and degrees, workpiece frame)
+    def diameters_at(self, z: float, angles: int = 72):
+        """Lathe: diameters at height z across angles // 2 directions (numpy array)."""
+        from cutsim.stock.measure import diameters_at
+
+        return diameters_at(self.part, z, angles)
+
+    def root_radius_at(self, z: float) -> float:
+        """Lathe: smallest radius of the outer boundary at height z (a groove's root)."""
+        from cutsim.stock.measure import min_radius_at
+
+        return min_radius_at(self.part, z)
+
+    def thread(self, zlo: float, zhi: float, angles: int = 36) -> dict:
+        """Lathe: lead, hand, starts, pitch, root diameter and roots of the thread in [zlo, zhi]."""
+        from cutsim.stock.measure import measure_thread
+
+        return measure_thread(self.part, zlo, zhi, angles)
+
+    def depth_at(self, x: float, y: float):
+        """Mill: z of the first surface met going down at (x, y) (None if none)."""
+        from cutsim.stock.measure import depth_at
+
+        return depth_at(self.part, x, y)
+
+    def gap_at(self, point, direction: str):
+        """Mill: (low, high) of the empty interval along "x"/"y" through point (x, y, z)."""
+        from cutsim.stock.measure import gap_at
+
+        return gap_at(self.part, point, direction)
+
+    def compare(self, design) -> dict:
+        """Gouge/excess volumes and worst deviation against a design (path or Manifold)."""
+        from cutsim.stock.measure import compare_design, load_solid
+
+        return compare_design(self.part, load_solid(design) if isinstance(design, str) else design, self.stock)
+
+    def check(self, **spec) -> dict:
+        """Evaluate one check given as keyword arguments like a [[check]] table (kind=..., ...)."""
+        from cutsim.testing import make_check_spec
+        from cutsim.reports.checks import evaluate
+
+        return evaluate(make_check_spec(self, spec), self)
 
 
 def read_program(path: str) -> str:
@@ -71,8 +134,11 @@ def default_start(setup: Setup, stock) -> tuple[float, float, float]:
 
 
 def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,
-             progress: Callable[[str, int, int], None] | None = None) -> Result:
-    """Simulate ``program`` (a file path; or a name with ``text``) on ``setup`` (a path or a Setup)."""
+             progress: Callable[[str, int, int], None] | None = None, checks: bool = True) -> Result:
+    """Simulate ``program`` (a file path; or a name with ``text``) on ``setup`` (a path or a Setup).
+
+    With ``checks`` (the default) the setup's [[check]] tables are evaluated and their records
+    stored in ``result.report["checks"]`` (see docs/checks.md)."""
     from cutsim.kinematics import plan as make_plan
     from cutsim.reports import build_report
     from cutsim.stock import build_stock, remove
@@ -97,4 +163,27 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
                           blocks=prog.blocks, moves=len(prog.moves), stock_volume=stock.volume(),
                           part_volume=part.volume(), cycle_time=pl.cycle_time, warnings=warnings,
                           final_position=pl.final_position, tolerance=tol, triangles=part.num_tri())
-    return Result(setup, prog, pl, stock, part, report)
+    result = Result(setup, prog, pl, stock, part, report)
+    if checks and setup.checks:  # evaluated on the finished part; records in report.json
+        report["checks"] = run_checks(setup, result)
+    return result
+
+
+def run_checks(setup: Setup, result: "Result") -> list[dict]:
+    """Evaluate the setup's [[check]] tables on ``result`` (records as in report.json)."""
+    from cutsim.reports.checks import check_design, evaluate
+    from cutsim.stock.measure import load_solid
+
+    out = []
+    for spec in setup.checks:
+        design = None
+        if spec["kind"] == "design":
+            try:
+                design = load_solid(spec["path"])
+            except Exception as e:  # noqa: BLE001 - an unreadable design file is bad input
+                raise CutsimError(setup.path, spec["path_line"], spec["column"],
+                                  f"[[check]] #{spec['index'] + 1} path: cannot use the design: {e}") from None
+            out.append(check_design(spec, result, design))
+            continue
+        out.append(evaluate(spec, result))
+    return out

@@ -28,6 +28,21 @@ TOOL_KEYS = {
     "ballmill": {"diameter", "length"},
 }
 
+# [[check]] kinds and their keys besides kind and name (docs/checks.md)
+CHECK_KEYS = {
+    "diameter": {"z", "expected", "tolerance", "angles"},
+    "thread": {"z", "lead", "starts", "hand", "root_diameter", "phase", "phase_z", "tolerance", "lead_tolerance",
+               "phase_tolerance", "angles"},
+    "ramp": {"z", "radius", "diameter", "tolerance", "step"},
+    "slot": {"at", "direction", "width", "floor", "center", "z", "tolerance"},
+    "pocket": {"at", "size", "floor", "center", "z", "tolerance"},
+    "depth": {"at", "z", "tolerance"},
+    "volume": {"removed", "tolerance"},
+    "design": {"path", "max_gouge", "max_excess", "max_deviation"},
+}
+LATHE_CHECKS = ("diameter", "thread", "ramp")
+MILL_CHECKS = ("slot", "pocket", "depth")
+
 
 @dataclass
 class Setup:
@@ -190,10 +205,116 @@ class _Loader:
             tol = s.get("tolerance", float, 0.002, check=lambda v: 1e-5 <= v <= 1.0, why="must be between 0.00001 and 1 mm")
             fow = s.get("fail_on_warning", bool, False)
             s.done()
-        checks = data.get("check", [])
-        if checks:
-            raise CutsimError(self.path, *self.locate("check", None, 0), "[[check]] tables are not supported yet")
-        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, list(checks))
+        raw_checks = data.get("check", [])
+        if not isinstance(raw_checks, list):
+            raise CutsimError(self.path, *self.locate("check", None, None), "checks are written [[check]] (an array of tables)")
+        checks = [self.check(_Reader(self, c, "check", i), i, kind) for i, c in enumerate(raw_checks)]
+        names = [c["name"] for c in checks]
+        for i, c in enumerate(checks):
+            if names.index(c["name"]) != i:
+                raise _Reader(self, raw_checks[i], "check", i).fail("name", f"{c['name']!r} names two checks")
+        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks)
+
+    def check(self, c: _Reader, i: int, machine_kind: str) -> dict:
+        """One [[check]] table as a plain dict (see docs/checks.md); keys by kind in CHECK_KEYS."""
+        kind = c.get("kind", str, check=lambda v: v in CHECK_KEYS, why=f"must be one of {', '.join(CHECK_KEYS)}")
+        if kind in LATHE_CHECKS and machine_kind != "lathe" or kind in MILL_CHECKS and machine_kind != "mill":
+            raise c.fail("kind", f"a {kind} check needs a {'lathe' if kind in LATHE_CHECKS else 'mill'}")
+        allowed = CHECK_KEYS[kind] | {"kind", "name"}
+        for k in c.table:
+            if k not in allowed:
+                raise c.fail(k, f"unknown key for a {kind} check (known: {', '.join(sorted(allowed - {'kind'}))})")
+        line, _col = self.locate("check", None, i)
+        spec: dict = {"kind": kind, "name": c.get("name", str, f"{kind} #{i + 1}", check=lambda v: v.strip() != "",
+                                                  why="must not be empty"), "index": i, "line": line}
+        pos = dict(check=lambda v: v > 0, why="must be positive")
+        nonneg = dict(check=lambda v: v >= 0, why="must not be negative")
+
+        def xy(key, default=...):
+            v = c.get(key, list, default)
+            if v is default:
+                return v
+            if len(v) != 2 or not all(isinstance(q, (int, float)) and not isinstance(q, bool) and math.isfinite(q) for q in v):
+                raise c.fail(key, f"must be two numbers [x, y], not {v!r}")
+            return (float(v[0]), float(v[1]))
+
+        if kind == "diameter":
+            spec["z"] = c.get("z", float)
+            spec["expected"] = c.get("expected", float, **pos)
+            spec["tolerance"] = c.get("tolerance", float, 0.02, **nonneg)
+            spec["angles"] = c.get("angles", int, 72, check=lambda v: 4 <= v <= 3600, why="must be 4 to 3600")
+        elif kind == "thread":
+            spec["z"] = c.pair("z")
+            spec["lead"] = c.get("lead", float, **pos)
+            spec["starts"] = c.get("starts", int, 1, check=lambda v: 1 <= v <= 16, why="must be 1 to 16")
+            spec["hand"] = c.get("hand", str, "right", check=lambda v: v in ("right", "left"), why="must be right or left")
+            spec["root_diameter"] = c.get("root_diameter", float, None, **pos)
+            spec["tolerance"] = c.get("tolerance", float, 0.02, **nonneg)
+            spec["lead_tolerance"] = c.get("lead_tolerance", float, 0.005, **nonneg)
+            spec["phase_tolerance"] = c.get("phase_tolerance", float, 2.0, **nonneg)
+            spec["angles"] = c.get("angles", int, 36, check=lambda v: 8 <= v <= 720, why="must be 8 to 720")
+            phase = c.get("phase", list, None)
+            if phase is not None:
+                if not all(isinstance(q, (int, float)) and not isinstance(q, bool) and math.isfinite(q) for q in phase):
+                    raise c.fail("phase", f"must be a list of angles in degrees, not {phase!r}")
+                if len(phase) != spec["starts"]:
+                    raise c.fail("phase", f"needs one angle per start ({spec['starts']}), got {len(phase)}")
+                spec["phase"] = [float(q) for q in phase]
+                spec["phase_z"] = c.get("phase_z", float)
+            else:
+                spec["phase"] = None
+                if "phase_z" in c.table:
+                    raise c.fail("phase_z", "is only used with phase")
+        elif kind == "ramp":
+            spec["z"] = c.pair("z")
+            has_r, has_d = "radius" in c.table, "diameter" in c.table
+            if has_r == has_d:
+                raise c.fail(None, "a ramp check needs exactly one of radius = [r1, r2] or diameter = [d1, d2]")
+            if has_r:
+                spec["radius"] = c.pair("radius", increasing=False)
+            else:
+                d = c.pair("diameter", increasing=False)
+                spec["radius"] = (d[0] / 2, d[1] / 2)
+            spec["tolerance"] = c.get("tolerance", float, 0.02, **nonneg)
+            spec["step"] = c.get("step", float, 0.1, **pos)
+        elif kind in ("slot", "pocket"):
+            spec["at"] = xy("at")
+            spec["floor"] = c.get("floor", float, None)
+            spec["z"] = c.get("z", float, None)
+            spec["tolerance"] = c.get("tolerance", float, 0.02, **nonneg)
+            if kind == "slot":
+                spec["direction"] = c.get("direction", str, check=lambda v: v in ("x", "y"), why="must be x or y")
+                spec["width"] = c.get("width", float, None, **pos)
+                spec["center"] = c.get("center", float, None)
+                wanted = ("width", "floor", "center")
+            else:
+                spec["size"] = c.pair("size", None, increasing=False)
+                if spec["size"] is not None and min(spec["size"]) <= 0:
+                    raise c.fail("size", "widths must be positive")
+                spec["center"] = xy("center", None)
+                wanted = ("size", "floor", "center")
+            if all(spec[k] is None for k in wanted):
+                raise c.fail(None, f"a {kind} check needs at least one of {', '.join(wanted)}")
+        elif kind == "depth":
+            spec["at"] = xy("at")
+            spec["expected"] = c.get("z", float)
+            spec["tolerance"] = c.get("tolerance", float, 0.02, **nonneg)
+        elif kind == "volume":
+            spec["removed"] = c.get("removed", float, **nonneg)
+            spec["tolerance"] = c.get("tolerance", float, None, **nonneg)
+        elif kind == "design":
+            rel = c.get("path", str)
+            path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(self.path)), rel))
+            if not os.path.isfile(path):
+                raise c.fail("path", f"no such file: {path}")
+            spec["path"] = path
+            spec["max_gouge"] = c.get("max_gouge", float, 0.01, **nonneg)
+            spec["max_excess"] = c.get("max_excess", float, None, **nonneg)
+            spec["max_deviation"] = c.get("max_deviation", float, None, **nonneg)
+            spec["column"] = self.locate("check", "path", i)[1]
+            spec["path_line"] = self.locate("check", "path", i)[0]
+        c.done()
+        return spec
 
     def stock(self, s: _Reader) -> StockSpec:
         shape = s.get("shape", str, check=lambda v: v in ("cylinder", "revolve", "box", "mesh"),

@@ -1,0 +1,461 @@
+"""Measurements on a simulated solid (a manifold3d.Manifold in the workpiece frame, mm, degrees).
+
+Sections come from manifold3d's exact plane slicing (``Manifold.slice`` after a rigid transform),
+depths from ``Manifold.ray_cast``; nothing here samples the surface at random, so every function is
+deterministic. Accuracy: a measured point lies on the simulated solid, which follows the true
+surface to within the chordal tolerance it was built with (helices and arcs are chords inside the
+true curve), so a measured radius can read up to that tolerance small.
+
+Lathe vocabulary: the spindle axis is +Z; the half-plane at angle ``phi`` (degrees about +Z from
++X) holds the axial profile (r, z) at that angle.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+_BIG = 1e6
+
+
+# --------------------------------------------------------------------------------------------
+# sections
+# --------------------------------------------------------------------------------------------
+def _polygons(cs) -> list[np.ndarray]:
+    return [np.asarray(p, dtype=np.float64) for p in cs.to_polygons() if len(p) >= 3]
+
+
+def _edges(polys: list[np.ndarray]) -> np.ndarray:
+    """All polygon edges as (n, 2, 2)."""
+    if not polys:
+        return np.zeros((0, 2, 2))
+    return np.concatenate([np.stack([p, np.roll(p, -1, axis=0)], axis=1) for p in polys])
+
+
+def half_plane_section(part, phi: float) -> list[np.ndarray]:
+    """The section of ``part`` by the half-plane at angle ``phi``: closed polygons of (r, z), r >= 0."""
+    from manifold3d import CrossSection
+
+    c, s = math.cos(math.radians(phi)), math.sin(math.radians(phi))
+    # rows: x' = r along phi, y' = z, z' = distance from the plane (normal (-s, c, 0))
+    m = np.array([[c, s, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [-s, c, 0.0, 0.0]])
+    cs = part.transform(m).slice(0.0)
+    b = part.bounding_box()
+    zlo, zhi = b[2] - 1.0, b[5] + 1.0
+    rmax = max(abs(v) for v in b[:2] + b[3:5]) * 1.5 + 1.0
+    box = CrossSection.square((rmax, zhi - zlo)).translate((0.0, zlo))
+    return _polygons(cs ^ box)
+
+
+def plane_section(part, axis: str, at: float) -> list[np.ndarray]:
+    """The section by the plane ``axis = at`` (axis "x", "y" or "z"): polygons in the other two
+    coordinates in order (x: (y, z); y: (x, z); z: (x, y))."""
+    if axis == "z":
+        return _polygons(part.slice(at))
+    if axis == "x":
+        m = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 0.0, -at]])
+    else:
+        m = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, -at]])
+    return _polygons(part.transform(m).slice(0.0))
+
+
+def _line_crossings(edges: np.ndarray, v: float) -> np.ndarray:
+    """u of every point where the horizontal line (second coordinate = v) crosses an edge."""
+    u0, v0, u1, v1 = edges[:, 0, 0], edges[:, 0, 1], edges[:, 1, 0], edges[:, 1, 1]
+    m = ((v0 <= v) & (v1 > v)) | ((v1 <= v) & (v0 > v))
+    t = (v - v0[m]) / (v1[m] - v0[m])
+    return np.sort(u0[m] + t * (u1[m] - u0[m]))
+
+
+def outer_radius(polys: list[np.ndarray], z) -> np.ndarray:
+    """Largest r of a half-plane section at each height ``z`` (nan where the section has none)."""
+    edges = _edges(polys)
+    z = np.atleast_1d(np.asarray(z, dtype=np.float64))
+    out = np.full(z.shape, np.nan)
+    if len(edges) == 0:
+        return out
+    r0, z0, r1, z1 = edges[:, 0, 0], edges[:, 0, 1], edges[:, 1, 0], edges[:, 1, 1]
+    lo, hi = np.minimum(z0, z1), np.maximum(z0, z1)
+    for a in range(0, len(z), 512):
+        zz = z[a:a + 512, None]
+        m = (lo <= zz) & (hi >= zz)
+        dz = np.where(np.abs(z1 - z0) > 1e-15, z1 - z0, 1.0)
+        t = np.clip((zz - z0) / dz, 0.0, 1.0)
+        r = np.where(m, np.maximum(r0 + t * (r1 - r0), np.where(np.abs(z1 - z0) > 1e-15, -np.inf,
+                                                                    np.maximum(r0, r1))), -np.inf)
+        best = r.max(axis=1)
+        out[a:a + 512] = np.where(np.isfinite(best), best, np.nan)
+    return out
+
+
+def outer_profile(part, phi: float, zlo: float, zhi: float, step: float = 0.01):
+    """(z, r) of the outer profile at angle ``phi`` between ``zlo`` and ``zhi``: sampled every
+    ``step`` and at every section vertex (so minima and maxima of the polyline are exact)."""
+    polys = half_plane_section(part, phi)
+    verts = np.concatenate(polys) if polys else np.zeros((0, 2))
+    n = max(2, int(math.ceil((zhi - zlo) / step)) + 1)
+    z = np.concatenate([np.linspace(zlo, zhi, n), verts[(verts[:, 1] > zlo) & (verts[:, 1] < zhi), 1]])
+    z = np.unique(z)
+    return z, outer_radius(polys, z)
+
+
+def groove_roots(z: np.ndarray, r: np.ndarray, min_depth: float = 0.02) -> np.ndarray:
+    """(z, r) of the deepest point of each groove of an outer profile: a groove is a run of the
+    profile below the level halfway between its highest and lowest point; runs that touch either
+    end of the profile (grooves cut off by the range) are left out."""
+    ok = np.isfinite(r)
+    z, r = z[ok], r[ok]
+    if len(r) < 3 or r.max() - r.min() < min_depth:
+        return np.zeros((0, 2))
+    level = 0.5 * (r.max() + r.min())
+    below = r < level
+    roots = []
+    i, n = 0, len(r)
+    while i < n:
+        if not below[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and below[j + 1]:
+            j += 1
+        if i > 0 and j < n - 1:
+            k = i + int(np.argmin(r[i:j + 1]))
+            roots.append((z[k], r[k]))
+        i = j + 1
+    return np.array(roots).reshape(-1, 2)
+
+
+# --------------------------------------------------------------------------------------------
+# lathe: diameters, threads, ramps
+# --------------------------------------------------------------------------------------------
+def radii_at(part, z: float, angles: int = 72) -> np.ndarray:
+    """Outer radius at height ``z`` along ``angles`` equally spaced directions from +X (nan where
+    the ray from the axis meets no material)."""
+    edges = _edges(plane_section(part, "z", z))
+    phis = np.radians(np.arange(angles) * 360.0 / angles)
+    out = np.full(angles, np.nan)
+    if len(edges) == 0:
+        return out
+    p, q = edges[:, 0], edges[:, 1]
+    for i, a in enumerate(phis):
+        d = np.array([math.cos(a), math.sin(a)])
+        e = q - p
+        den = e[:, 0] * d[1] - e[:, 1] * d[0]
+        ok = np.abs(den) > 1e-15
+        # ray t*d = p + s*e  ->  solve for t (distance along the ray) and s in [0, 1]
+        t = np.where(ok, (e[:, 0] * p[:, 1] - e[:, 1] * p[:, 0]) / np.where(ok, den, 1.0), -1.0)
+        s = np.where(ok, (d[0] * p[:, 1] - d[1] * p[:, 0]) / np.where(ok, den, 1.0), -1.0)
+        hit = ok & (t >= 0) & (s >= -1e-12) & (s <= 1 + 1e-12)
+        if np.any(hit):
+            out[i] = t[hit].max()
+    return out
+
+
+def diameters_at(part, z: float, angles: int = 72) -> np.ndarray:
+    """Diameter (outer radius at phi + outer radius at phi + 180) for ``angles`` // 2 directions."""
+    n = angles + angles % 2
+    r = radii_at(part, z, n)
+    return r[: n // 2] + r[n // 2:]
+
+
+def min_radius_at(part, z: float) -> float:
+    """Smallest distance from the axis to the outer boundary of the section at height ``z``: the
+    root radius of a groove that crosses this height (nan without material)."""
+    polys = plane_section(part, "z", z)
+    if not polys:
+        return float("nan")
+    outer = max(polys, key=lambda p: abs(_signed_area(p)))
+    e = np.stack([outer, np.roll(outer, -1, axis=0)], axis=1)
+    p, d = e[:, 0], e[:, 1] - e[:, 0]
+    ll = np.einsum("ij,ij->i", d, d)
+    t = np.clip(np.where(ll > 0, -np.einsum("ij,ij->i", p, d) / np.where(ll > 0, ll, 1.0), 0.0), 0.0, 1.0)
+    return float(np.min(np.linalg.norm(p + t[:, None] * d, axis=1)))
+
+
+def root_radius_profile(part, zlo: float, zhi: float, step: float = 0.05) -> tuple[np.ndarray, np.ndarray]:
+    """(z, root radius) sampled every ``step`` between ``zlo`` and ``zhi`` (see min_radius_at)."""
+    n = max(2, int(math.ceil((zhi - zlo) / step)) + 1)
+    z = np.linspace(zlo, zhi, n)
+    return z, np.array([min_radius_at(part, float(v)) for v in z])
+
+
+def _signed_area(p: np.ndarray) -> float:
+    return 0.5 * float(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
+
+
+def _circ_mean(deg: np.ndarray) -> float:
+    a = np.radians(deg)
+    return float(np.degrees(math.atan2(np.sin(a).mean(), np.cos(a).mean())) % 360.0)
+
+
+def _circ_diff(a, b):
+    return (np.asarray(a) - np.asarray(b) + 180.0) % 360.0 - 180.0
+
+
+def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float = 0.01) -> dict:
+    """Lead, hand, number of starts, root diameter and the grooves' roots of a thread between
+    ``zlo`` and ``zhi``.
+
+    The grooves' roots are found in half-plane sections at ``angles`` equally spaced angles. One
+    groove near the middle of the range is followed from angle to angle (the nearest root at the
+    next angle); the slope of its z against the angle gives the lead (mm per turn) and the hand
+    (z rising with the angle about +Z: right-hand). The pitch is the median distance between
+    neighbouring roots at one angle; starts = lead / pitch rounded. The root diameter is twice
+    the median root radius.
+    """
+    phis = np.arange(angles) * 360.0 / angles
+    per_angle = []
+    for phi in phis:
+        z, r = outer_profile(part, float(phi), zlo, zhi, step)
+        per_angle.append(groove_roots(z, r))
+    roots = [(float(phi), float(zr), float(rr)) for phi, rs in zip(phis, per_angle) for zr, rr in rs]
+    out = {"roots": roots, "lead": None, "hand": None, "starts": None, "pitch": None,
+           "root_diameter": None, "root_diameter_min": None, "root_diameter_max": None}
+    if not roots:
+        return out
+    rr = np.array([r for _, _, r in roots])
+    out["root_diameter"] = 2.0 * float(np.median(rr))
+    out["root_diameter_min"] = 2.0 * float(rr.min())
+    out["root_diameter_max"] = 2.0 * float(rr.max())
+    gaps = np.concatenate([np.diff(np.sort(rs[:, 0])) for rs in per_angle if len(rs) > 1] or [np.zeros(0)])
+    pitch = float(np.median(gaps)) if len(gaps) else None
+    out["pitch"] = pitch
+    # follow one groove: start at the angle with a root nearest the middle of the range
+    mid = 0.5 * (zlo + zhi)
+    j0 = min((j for j in range(angles) if len(per_angle[j])),
+             key=lambda j: (np.min(np.abs(per_angle[j][:, 0] - mid)), j))
+    zs = per_angle[j0][:, 0]
+    zcur = float(zs[np.argmin(np.abs(zs - mid))])
+    track = [(0.0, zcur)]
+    limit = 0.45 * pitch if pitch else 0.45 * (zhi - zlo)
+    slope = None
+    for k in range(1, angles + 1):
+        rs = per_angle[(j0 + k) % angles]
+        if not len(rs):
+            break
+        guess = zcur + (slope or 0.0) * (360.0 / angles)
+        i = int(np.argmin(np.abs(rs[:, 0] - guess)))
+        if abs(rs[i, 0] - guess) > limit:
+            break
+        zcur = float(rs[i, 0])
+        track.append((k * 360.0 / angles, zcur))
+        if len(track) >= 2:
+            a = np.array(track)
+            slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0]) if len(a) > 2 else (a[1, 1] - a[0, 1]) / (a[1, 0] - a[0, 0])
+    if len(track) >= 3:
+        a = np.array(track)
+        slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0])
+        out["lead"] = abs(slope) * 360.0
+        out["hand"] = "right" if slope > 0 else "left"
+        out["track_degrees"] = float(a[-1, 0])
+        if pitch:
+            out["starts"] = max(1, int(round(out["lead"] / pitch)))
+        else:
+            out["starts"] = 1
+    return out
+
+
+def thread_phases(roots, lead: float, hand: str, phase_z: float) -> np.ndarray:
+    """The start phase of each root (phi, z, r): the ``a`` in ``z = phase_z + s*lead*(phi + a)/360
+    (mod lead)``, s = +1 right-hand, -1 left-hand; degrees in [0, 360)."""
+    s = 1.0 if hand == "right" else -1.0
+    a = np.array([(s * (z - phase_z) * 360.0 / lead - phi) for phi, z, _ in roots])
+    return a % 360.0
+
+
+def assign_phases(measured: np.ndarray, expected: list[float]) -> list[dict]:
+    """Group measured phases by the nearest expected one: per expected phase the circular mean of
+    its group, its signed error and the group's size and spread."""
+    exp = np.asarray(expected, dtype=float) % 360.0
+    d = np.abs(_circ_diff(measured[:, None], exp[None, :]))
+    near = np.argmin(d, axis=1)
+    out = []
+    for k, e in enumerate(exp):
+        grp = measured[near == k]
+        if len(grp) == 0:
+            out.append({"expected": float(e), "measured": None, "error": None, "roots": 0, "spread": None})
+            continue
+        err = float(_circ_diff(_circ_mean(grp), e))
+        m = float(e) + err  # reported next to the expected value (359.9 for 0 reads -0.1)
+        out.append({"expected": float(e), "measured": m, "error": err, "roots": int(len(grp)),
+                    "spread": float(np.max(np.abs(_circ_diff(grp, m))))})
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# mill: depth at a point, gaps (slots, pockets)
+# --------------------------------------------------------------------------------------------
+def depth_at(part, x: float, y: float) -> float | None:
+    """Z of the first surface met going down the vertical line at (x, y) from above the part
+    (None when the line misses it)."""
+    b = part.bounding_box()
+    top, bot = b[5] + 1.0, b[2] - 1.0
+    hits = part.ray_cast((x, y, top), (x, y, bot))
+    if not hits:
+        return None
+    return float(hits[0].position[2])
+
+
+def gap_at(part, point, direction: str) -> tuple[float, float] | None:
+    """The empty interval along ``direction`` ("x" or "y") through ``point`` (x, y, z) that is
+    bounded by material on both sides: (low, high) coordinates; None when ``point`` is inside
+    material or the gap is open on a side."""
+    x, y, z = point
+    if direction == "x":
+        polys, u, v = plane_section(part, "y", y), x, z  # (x, z)
+    else:
+        polys, u, v = plane_section(part, "x", x), y, z  # (y, z)
+    cr = _line_crossings(_edges(polys), v)
+    left, right = cr[cr < u], cr[cr > u]
+    if len(left) % 2 == 1 or not len(left) or not len(right):
+        return None
+    return float(left[-1]), float(right[0])
+
+
+# --------------------------------------------------------------------------------------------
+# design comparison
+# --------------------------------------------------------------------------------------------
+def _point_triangle_distance(pts: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distance from every point to the nearest triangle, that nearest point and the triangle's
+    index. Exact when points x triangles is small; otherwise each point is tested against the 48
+    triangles whose centroids are nearest to it (scipy's cKDTree), which is exact unless the
+    triangles are very uneven in size."""
+    n, m = len(pts), len(tri)
+    best = np.full(n, np.inf)
+    near = np.zeros_like(pts)
+    idx = np.zeros(n, dtype=np.int64)
+    if n == 0 or m == 0:
+        return best, near, idx
+    if n * m > 20_000_000:
+        try:
+            from scipy.spatial import cKDTree
+        except ImportError:  # pragma: no cover - scipy ships with trimesh's usual installs
+            cKDTree = None
+        if cKDTree is not None:
+            k = min(48, m)
+            _, cand = cKDTree(tri.mean(axis=1)).query(pts, k=k)
+            cand = cand.reshape(n, k)
+            for i in range(0, n, 4096):
+                c = cand[i:i + 4096]
+                t = tri[c]
+                p = pts[i:i + 4096, None, :]
+                q = _closest_on_triangles(p, t[..., 0, :], t[..., 1, :], t[..., 2, :],
+                                          t[..., 1, :] - t[..., 0, :], t[..., 2, :] - t[..., 0, :])
+                d = np.linalg.norm(q - p, axis=2)
+                j = np.argmin(d, axis=1)
+                rows = np.arange(len(j))
+                best[i:i + 4096], near[i:i + 4096], idx[i:i + 4096] = d[rows, j], q[rows, j], c[rows, j]
+            return best, near, idx
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    ab, ac = b - a, c - a
+    chunk = max(1, 2_000_000 // m)
+    for i in range(0, n, chunk):
+        p = pts[i:i + chunk, None, :]
+        q = _closest_on_triangles(p, a, b, c, ab, ac)
+        d = np.linalg.norm(q - p, axis=2)
+        k = np.argmin(d, axis=1)
+        rows = np.arange(len(k))
+        best[i:i + chunk], near[i:i + chunk], idx[i:i + chunk] = d[rows, k], q[rows, k], k
+    return best, near, idx
+
+
+def _closest_on_triangles(p, a, b, c, ab, ac):
+    """Closest points on triangles (a, b, c) to points p (Ericson, Real-Time Collision Detection)."""
+    ap = p - a
+    d1, d2 = np.einsum("...k,...k", ab, ap), np.einsum("...k,...k", ac, ap)
+    bp = p - b
+    d3, d4 = np.einsum("...k,...k", ab, bp), np.einsum("...k,...k", ac, bp)
+    cp = p - c
+    d5, d6 = np.einsum("...k,...k", ab, cp), np.einsum("...k,...k", ac, cp)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    den = va + vb + vc
+    den = np.where(np.abs(den) > 1e-300, den, 1e-300)
+    v = vb / den
+    w = vc / den
+    res = a + ab * v[..., None] + ac * w[..., None]  # interior
+    # edges
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_ab = np.clip(d1 / (d1 - d3), 0, 1)
+        t_ac = np.clip(d2 / (d2 - d6), 0, 1)
+        t_bc = np.clip((d4 - d3) / ((d4 - d3) + (d5 - d6)), 0, 1)
+    e_ab = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+    e_ac = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+    e_bc = (va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0)
+    res = np.where(e_bc[..., None], b + (c - b) * np.nan_to_num(t_bc)[..., None], res)
+    res = np.where(e_ac[..., None], a + ac * np.nan_to_num(t_ac)[..., None], res)
+    res = np.where(e_ab[..., None], a + ab * np.nan_to_num(t_ab)[..., None], res)
+    # vertices
+    res = np.where(((d6 >= 0) & (d5 <= d6))[..., None], c + 0 * p, res)
+    res = np.where(((d3 >= 0) & (d4 <= d3))[..., None], b + 0 * p, res)
+    res = np.where(((d1 <= 0) & (d2 <= 0))[..., None], a + 0 * p, res)
+    return res
+
+
+def load_solid(path: str):
+    """A closed mesh file (STL, 3MF, OBJ, ...) as a manifold3d.Manifold; raises ValueError when it
+    does not describe a closed solid."""
+    import trimesh
+    from manifold3d import Manifold, Mesh
+
+    mesh = trimesh.load(path, force="mesh")
+    mesh.merge_vertices()
+    man = Manifold(Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
+                        tri_verts=np.asarray(mesh.faces, dtype=np.uint32)))
+    if man.status().name != "NoError" or man.is_empty():
+        raise ValueError(f"{path} is not a closed solid ({man.status().name})")
+    return man
+
+
+def _mesh(man) -> tuple[np.ndarray, np.ndarray]:
+    m = man.to_mesh()
+    return np.asarray(m.vert_properties, dtype=np.float64)[:, :3], np.asarray(m.tri_verts, dtype=np.int64)
+
+
+def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
+    """Gouge and excess of ``part`` against ``design`` (both manifolds, same frame).
+
+    gouge volume: design material that is missing from the part (inside the design and the stock,
+    removed); excess volume: part material outside the design. The worst deviation is the largest
+    distance from a vertex of the gouge or excess solids to the surface on the other side (for a
+    gouge: design points inside the design to the part surface; for excess: part points to the
+    design surface), with its location and sign (negative = gouge)."""
+    target = design ^ stock if stock is not None else design
+    gouge = target - part
+    excess = part - design
+    out = {"gouge_volume": max(0.0, float(gouge.volume())), "excess_volume": max(0.0, float(excess.volume())),
+           "worst_deviation": 0.0, "worst_location": None}
+    dv, df = _mesh(design)
+    pv_, pf = _mesh(part)
+    cands = []
+    if not excess.is_empty():
+        ev, _ = _mesh(excess)
+        ev = ev[:: max(1, len(ev) // max_points)]
+        d, _n, _i = _point_triangle_distance(ev, dv[df])
+        k = int(np.argmax(d))
+        cands.append((float(d[k]), ev[k]))
+    if not gouge.is_empty():
+        gv, _ = _mesh(gouge)
+        gv = gv[:: max(1, len(gv) // max_points)]
+        d, _n, _i = _point_triangle_distance(gv, pv_[pf])
+        k = int(np.argmax(d))
+        cands.append((-float(d[k]), gv[k]))
+    if cands:
+        d, loc = max(cands, key=lambda c: abs(c[0]))
+        out["worst_deviation"] = d
+        out["worst_location"] = [float(v) for v in loc]
+    return out
+
+
+def signed_deviation(part, design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Part mesh (vertices, faces) and, per vertex, its distance to the design surface: positive
+    outside the design (excess), negative inside (gouge); the side is taken from the normal of
+    the nearest design triangle. For colour maps."""
+    pv_, pf = _mesh(part)
+    dv, df = _mesh(design)
+    tri = dv[df]
+    d, q, k = _point_triangle_distance(pv_, tri)
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    side = np.einsum("ij,ij->i", pv_ - q, nrm[k])
+    return pv_, pf, np.where(side < 0, -d, d)
