@@ -1,0 +1,452 @@
+"""Beckhoff TwinCAT CNC (ISG kernel) dialect, lathe subset: seed 004 (G33 with a turning spindle).
+
+A file holds one main program ``%name (title)`` ended by M30 and any number of local subprograms
+``%L name`` ended by M29 (or M17), called with ``LL name``. See docs/dialects/isg.md for what the
+simulator assumes where the manual is silent.
+"""
+from __future__ import annotations
+
+import re
+import unicodedata
+from dataclasses import dataclass, field
+
+from . import canon
+from .canon import Src
+from .errors import CutsimError
+from .lexer import Block, Word, parse_number, split_lines
+from .modal import AXES, PLANE_AXES, PLANES, InterpConfig, ModalMachine
+
+LETTERS = set("NGMXYZIJKFSTDL")
+KNOWN_G = {0, 1, 2, 3, 17, 18, 19, 33, 51, 52, 90, 91, 94, 95}
+# M codes: stops, program end, spindle, tool change, coolant, subprogram end (the others have no
+# geometric effect).
+KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 29, 30}
+LEADS = {"I": "X", "J": "Y", "K": "Z"}
+NAME = re.compile(r"\w+")  # letters (any script), digits, underscore
+SPINDLE_ATTR = re.compile(r"\.([A-Za-z_]\w*)")
+
+
+def _nfc(s: str) -> str:
+    return unicodedata.normalize("NFC", s)
+
+
+_UMLAUTS = str.maketrans({"ä": "ae", "ö": "oe", "ü": "ue", "ß": "ss", "Ä": "Ae", "Ö": "Oe", "Ü": "Ue"})
+
+
+def _folds(name: str) -> set[str]:
+    """Spellings a name may have been meant as: case folded, umlauts as digraphs or stripped."""
+    n = _nfc(name)
+    digraph = n.translate(_UMLAUTS).casefold()
+    stripped = "".join(c for c in unicodedata.normalize("NFKD", n) if not unicodedata.combining(c)).casefold()
+    return {n.casefold(), digraph, stripped}
+
+
+@dataclass
+class IsgBlock(Block):
+    call: tuple[str, int] | None = None  # (subprogram name, column of the name)
+    offsets: list[Word] = field(default_factory=list)  # S.OFFSET words
+
+
+@dataclass
+class Section:
+    kind: str  # "main" | "local"
+    name: str
+    line: int
+    col: int
+    blocks: list[IsgBlock] = field(default_factory=list)
+    ended: bool = False  # a local subprogram has seen its M29/M17
+
+
+def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
+    """One ISG line (not a header) -> block; None for a blank or comment-only line."""
+    block = IsgBlock(line=lineno, col=1, text=text)
+    i, n = 0, len(text)
+    seen: dict[str, int] = {}
+    while i < n:
+        c = text[i]
+        if c.isspace():
+            i += 1
+            continue
+        col = i + 1
+        if c == ";":
+            block.comment = text[i + 1:]
+            break
+        if c == "(":
+            j = text.find(")", i + 1)
+            if j < 0:
+                raise CutsimError(name, lineno, col, "comment '(' is not closed by ')'")
+            i = j + 1
+            continue
+        if not (c.isascii() and c.isalpha()):
+            raise CutsimError(name, lineno, col, f"unexpected character '{c}'")
+        letter = c.upper()
+        i += 1
+        if letter == "N":
+            j = i
+            while j < n and text[j].isdigit():
+                j += 1
+            if j == i:
+                raise CutsimError(name, lineno, col, "N must be followed by a block number")
+            if block.label:
+                raise CutsimError(name, lineno, col, "two block numbers N in one block")
+            block.label = "N" + text[i:j]
+            i = j
+            continue
+        if letter == "L":
+            if not (i < n and text[i] in "lL"):
+                raise CutsimError(name, lineno, col, "L (global subprogram call) is not supported: define the "
+                                  "subprogram in this file as '%L name' and call it with 'LL name'")
+            i += 1
+            while i < n and text[i] in " \t":
+                i += 1
+            m = NAME.match(text, i)
+            if not m:
+                raise CutsimError(name, lineno, i + 1, "LL must be followed by the name of a local subprogram")
+            if block.call is not None:
+                raise CutsimError(name, lineno, col, "two subprogram calls in one block")
+            block.call = (_nfc(m.group(0)), i + 1)
+            i = m.end()
+            continue
+        if letter == "S" and i < n and text[i] == "." and SPINDLE_ATTR.match(text, i):
+            m = SPINDLE_ATTR.match(text, i)
+            attr = m.group(1)
+            if attr.upper() != "OFFSET":
+                raise CutsimError(name, lineno, i + 2, f"unknown spindle attribute S.{attr} (only S.OFFSET is supported)")
+            if block.offsets:
+                raise CutsimError(name, lineno, col, "two spindle offsets (S.OFFSET) in one block")
+            j = m.end()
+            while j < n and text[j] in " \t":
+                j += 1
+            if j < n and text[j] == "=":
+                j += 1
+                while j < n and text[j] in " \t":
+                    j += 1
+            value, raw, i = parse_number(name, lineno, text, j, "S.OFFSET")
+            block.offsets.append(Word("S.OFFSET", value, raw, col))
+            continue
+        if letter not in LETTERS:
+            raise CutsimError(name, lineno, col, f"address '{letter}' is not used by the ISG dialect")
+        if letter in seen and letter not in "GM":
+            raise CutsimError(name, lineno, col, f"address {letter} appears twice in one block")
+        seen[letter] = col
+        value, raw, i = parse_number(name, lineno, text, i, letter)
+        block.words.append(Word(letter, value, raw, col))
+    if not block.label and not block.words and block.call is None and not block.offsets:
+        return None
+    return block
+
+
+HEADER = re.compile(r"%(?:(?P<local>[Ll])[ \t]+(?P<lname>\S+)|(?P<mname>[^\s(;]+))")
+
+
+def parse(name: str, text: str) -> tuple[Section, dict[str, Section]]:
+    """The file -> (main program, local subprograms by name)."""
+    loose: list[IsgBlock] = []  # blocks before any header
+    sections: list[Section] = []
+    for lineno, line in enumerate(split_lines(text), start=1):
+        stripped = line.lstrip()
+        indent = len(line) - len(stripped)
+        if stripped.startswith("%"):
+            sections.append(_header(name, lineno, indent, stripped))
+            continue
+        b = scan(name, lineno, line)
+        if b is None:
+            continue
+        if not sections:
+            loose.append(b)
+            continue
+        sec = sections[-1]
+        if sec.ended:
+            raise CutsimError(name, lineno, 1, f"block after the end (M29) of subprogram '{sec.name}' "
+                              "belongs to no program: start a program with '%name' or '%L name'")
+        sec.blocks.append(b)
+        if sec.kind == "local" and any(w.letter == "M" and w.value in (17, 29) for w in b.words):
+            sec.ended = True
+
+    mains = [s for s in sections if s.kind == "main"]
+    if len(mains) > 1:
+        s = mains[1]
+        raise CutsimError(name, s.line, s.col, f"a second main program '%{s.name}' (the first is "
+                          f"'%{mains[0].name}' at line {mains[0].line}); a file holds one main program")
+    if mains and loose:
+        raise CutsimError(name, loose[0].line, 1, "block before the first program header ('%name' or '%L name')")
+    if mains:
+        main = mains[0]
+    elif loose:
+        main = Section("main", "", 1, 1, loose)
+    else:
+        raise CutsimError(name, 1, 1, "no main program: the file needs a '%name' program ended by M30")
+    local: dict[str, Section] = {}
+    for i, s in enumerate(sections):
+        if s.kind != "local":
+            continue
+        if s.name in local:
+            first = local[s.name]
+            raise CutsimError(name, s.line, s.col, f"local subprogram '{s.name}' is defined twice (first at line {first.line})")
+        if not s.ended:
+            nxt = sections[i + 1].line if i + 1 < len(sections) else None
+            where = f"before line {nxt}" if nxt else "before the end of the file"
+            raise CutsimError(name, s.line, s.col, f"local subprogram '{s.name}' is not ended: M29 (or M17) missing {where}")
+        local[s.name] = s
+    for b in main.blocks:
+        for w in b.words:
+            if w.letter == "M" and w.value in (17, 29):
+                raise CutsimError(name, b.line, w.col, f"M{w.raw} ends a subprogram; the main program ends with M30")
+    return main, local
+
+
+def _header(name: str, lineno: int, indent: int, text: str) -> Section:
+    m = HEADER.match(text)
+    if not m:
+        raise CutsimError(name, lineno, indent + 1, "'%' must be followed by a program name ('%name' or '%L name')")
+    if m.group("local"):
+        nm = m.group("lname")
+        col = indent + m.start("lname") + 1
+        if not NAME.fullmatch(nm):
+            bad = next(c for c in nm if not NAME.match(c))
+            raise CutsimError(name, lineno, col + nm.index(bad),
+                              f"subprogram name '{nm}' may hold only letters, digits and '_'")
+        sec = Section("local", _nfc(nm), lineno, col)
+        rest = m.end()
+    else:
+        sec = Section("main", _nfc(m.group("mname")), lineno, indent + 2)
+        rest = m.end()
+    tail = text[rest:].lstrip()
+    if tail.startswith("("):
+        j = tail.find(")")
+        if j < 0:
+            raise CutsimError(name, lineno, indent + len(text) - len(tail) + 1, "program title '(' is not closed by ')'")
+        tail = tail[j + 1:].lstrip()
+    if tail and not tail.startswith(";"):
+        raise CutsimError(name, lineno, indent + len(text) - len(tail) + 1,
+                          "unexpected text after the program name (a title goes in parentheses, a comment after ';')")
+    return sec
+
+
+class Isg(ModalMachine):
+    def __init__(self, name: str, cfg: InterpConfig):
+        super().__init__(name, cfg)
+        self.motion = 0
+        self.lead: tuple[float, str] | None = None  # (mm per revolution, axis letter)
+        self.offset = 0.0  # S.OFFSET, degrees
+        self.executed = 0
+        self.ended = False
+        self.last_block: IsgBlock | None = None
+
+    # -- program structure -----------------------------------------------------------------------
+    def run(self, text: str) -> canon.Program:
+        self.main, self.local = parse(self.name, text)
+        self.section(self.main, (), ())
+        if not self.ended and self.last_block is not None:
+            b = self.last_block
+            self.warn(Src(self.name, b.line, 1, b.label), "the main program ends without M30")
+        self.program.blocks = self.executed
+        self.program.final_position = tuple(self.pos)
+        return self.program
+
+    def section(self, sec: Section, calls: tuple, stack: tuple) -> None:
+        """Execute a program body; returns at M29/M17, sets ``self.ended`` at M30/M02."""
+        for b in sec.blocks:
+            self.executed += 1
+            if self.executed > self.cfg.max_blocks:
+                raise self.error(b.line, 1, f"more than {self.cfg.max_blocks} blocks executed")
+            self.last_block = b
+            try:
+                ret = self.block(b, calls, stack)
+            except CutsimError as e:
+                if stack and e.line == b.line and e.program == self.name:
+                    raise CutsimError(e.program, e.line, e.col,
+                                      f"{e.message} (in subprogram '{stack[-1]}' called from line {calls[-1][1]})") from None
+                raise
+            if self.ended or ret:
+                return
+
+    def call(self, b: IsgBlock, calls: tuple, stack: tuple) -> None:
+        target, col = b.call
+        sec = self.local.get(target)
+        if sec is None:
+            msg = f"unknown subprogram '{target}'"
+            wanted = _folds(target)
+            near = [n for n in self.local if _folds(n) & wanted]
+            if near:
+                msg += f"; did you mean '{near[0]}'?"
+            elif self.local:
+                msg += f" (local subprograms here: {', '.join(sorted(self.local))})"
+            else:
+                msg += " (this file defines no local subprogram '%L name')"
+            raise self.error(b.line, col, msg)
+        if target in stack:
+            chain = " -> ".join(stack + (target,))
+            raise self.error(b.line, col, f"recursive subprogram call: {chain}")
+        self.section(sec, calls + ((self.name, b.line),), stack + (target,))
+
+    # -- one block -------------------------------------------------------------------------------
+    def block(self, b: IsgBlock, calls: tuple, stack: tuple) -> bool:
+        """Execute one block; True when it returns from a subprogram."""
+        src = Src(self.name, b.line, 1, b.label, calls)
+        words: dict[str, Word] = {}
+        gs: list[Word] = []
+        ms: list[Word] = []
+        for w in b.words:
+            if w.letter == "G":
+                gs.append(w)
+            elif w.letter == "M":
+                ms.append(w)
+            else:
+                words[w.letter] = w
+
+        motion = None
+        groups: dict[str, Word] = {}
+        for g in gs:
+            code = g.value
+            if code != int(code) or int(code) not in KNOWN_G:
+                raise self.error(b.line, g.col, f"unknown G code G{g.raw}")
+            code = int(code)
+            group = ("motion" if code in (0, 1, 2, 3, 33) else "dist" if code in (90, 91)
+                     else "feed" if code in (94, 95) else "plane" if code in PLANES else "diameter")
+            if group in groups:
+                raise self.error(b.line, g.col, f"G{g.raw} conflicts with G{groups[group].raw} in the same block")
+            groups[group] = g
+            if group == "motion":
+                motion = code
+            elif code in (90, 91):
+                self.absolute = code == 90
+            elif code in (94, 95):
+                self.per_rev = code == 95
+            elif code in PLANES:
+                self.plane = PLANES[code]
+            elif code in (51, 52):
+                if self.cfg.machine_kind != "lathe":
+                    raise self.error(b.line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
+                self.set_diameter(code == 51)
+
+        direction = None
+        end_prog = end_sub = None
+        for m in ms:
+            code = m.value
+            if code != int(code) or int(code) not in KNOWN_M:
+                raise self.error(b.line, m.col, f"unknown M code M{m.raw}")
+            code = int(code)
+            if code in (3, 4, 5):
+                if direction is not None:
+                    raise self.error(b.line, m.col, "two spindle M codes in one block")
+                direction = {3: 1, 4: -1, 5: 0}[code]
+            elif code in (2, 30, 17, 29):
+                if end_prog or end_sub:
+                    raise self.error(b.line, m.col, "two program-end M codes in one block")
+                if code in (2, 30):
+                    end_prog = m
+                else:
+                    end_sub = m
+
+        speed = words.pop("S", None)
+        if speed is not None and speed.value < 0:
+            raise self.error(b.line, speed.col, "spindle speed S must not be negative")
+        # M03/M04 act before the motion of their block, M05 after it.
+        if direction != 0 and (direction is not None or speed is not None):
+            self.spindle(src, direction, None if speed is None else speed.value)
+        if "T" in words:
+            t = words.pop("T")
+            if t.value != int(t.value) or t.value < 0:
+                raise self.error(b.line, t.col, f"tool number T{t.raw} must be a whole number")
+            d = words.pop("D", None)
+            self.tool(src, int(t.value), None if d is None else int(d.value))
+        else:
+            words.pop("D", None)  # offset selection without a tool change: no geometric effect
+
+        for w in b.offsets:
+            if not 0.0 <= w.value < 360.0:
+                raise self.error(b.line, w.col, f"S.OFFSET={w.raw} is outside the spindle's modulo range "
+                                 "(0 <= offset < 360 degrees)")
+            self.offset = w.value
+
+        if motion is not None:
+            self.motion = motion
+        threading = self.motion == 33
+        if "F" in words:
+            f = words.pop("F")
+            if threading:
+                raise self.error(b.line, f.col, "F has no meaning while G33 is active: the lead is programmed "
+                                 "on I, J or K (mm per revolution) and the feed follows from the spindle speed")
+            if f.value <= 0:
+                raise self.error(b.line, f.col, "feed F must be positive")
+            self.feed = f.value
+
+        axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
+        values = {i: w.value for i, w in axis_words.items()}
+        centre = {a: words.pop(a) for a in "IJK" if a in words}
+        if threading:
+            self.thread_block(b, src, motion, centre, values)
+        elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
+            self.circle(b, src, centre, values)
+        else:
+            for a, w in centre.items():
+                what = f"a G0{self.motion} block" if axis_words or motion is not None else "a block without a motion"
+                raise self.error(b.line, w.col, f"address {a} has no meaning in {what}")
+            if axis_words:
+                end = self.target(values)
+                (self.rapid if self.motion == 0 else self.linear)(src, end)
+        if direction == 0:
+            self.spindle(src, 0, None if speed is None else speed.value)
+        if b.call is not None:
+            self.call(b, calls, stack)
+            if self.ended:
+                return True
+        if end_prog is not None:
+            self.end(src)
+            self.ended = True
+            return True
+        if end_sub is not None:
+            if not stack:  # parse() rejects M29 in the main program; kept for safety
+                raise self.error(b.line, end_sub.col, f"M{end_sub.raw} outside a subprogram")
+            return True
+        return False
+
+    # -- G33 -------------------------------------------------------------------------------------
+    def thread_block(self, b: IsgBlock, src: Src, motion, leads: dict[str, Word], values: dict[int, float]) -> None:
+        if len(leads) > 1:
+            a, w = list(leads.items())[1]
+            raise self.error(b.line, w.col, f"two leads ({' and '.join(leads)}) in one G33 block: "
+                             "program the lead on one of I, J, K")
+        for a, w in leads.items():
+            if w.raw.lstrip("+").startswith(("-", "\u2212")):
+                raise self.error(b.line, w.col, f"the lead {a}{w.raw} is programmed without a sign")
+            if w.value == 0:
+                raise self.error(b.line, w.col, f"the lead {a}{w.raw} must not be zero when G33 is selected")
+            self.lead = (w.value, LEADS[a])
+        if self.lead is None:
+            col = b.words[0].col if b.words else 1
+            for w in b.words:
+                if w.letter == "G" and w.value == 33:
+                    col = w.col
+            raise self.error(b.line, col, "G33 without a lead: program it without sign on I, J or K "
+                             "(mm per revolution along X, Y or Z), e.g. 'G33 Z48 K1.5'")
+        if not values:
+            return  # G33 (and the lead) selected, no motion in this block
+        end = self.target(values)
+        lead, axis = self.lead
+        self.synced(src, end, lead, axis, self.offset)
+
+    # -- circles ---------------------------------------------------------------------------------
+    def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float]) -> None:
+        a, c, normal = PLANE_AXES[self.plane]
+        names = {0: "I", 1: "J", 2: "K"}
+        if not any(names[i] in words for i in (a, c)):
+            raise self.error(b.line, 1, f"circle needs its centre ({names[a]}/{names[c]}, relative to the start)")
+        if names[normal] in words:
+            raise self.error(b.line, words[names[normal]].col, f"{names[normal]} is not in the plane {self.plane} of the circle")
+        centre = list(self.pos)
+        for i in (a, c):
+            w = words.get(names[i])
+            if w is not None:
+                # I/J/K are increments from the start; I is a radius even in diameter mode
+                centre[i] = self.pos[i] + w.value * (2.0 if (i == 0 and self.diameter) else 1.0)
+        end = self.target(values)
+        self.arc(src, end, (centre[0], centre[1], centre[2]), self.motion == 2)
+
+    def error(self, line: int, col: int, message: str) -> CutsimError:
+        return CutsimError(self.name, line, col, message)
+
+
+def interpret(name: str, text: str, cfg: InterpConfig) -> canon.Program:
+    return Isg(name, cfg).run(text)
