@@ -1,0 +1,887 @@
+"""Siemens Sinumerik 840D dialect, milling subset (seed 003, spec/sinumerik.md).
+
+Blocks are scanned into statements (words, assignments, jumps, calls) once; expressions are
+evaluated when the block runs. Cycles (SLOT1, POCKET1, CYCLE72, ...) expand in
+interp/sinumerik_cycles.py into ordinary moves through the ModalMachine methods. Tool radius
+compensation (G41/G42) buffers the compensated moves and offsets them analytically at G40.
+
+What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinumerik.md.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+from dataclasses import dataclass, field, replace
+
+from . import canon
+from .canon import Src
+from .errors import CutsimError
+from .lexer import split_lines
+from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
+
+KNOWN_G = {0, 1, 2, 3, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506}
+KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
+ADDRESSES = set("GMXYZIJKFSTDLP")  # single-letter addresses with a number
+EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P"}
+KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "IF", "REPEAT", "PROC", "RET", "ENDIF"}
+TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
+# calls with no geometric effect (messages, high-speed settings, blank definition for the HMI)
+IGNORED_CALLS = {"MSG", "WORKPIECE", "CYCLE832", "G_GROUP", "SETMS"}
+IGNORED_WORDS = {"STOPRE", "SUPA", "FFWON", "FFWOF", "SOFT", "BRISK", "CFC", "CFTCP", "G601", "G602",
+                 "DIAMOF", "TRAFOOF", "M17"}
+FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
+         "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2}
+LABEL_RE = re.compile(r"\s*(?:N\d+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
+CONTOUR_BEGIN = "contour definition begin"
+CONTOUR_END = "contour definition end"
+
+
+# ---------------------------------------------------------------------------------------------
+# statements
+@dataclass
+class Stmt:
+    kind: str  # word | assign | def | goto | repeat | call | sub | ret | end
+    col: int
+    a: object = None
+    b: object = None
+    c: object = None
+    d: object = None
+
+
+@dataclass
+class Line:
+    line: int
+    text: str
+    label: str = ""  # NAME: label
+    nlabel: str = ""  # N word
+    stmts: list[Stmt] = field(default_factory=list)
+
+
+class _Scanner:
+    """Character scanner for one line (comment removed)."""
+
+    def __init__(self, prog: str, line: int, text: str):
+        self.prog, self.line, self.s, self.i = prog, line, text, 0
+
+    def err(self, col: int, msg: str) -> CutsimError:
+        return CutsimError(self.prog, self.line, col, msg)
+
+    def ws(self) -> None:
+        while self.i < len(self.s) and self.s[self.i] in " \t\f\v":
+            self.i += 1
+
+    def peek(self) -> str:
+        self.ws()
+        return self.s[self.i] if self.i < len(self.s) else ""
+
+    def ident(self) -> str:
+        m = re.compile(r"[A-Za-z_][A-Za-z0-9_]*").match(self.s, self.i)
+        if not m:
+            return ""
+        self.i = m.end()
+        return m.group(0).upper()
+
+    # expressions: comparison > additive > multiplicative > unary > primary
+    def expr(self):
+        left = self.additive()
+        self.ws()
+        for op in ("==", "<>", "<=", ">=", "<", ">"):
+            if self.s.startswith(op, self.i):
+                self.i += len(op)
+                return ("bin", op, left, self.additive())
+        return left
+
+    def additive(self):
+        left = self.term()
+        while True:
+            c = self.peek()
+            if c in ("+", "-") and c:
+                self.i += 1
+                left = ("bin", c, left, self.term())
+            else:
+                return left
+
+    def term(self):
+        left = self.unary()
+        while True:
+            c = self.peek()
+            if c in ("*", "/") and c:
+                self.i += 1
+                left = ("bin", c, left, self.unary())
+            else:
+                return left
+
+    def unary(self):
+        c = self.peek()
+        if c in ("-", "+", "\u2212") and c:
+            self.i += 1
+            v = self.unary()
+            return ("neg", v) if c != "+" else v
+        return self.primary()
+
+    def primary(self):
+        c = self.peek()
+        col = self.i + 1
+        if not c:
+            raise self.err(col, "expression expected at the end of the line")
+        m = re.compile(r"(?:\d+\.?\d*|\.\d+)").match(self.s, self.i)
+        if m:
+            self.i = m.end()
+            if self.i < len(self.s) and (self.s[self.i] == "." or self.s[self.i].isalpha() and self.s[self.i].upper() not in ADDRESSES | {"R", "C", "A", "N"}):
+                raise self.err(col, f"malformed number '{self.s[col - 1:self.i + 1]}'")
+            return ("num", float(m.group(0)))
+        if c == "(":
+            self.i += 1
+            v = self.expr()
+            if self.peek() != ")":
+                raise self.err(self.i + 1, "')' expected")
+            self.i += 1
+            return v
+        if c == '"':
+            j = self.s.find('"', self.i + 1)
+            if j < 0:
+                raise self.err(col, "unterminated string")
+            v = ("str", self.s[self.i + 1:j])
+            self.i = j + 1
+            return v
+        if c.isalpha() or c == "_":
+            name = self.ident()
+            if name in FUNCS:
+                if self.peek() != "(":
+                    raise self.err(self.i + 1, f"{name} needs its argument in parentheses")
+                self.i += 1
+                args = [self.expr()]
+                while self.peek() == ",":
+                    self.i += 1
+                    args.append(self.expr())
+                if self.peek() != ")":
+                    raise self.err(self.i + 1, "')' expected")
+                self.i += 1
+                if len(args) != FUNCS[name]:
+                    raise self.err(col, f"{name} takes {FUNCS[name]} argument(s)")
+                return ("fn", name, args, col)
+            if self.peek() == "[" and name == "R":  # R[expr]
+                self.i += 1
+                idx = self.expr()
+                if self.peek() != "]":
+                    raise self.err(self.i + 1, "']' expected")
+                self.i += 1
+                return ("ridx", idx, col)
+            return ("var", name, col)
+        raise self.err(col, f"unexpected character '{c}' in an expression")
+
+
+def _number_word(sc: _Scanner):
+    """After an address letter: a plain number (G1, X-10.5)."""
+    m = re.compile(r"[+\-\u2212]?(?:\d+\.?\d*|\.\d+)").match(sc.s, sc.i)
+    if not m:
+        return None
+    j = m.end()
+    if j < len(sc.s) and (sc.s[j] == "." or sc.s[j].isdigit()):
+        raise sc.err(sc.i + 1, f"malformed number '{sc.s[sc.i:j + 1]}'")
+    sc.i = j
+    return float(m.group(0).replace("\u2212", "-"))
+
+
+def strip_comment(text: str) -> str:
+    inq = False
+    for k, ch in enumerate(text):
+        if ch == '"':
+            inq = not inq
+        elif ch == ";" and not inq:
+            return text[:k]
+    return text
+
+
+def scan_line(prog: str, lineno: int, raw: str) -> Line:
+    ln = Line(lineno, raw)
+    text = strip_comment(raw)
+    if text.lstrip().startswith("%"):  # program header (%_N_NAME_MPF): handled by the splitter
+        return ln
+    sc = _Scanner(prog, lineno, text)
+    m = LABEL_RE.match(text)
+    if m and m.group(1).upper() not in KEYWORDS and len(m.group(1)) >= 2:
+        ln.label = m.group(1).upper()
+        pre = re.match(r"\s*N(\d+)", text)
+        if pre:
+            ln.nlabel = "N" + pre.group(1)
+        sc.i = m.end()
+    first = True
+    while True:
+        c = sc.peek()
+        if not c:
+            break
+        col = sc.i + 1
+        up = c.upper()
+        if up == "N" and first and sc.i + 1 < len(text) and text[sc.i + 1].isdigit():
+            sc.i += 1
+            v = _number_word(sc)
+            ln.nlabel = "N" + str(int(v))
+            first = False
+            continue
+        first = False
+        # R<n>=expr assignment
+        mr = re.compile(r"[Rr](\d+)\s*=").match(text, sc.i)
+        if mr:
+            sc.i = mr.end()
+            ln.stmts.append(Stmt("assign", col, "R" + str(int(mr.group(1))), sc.expr()))
+            continue
+        if up in ADDRESSES and sc.i + 1 < len(text) and (text[sc.i + 1].isdigit() or text[sc.i + 1] in "+-.\u2212"):
+            sc.i += 1
+            v = _number_word(sc)
+            if v is None:
+                raise sc.err(col, f"malformed number after {up}")
+            ln.stmts.append(Stmt("word", col, up, ("num", v), None))
+            continue
+        if not (c.isalpha() or c == "_"):
+            raise sc.err(col, f"unexpected character '{c}'")
+        name = sc.ident()
+        nxt = sc.peek()
+        if name == "DEF":
+            sc.ws()
+            typ = sc.ident()
+            if typ not in TYPES:
+                raise sc.err(sc.i + 1, "DEF needs a type (REAL, INT, ...)")
+            decls = []
+            while True:
+                sc.ws()
+                vcol = sc.i + 1
+                vname = sc.ident()
+                if not vname:
+                    raise sc.err(vcol, "variable name expected after DEF")
+                init = None
+                if sc.peek() == "=":
+                    sc.i += 1
+                    init = sc.expr()
+                decls.append((vname, init, vcol))
+                if sc.peek() == ",":
+                    sc.i += 1
+                    continue
+                break
+            ln.stmts.append(Stmt("def", col, typ, decls))
+            continue
+        if name in ("GOTOF", "GOTOB", "GOTO"):
+            sc.ws()
+            target = sc.ident()
+            if not target:
+                raise sc.err(sc.i + 1, f"{name} needs a label")
+            ln.stmts.append(Stmt("goto", col, name, target, None))
+            continue
+        if name == "IF":
+            cond = sc.expr()
+            sc.ws()
+            gcol = sc.i + 1
+            g = sc.ident()
+            if g not in ("GOTOF", "GOTOB", "GOTO"):
+                raise sc.err(gcol, "IF must be followed by a condition and GOTOF/GOTOB <label>")
+            sc.ws()
+            target = sc.ident()
+            if not target:
+                raise sc.err(sc.i + 1, f"{g} needs a label")
+            ln.stmts.append(Stmt("goto", col, g, target, cond))
+            continue
+        if name == "REPEAT":
+            sc.ws()
+            l1 = sc.ident()
+            if not l1:
+                raise sc.err(sc.i + 1, "REPEAT needs a label")
+            sc.ws()
+            save = sc.i
+            l2 = sc.ident()
+            count = ("num", 1.0)
+            if l2 == "P" and sc.peek() == "=":
+                l2 = ""
+                sc.i = save
+            if sc.peek().upper() == "P":
+                sc.i += 1
+                if sc.peek() != "=":
+                    raise sc.err(sc.i + 1, "REPEAT takes P=<count>")
+                sc.i += 1
+                count = sc.expr()
+            ln.stmts.append(Stmt("repeat", col, l1, l2 or None, count))
+            continue
+        if name == "PROC":
+            sc.ws()
+            pname = sc.ident()
+            ln.stmts.append(Stmt("proc", col, pname))
+            sc.i = len(text)
+            break
+        if name == "RET":
+            ln.stmts.append(Stmt("ret", col))
+            continue
+        if name in IGNORED_WORDS:
+            continue
+        if nxt == "(":
+            sc.i += 1
+            args = []
+            if sc.peek() == ")":
+                sc.i += 1
+            else:
+                while True:
+                    acol = sc.i + 1
+                    if sc.peek() in (",", ")"):
+                        args.append((None, acol))
+                    else:
+                        args.append((sc.expr(), acol))
+                    c2 = sc.peek()
+                    if c2 == ",":
+                        sc.i += 1
+                        continue
+                    if c2 == ")":
+                        sc.i += 1
+                        break
+                    raise sc.err(sc.i + 1, "',' or ')' expected in the argument list")
+            ln.stmts.append(Stmt("call", col, name, args))
+            continue
+        if nxt == "=":
+            sc.i += 1
+            if name in EXPR_ADDRESSES:
+                mode = None
+                sc.ws()
+                mm = re.compile(r"(AC|IC)\s*\(", re.I).match(text, sc.i)
+                if mm:
+                    mode = mm.group(1).upper()
+                    sc.i = mm.end()
+                    v = sc.expr()
+                    if sc.peek() != ")":
+                        raise sc.err(sc.i + 1, "')' expected")
+                    sc.i += 1
+                else:
+                    v = sc.expr()
+                ln.stmts.append(Stmt("word", col, name, v, mode))
+            else:
+                ln.stmts.append(Stmt("assign", col, name, sc.expr()))
+            continue
+        if re.fullmatch(r"[A-Z]", name):
+            raise sc.err(col, f"address {name} needs a value")
+        ln.stmts.append(Stmt("sub", col, name))
+    return ln
+
+
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class Unit:
+    """A program or subprogram: its lines and label index."""
+
+    name: str
+    lines: list[Line]
+    labels: dict[str, int] = field(default_factory=dict)
+
+
+def split_units(prog: str, text: str) -> tuple[Unit, dict[str, Unit]]:
+    lines = [scan_line(prog, k, raw) for k, raw in enumerate(split_lines(text), start=1)]
+    main = Unit("MAIN", [])
+    subs: dict[str, Unit] = {}
+    cur = main
+    for ln in lines:
+        hdr = re.match(r"\s*%_N_([A-Za-z0-9_]+?)_(SPF|MPF)", ln.text)
+        if hdr and hdr.group(2) == "SPF":
+            cur = subs.setdefault(hdr.group(1).upper(), Unit(hdr.group(1).upper(), []))
+            continue
+        if ln.stmts and ln.stmts[0].kind == "proc":
+            cur = subs.setdefault(ln.stmts[0].a, Unit(ln.stmts[0].a, []))
+            continue
+        cur.lines.append(ln)
+    for u in [main, *subs.values()]:
+        for idx, ln in enumerate(u.lines):
+            for lab in (ln.label, ln.nlabel):
+                if lab:
+                    u.labels.setdefault(lab, idx)
+    return main, subs
+
+
+@dataclass
+class Frame:
+    unit: Unit
+    pc: int
+    stop: int | None = None  # index where a REPEAT section ends (exclusive)
+    restart: int = 0
+    ret: int = 0
+    count: int = 0
+    kind: str = "unit"  # unit | repeat | contour
+    calls: tuple = ()
+
+
+class Sinumerik(ModalMachine):
+    def __init__(self, name: str, cfg: InterpConfig):
+        super().__init__(name, cfg)
+        self.params: dict[str, float] = {f"R{k}": float(v) for k, v in cfg.parameters.items()}
+        self.vars: dict[str, object] = {}
+        self.motion = 0
+        self.tool_pre: int | None = None
+        radii = cfg.tool_radii or {}
+        self.tool_no: int | None = next(iter(radii), None)
+        self.d_no = 1
+        self.comp = 40  # G40/G41/G42
+        self.comp_buf: list | None = None
+        self.comp_src: Src | None = None
+        self.executed = 0
+        self.main: Unit | None = None
+        self.subs: dict[str, Unit] = {}
+
+    # -- values ----------------------------------------------------------------------------------
+    def tool_radius(self) -> float:
+        if self.d_no == 0 or self.tool_no is None:
+            return 0.0
+        return float(self.cfg.tool_radii.get(self.tool_no, 0.0))
+
+    def ev(self, node, line: int, col: int):
+        k = node[0]
+        if k == "num":
+            return node[1]
+        if k == "str":
+            return node[1]
+        if k == "neg":
+            v = self.ev(node[1], line, col)
+            if isinstance(v, str):
+                raise self.error(line, col, "a string cannot be negated")
+            return -v
+        if k == "var":
+            name = node[1]
+            if re.fullmatch(r"R\d+", name):
+                return self.params.get("R" + str(int(name[1:])), 0.0)
+            if name in self.vars:
+                return self.vars[name]
+            if name in ("TRUE", "FALSE"):
+                return 1.0 if name == "TRUE" else 0.0
+            raise self.error(line, node[2], f"unknown variable '{name}' (declare it with DEF)")
+        if k == "ridx":
+            i = self.num(self.ev(node[1], line, col), line, node[2])
+            return self.params.get(f"R{int(i)}", 0.0)
+        if k == "fn":
+            args = [self.num(self.ev(a, line, col), line, node[3]) for a in node[2]]
+            f = node[1]
+            try:
+                if f == "SIN":
+                    return math.sin(math.radians(args[0]))
+                if f == "COS":
+                    return math.cos(math.radians(args[0]))
+                if f == "TAN":
+                    return math.tan(math.radians(args[0]))
+                if f == "ASIN":
+                    return math.degrees(math.asin(args[0]))
+                if f == "ACOS":
+                    return math.degrees(math.acos(args[0]))
+                if f == "ATAN2":
+                    return math.degrees(math.atan2(args[0], args[1]))
+                if f == "SQRT":
+                    return math.sqrt(args[0])
+                if f == "ABS":
+                    return abs(args[0])
+                if f == "POT":
+                    return args[0] * args[0]
+                if f == "TRUNC":
+                    return float(math.trunc(args[0]))
+                if f == "ROUND":
+                    return float(math.floor(args[0] + 0.5))
+                if f == "MINVAL":
+                    return min(args)
+                if f == "MAXVAL":
+                    return max(args)
+            except ValueError:
+                raise self.error(line, node[3], f"{f} of {args[0]:g} is not defined") from None
+        if k == "bin":
+            op = node[1]
+            a = self.ev(node[2], line, col)
+            b = self.ev(node[3], line, col)
+            if op in ("==", "<>") and isinstance(a, str) and isinstance(b, str):
+                return float((a == b) == (op == "=="))
+            a, b = self.num(a, line, col), self.num(b, line, col)
+            if op == "+":
+                return a + b
+            if op == "-":
+                return a - b
+            if op == "*":
+                return a * b
+            if op == "/":
+                if b == 0:
+                    raise self.error(line, col, "division by zero")
+                return a / b
+            return float({"==": a == b, "<>": a != b, "<": a < b, ">": a > b, "<=": a <= b, ">=": a >= b}[op])
+        raise self.error(line, col, "bad expression")  # pragma: no cover
+
+    def num(self, v, line: int, col: int) -> float:
+        if isinstance(v, str):
+            raise self.error(line, col, f"a number is needed here, not the string \"{v}\"")
+        if not math.isfinite(v):
+            raise self.error(line, col, "the value is not a finite number")
+        return float(v)
+
+    # -- emission (radius compensation buffers motions) -----------------------------------------
+    def emit(self, rec) -> None:
+        if self.comp_buf is not None:
+            self.comp_buf.append(rec)
+        else:
+            self.program.records.append(rec)
+
+    # -- main loop -------------------------------------------------------------------------------
+    def run(self, text: str) -> canon.Program:
+        self.main, self.subs = split_units(self.name, text)
+        stack = [Frame(self.main, 0)]
+        ended = False
+        last_line = 1
+        while stack and not ended:
+            fr = stack[-1]
+            if fr.stop is not None and fr.pc >= fr.stop:
+                fr.count -= 1
+                if fr.count > 0:
+                    fr.pc = fr.restart
+                    continue
+                stack.pop()
+                if stack:
+                    stack[-1].pc = fr.ret
+                continue
+            if fr.pc >= len(fr.unit.lines):
+                stack.pop()
+                if fr.kind == "unit" and stack:
+                    continue
+                if fr.kind == "repeat" and stack:
+                    stack[-1].pc = fr.ret
+                continue
+            ln = fr.unit.lines[fr.pc]
+            last_line = ln.line
+            fr.pc += 1
+            if not ln.stmts:
+                continue
+            self.executed += 1
+            if self.executed > self.cfg.max_blocks:
+                raise self.error(ln.line, 1, f"the program does not end: more than {self.cfg.max_blocks} blocks executed (jump loop)")
+            ended = self.block(ln, fr, stack)
+        if self.comp_buf is not None:
+            self.flush_comp(None, last_line)
+        self.program.blocks = self.executed
+        self.program.final_position = tuple(self.pos)
+        return self.program
+
+    def find_label(self, unit: Unit, label: str, line: int, col: int) -> int:
+        if label not in unit.labels:
+            raise self.error(line, col, f"label {label} does not exist in {'the program' if unit is self.main else unit.name}")
+        return unit.labels[label]
+
+    def find_sub(self, name: str, line: int, col: int) -> Unit:
+        if name in self.subs:
+            return self.subs[name]
+        d = os.path.dirname(os.path.abspath(self.name))
+        try:
+            cands = [f for f in os.listdir(d) if os.path.splitext(f)[0].upper() == name and
+                     os.path.splitext(f)[1].upper() in (".SPF", ".MPF", ".NC")]
+        except OSError:
+            cands = []
+        if not cands:
+            raise self.error(line, col, f"subprogram {name} is not defined (PROC {name} in this file, or {name}.spf beside it)")
+        path = os.path.join(d, sorted(cands)[0])
+        with open(path, "rb") as f:
+            text = f.read().decode("utf-8-sig", errors="replace")
+        unit, more = split_units(path, text)
+        unit.name = name
+        self.subs[name] = unit
+        for k, u in more.items():
+            self.subs.setdefault(k, u)
+        return unit
+
+    # -- one block -------------------------------------------------------------------------------
+    def block(self, ln: Line, fr: Frame, stack: list[Frame]) -> bool:
+        src = Src(self.name, ln.line, 1, ln.nlabel or ln.label, fr.calls)
+        line = ln.line
+        words: dict[str, tuple] = {}
+        gs: list[tuple[int, int]] = []
+        ms: list[tuple[int, int]] = []
+        calls: list[Stmt] = []
+        jumps: list[Stmt] = []
+        for st in ln.stmts:
+            if st.kind == "assign":
+                v = self.ev(st.b, line, st.col)
+                if st.a.startswith("R") and re.fullmatch(r"R\d+", st.a):
+                    self.params[st.a] = self.num(v, line, st.col)
+                elif st.a in self.vars:
+                    self.vars[st.a] = v
+                else:
+                    raise self.error(line, st.col, f"unknown variable '{st.a}' (declare it with DEF)")
+            elif st.kind == "def":
+                for vname, init, vcol in st.b:
+                    if re.fullmatch(r"R\d+", vname) or vname in EXPR_ADDRESSES or len(vname) == 1:
+                        raise self.error(line, vcol, f"'{vname}' is an address or parameter and cannot be a variable name")
+                    val = 0.0 if st.a != "STRING" else ""
+                    if init is not None:
+                        val = self.ev(init, line, vcol)
+                        if st.a == "INT" and not isinstance(val, str):
+                            val = float(math.trunc(val))
+                    self.vars[vname] = val
+            elif st.kind == "word":
+                val = self.ev(st.b, line, st.col)
+                if st.a == "G":
+                    v = self.num(val, line, st.col)
+                    if v != int(v) or int(v) not in KNOWN_G:
+                        raise self.error(line, st.col, f"unknown G code G{v:g}")
+                    gs.append((int(v), st.col))
+                elif st.a == "M":
+                    v = self.num(val, line, st.col)
+                    if v != int(v) or int(v) not in KNOWN_M:
+                        raise self.error(line, st.col, f"unknown M code M{v:g}")
+                    ms.append((int(v), st.col))
+                else:
+                    if st.a in words:
+                        raise self.error(line, st.col, f"address {st.a} appears twice in one block")
+                    words[st.a] = (self.num(val, line, st.col), st.c, st.col)
+            elif st.kind in ("goto", "repeat"):
+                jumps.append(st)
+            elif st.kind in ("call", "sub", "ret"):
+                calls.append(st)
+
+        # modal G codes
+        motion = None
+        new_comp = None
+        for code, col in gs:
+            if code in (0, 1, 2, 3):
+                if motion is not None:
+                    raise self.error(line, col, f"G{code} conflicts with G{motion} in the same block")
+                motion = code
+            elif code == 90:
+                self.absolute = True
+            elif code == 91:
+                self.absolute = False
+            elif code == 94:
+                self.per_rev = False
+            elif code == 95:
+                self.per_rev = True
+            elif code in PLANES:
+                if self.comp_buf is not None:
+                    raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
+                self.plane = PLANES[code]
+            elif code in (40, 41, 42):
+                new_comp = (code, col)
+        # spindle, tool, feed
+        direction = None
+        end = False
+        change = False
+        for code, col in ms:
+            if code in (3, 4, 5):
+                if direction is not None:
+                    raise self.error(line, col, "two spindle M codes in one block")
+                direction = {3: 1, 4: -1, 5: 0}[code]
+            elif code in (2, 30):
+                end = True
+            elif code == 6:
+                change = True
+            elif code == 17:
+                calls.append(Stmt("ret", col))
+        if "S" in words:
+            s = words.pop("S")
+            if s[0] < 0:
+                raise self.error(line, s[2], "spindle speed S must not be negative")
+            self.spindle(src, direction, s[0])
+        elif direction is not None:
+            self.spindle(src, direction, None)
+        if "T" in words:
+            t = words.pop("T")
+            if t[0] != int(t[0]) or t[0] < 0:
+                raise self.error(line, t[2], "T must be a whole tool number")
+            self.tool_pre = int(t[0])
+        if "D" in words:
+            d = words.pop("D")
+            if d[0] != int(d[0]) or d[0] < 0:
+                raise self.error(line, d[2], "D must be a whole offset number")
+            self.d_no = int(d[0])
+        if change:
+            if self.tool_pre is None:
+                raise self.error(line, 1, "M6 without a tool: program T<number> first")
+            if self.cfg.tool_radii and self.tool_pre not in self.cfg.tool_radii:
+                known = ", ".join(f"T{n}" for n in sorted(self.cfg.tool_radii))
+                raise self.error(line, 1, f"tool T{self.tool_pre} is not in the setup (tools: {known})")
+            self.tool_no = self.tool_pre
+            self.tool(src, self.tool_pre, self.d_no)
+        if "F" in words:
+            f = words.pop("F")
+            if f[0] <= 0:
+                raise self.error(line, f[2], "feed F must be positive")
+            self.feed = f[0]
+        if motion is not None:
+            self.motion = motion
+
+        # compensation switched on: start buffering before the approach move
+        if new_comp is not None and new_comp[0] in (41, 42):
+            if self.comp_buf is not None and self.comp != new_comp[0]:
+                self.flush_comp(None, line)
+            if self.comp_buf is None:
+                if self.tool_radius() <= 0:
+                    self.warn(src, f"G{new_comp[0]} with tool radius 0 (no tool radius known for D{self.d_no}): the path is not offset")
+                self.comp = new_comp[0]
+                self.comp_buf = []
+                self.comp_src = src
+
+        self.move(ln, src, words, motion)
+
+        if new_comp is not None and new_comp[0] == 40 and self.comp_buf is not None:
+            self.flush_comp(src, line)
+        # cycles and subprogram calls
+        for st in calls:
+            if st.kind == "ret":
+                self.ret(stack)
+                return False
+            if st.kind == "call":
+                if st.a in IGNORED_CALLS:
+                    continue
+                from . import sinumerik_cycles
+                if st.a in sinumerik_cycles.CYCLES:
+                    args = []
+                    for node, acol in st.b:
+                        args.append((None if node is None else self.ev(node, line, acol), acol))
+                    sinumerik_cycles.run_cycle(self, st.a, args, src, ln)
+                    continue
+                raise self.error(line, st.col, f"unknown cycle or function {st.a}")
+            if st.kind == "sub":
+                if st.a in self.vars:
+                    raise self.error(line, st.col, f"'{st.a}' is a variable: write {st.a}=<value> to assign it")
+                self.call_sub(self.find_sub(st.a, line, st.col), src, words, stack, st.col)
+                return False
+        if "L" in words:
+            lw = words.pop("L")
+            self.call_sub(self.find_sub(f"L{int(lw[0])}", line, lw[2]), src, words, stack, lw[2])
+            return False
+        if "P" in words:
+            raise self.error(line, words["P"][2], "P (repeat count) only goes with a subprogram call")
+        for st in jumps:
+            if st.kind == "goto":
+                if st.c is not None and not self.num(self.ev(st.c, line, st.col), line, st.col):
+                    continue
+                fr2 = stack[-1]
+                idx = self.find_label(fr2.unit, st.b, line, st.col)
+                cur = fr2.pc - 1
+                if st.a == "GOTOF" and idx <= cur:
+                    raise self.error(line, st.col, f"GOTOF jumps forward, but {st.b} comes before this block")
+                if st.a == "GOTOB" and idx > cur:
+                    raise self.error(line, st.col, f"GOTOB jumps back, but {st.b} comes after this block")
+                fr2.pc = idx
+                return end
+            if st.kind == "repeat":
+                fr2 = stack[-1]
+                cur = fr2.pc - 1
+                a = self.find_label(fr2.unit, st.a, line, st.col)
+                n = self.num(self.ev(st.c, line, st.col), line, st.col)
+                if n != int(n) or n < 1:
+                    raise self.error(line, st.col, "REPEAT P must be a whole number of at least 1")
+                if st.b is None:
+                    if a >= cur:
+                        raise self.error(line, st.col, f"REPEAT {st.a}: the label must come before this block")
+                    stop = cur
+                else:
+                    b = self.find_label(fr2.unit, st.b, line, st.col)
+                    if b < a:
+                        raise self.error(line, st.col, f"REPEAT {st.a} {st.b}: the end label comes before the start")
+                    stop = b + 1
+                stack.append(Frame(fr2.unit, a, stop, a, cur + 1, int(n), "repeat", fr2.calls))
+                return end
+        if end:
+            if self.comp_buf is not None:
+                self.flush_comp(None, line)
+            self.end(src)
+            if len(stack) > 1 and stack[-1].kind == "unit":  # M2/M30 in a subprogram: return
+                self.ret(stack)
+                return False
+        return end
+
+    def ret(self, stack: list[Frame]) -> None:
+        while stack and stack[-1].kind == "repeat":
+            stack.pop()
+        if len(stack) <= 1:
+            stack[:] = []  # RET / M17 in the main program ends it
+            return
+        stack.pop()
+
+    def call_sub(self, unit: Unit, src: Src, words: dict, stack: list[Frame], col: int) -> None:
+        n = 1
+        if "P" in words:
+            p = words.pop("P")
+            if p[0] != int(p[0]) or p[0] < 1:
+                raise self.error(src.line, p[2], "P (repeat count) must be a whole number of at least 1")
+            n = int(p[0])
+        if len(stack) > 16:
+            raise self.error(src.line, col, "subprograms nested deeper than 16 levels (recursion?)")
+        calls = stack[-1].calls + ((self.name, src.line),)
+        stack.append(Frame(unit, 0, len(unit.lines), 0, stack[-1].pc, n, "unit", calls))
+
+    # -- motion ----------------------------------------------------------------------------------
+    def axis_targets(self, words: dict) -> dict[int, float]:
+        end = {}
+        for i, a in enumerate("XYZ"):
+            if a in words:
+                v, mode, _ = words.pop(a)
+                ab = self.absolute if mode is None else mode == "AC"
+                end[i] = v if ab else self.pos[i] + v
+        return end
+
+    def move(self, ln: Line, src: Src, words: dict, motion_word) -> None:
+        line = ln.line
+        targets = self.axis_targets(words)
+        if not targets and motion_word not in (2, 3) and not any(k in words for k in ("I", "J", "K", "CR")):
+            return
+        end = list(self.pos)
+        for i, v in targets.items():
+            end[i] = v
+        end = (end[0], end[1], end[2])
+        if self.motion in (0, 1):
+            for a in ("I", "J", "K", "CR"):
+                if a in words:
+                    raise self.error(line, words[a][2], f"address {a} has no meaning in a G{self.motion} block")
+            (self.rapid if self.motion == 0 else self.linear)(src, end)
+            return
+        a, b, nrm = PLANE_AXES[self.plane]
+        cw = self.motion == 2
+        letters = {0: "I", 1: "J", 2: "K"}
+        if letters[nrm] in words:
+            raise self.error(line, words[letters[nrm]][2], f"{letters[nrm]} is not in the plane {self.plane} of the circle")
+        if "CR" in words:
+            r, _, ccol = words.pop("CR")
+            if any(letters[i] in words for i in (a, b)):
+                raise self.error(line, ccol, "a circle takes either CR= or its centre I/J/K, not both")
+            if r == 0:
+                raise self.error(line, ccol, "CR must not be 0")
+            p0 = (self.pos[a], self.pos[b])
+            p1 = (end[a], end[b])
+            dx, dy = p1[0] - p0[0], p1[1] - p0[1]
+            d = math.hypot(dx, dy)
+            if d < 1e-9:
+                raise self.error(line, ccol, "a CR= circle needs an end point different from its start")
+            if d > 2 * abs(r) + 1e-6:
+                raise self.error(line, ccol, f"CR={r:g} is too small: the end point is {d:.4f} mm from the start")
+            h = math.sqrt(max(r * r - d * d / 4, 0.0))
+            # centre on the left of the chord for CCW with the short arc (CR>0), right for CW
+            sgn = (1 if not cw else -1) * (1 if r > 0 else -1)
+            mx, my = (p0[0] + p1[0]) / 2, (p0[1] + p1[1]) / 2
+            cx, cy = mx - sgn * h * dy / d, my + sgn * h * dx / d
+            centre = list(self.pos)
+            centre[a], centre[b] = cx, cy
+        else:
+            centre = list(self.pos)
+            given = False
+            for i in (a, b):
+                if letters[i] in words:
+                    v, mode, _ = words.pop(letters[i])
+                    centre[i] = v if mode == "AC" else self.pos[i] + v
+                    given = True
+            if not given:
+                raise self.error(line, 1, f"circle needs its centre ({letters[a]}/{letters[b]}) or a radius CR=")
+        self.arc(src, end, (centre[0], centre[1], centre[2]), cw)
+
+    # -- tool radius compensation ----------------------------------------------------------------
+    def flush_comp(self, src_g40: Src | None, line: int) -> None:
+        from .sinumerik_cycles import compensate_records
+        buf, self.comp_buf = self.comp_buf, None
+        side = 1 if self.comp == 41 else -1
+        r = self.tool_radius()
+        recs = compensate_records(self, buf, side * r, self.plane, src_g40 is not None, self.comp_src)
+        self.program.records.extend(recs)
+        self.comp = 40
+        # the position is where the last emitted motion ends
+        for rec in reversed(recs):
+            if isinstance(rec, canon.MOTIONS):
+                self.pos = list(rec.end)
+                break
+
+
+def interpret(name: str, text: str, cfg: InterpConfig) -> canon.Program:
+    return Sinumerik(name, cfg).run(text)
+
+
+__all__ = ["interpret", "Sinumerik", "replace"]

@@ -1,0 +1,1018 @@
+"""Sinumerik milling cycles (SLOT1, SLOT2, POCKET1-4, CYCLE71, CYCLE72) and the analytic tool
+radius offset of a contour (G41/G42, CYCLE72).
+
+Each cycle expands into plain moves through the ModalMachine methods, every record carrying the
+cycle block's Src, so the kinematics and the material removal know nothing about cycles.
+Geometry here is plain 2D math on lines and arcs in the working plane; no meshes.
+
+The product decisions where Siemens' documentation is silent are listed in
+docs/dialects/sinumerik.md ("What the simulator assumes"); the constants below are those.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from . import canon
+from .canon import Src
+from .modal import PLANE_AXES
+
+SIDE_STEP = 1.0  # pocket/slot roughing: radial step between concentric paths, x tool radius
+INNER_LOOP = 0.9  # the innermost roughing path lies this many tool radii inside the final one
+FACE_STEP = 1.5  # CYCLE71 default side step (_MIDA empty), x tool radius
+EPS = 1e-9
+
+
+# ---------------------------------------------------------------------------------------------
+# 2D elements: ("L", p0, p1) or ("A", p0, p1, centre, cw)
+def _sub(p, q):
+    return (p[0] - q[0], p[1] - q[1])
+
+
+def _norm(v):
+    return math.hypot(v[0], v[1])
+
+
+def _unit(v):
+    n = _norm(v)
+    return (v[0] / n, v[1] / n)
+
+
+def _left(v):
+    return (-v[1], v[0])
+
+
+def _cross(u, v):
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1]
+
+
+def tangent(e, at_end: bool):
+    if e[0] == "L":
+        return _unit(_sub(e[2], e[1]))
+    p = e[2] if at_end else e[1]
+    rv = _unit(_sub(p, e[3]))
+    return (rv[1], -rv[0]) if e[4] else (-rv[1], rv[0])
+
+
+def sweep(e) -> float:
+    """Angle an arc turns through, radians, in (0, 2 pi]."""
+    a0 = math.atan2(e[1][1] - e[3][1], e[1][0] - e[3][0])
+    a1 = math.atan2(e[2][1] - e[3][1], e[2][0] - e[3][0])
+    d = (a0 - a1) if e[4] else (a1 - a0)
+    d %= 2 * math.pi
+    return d if d > 1e-12 else 2 * math.pi
+
+
+def length(e) -> float:
+    if e[0] == "L":
+        return _norm(_sub(e[2], e[1]))
+    return _norm(_sub(e[1], e[3])) * sweep(e)
+
+
+def reverse(elems):
+    out = []
+    for e in reversed(elems):
+        out.append(("L", e[2], e[1]) if e[0] == "L" else ("A", e[2], e[1], e[3], not e[4]))
+    return out
+
+
+class OffsetError(ValueError):
+    def __init__(self, index: int, message: str):
+        super().__init__(message)
+        self.index = index
+
+
+def _offset_elem(e, d, idx):
+    if e[0] == "L":
+        n = _left(tangent(e, False))
+        return ("L", (e[1][0] + d * n[0], e[1][1] + d * n[1]), (e[2][0] + d * n[0], e[2][1] + d * n[1]))
+    c = e[3]
+    r = _norm(_sub(e[1], c))
+    r2 = r + d if e[4] else r - d  # the left of a CCW arc is its centre
+    if r2 <= 1e-6:
+        raise OffsetError(idx, f"the tool radius {abs(d):g} does not fit the arc of radius {r:g} (concave side)")
+
+    def sc(p):
+        return (c[0] + (p[0] - c[0]) * r2 / r, c[1] + (p[1] - c[1]) * r2 / r)
+    return ("A", sc(e[1]), sc(e[2]), c, e[4])
+
+
+def _intersections(e1, e2):
+    """Intersections of the carriers (infinite line / full circle) of two elements."""
+    if e1[0] == "L" and e2[0] == "L":
+        d1, d2 = _sub(e1[2], e1[1]), _sub(e2[2], e2[1])
+        den = _cross(d1, d2)
+        if abs(den) < 1e-14:
+            return []
+        t = _cross(_sub(e2[1], e1[1]), d2) / den
+        return [(e1[1][0] + t * d1[0], e1[1][1] + t * d1[1])]
+    if e1[0] == "A" and e2[0] == "L":
+        return _intersections(e2, e1)
+    if e1[0] == "L":
+        c, r = e2[3], _norm(_sub(e2[1], e2[3]))
+        p, d = e1[1], _unit(_sub(e1[2], e1[1]))
+        f = _sub(p, c)
+        b = _dot(f, d)
+        disc = b * b - (_dot(f, f) - r * r)
+        if disc < -1e-9:
+            return []
+        s = math.sqrt(max(disc, 0.0))
+        return [(p[0] + (-b + k * s) * d[0], p[1] + (-b + k * s) * d[1]) for k in (-1, 1)]
+    c1, r1 = e1[3], _norm(_sub(e1[1], e1[3]))
+    c2, r2 = e2[3], _norm(_sub(e2[1], e2[3]))
+    dd = _norm(_sub(c2, c1))
+    if dd < 1e-12 or dd > r1 + r2 + 1e-9 or dd < abs(r1 - r2) - 1e-9:
+        return []
+    a = (r1 * r1 - r2 * r2 + dd * dd) / (2 * dd)
+    h = math.sqrt(max(r1 * r1 - a * a, 0.0))
+    u = _unit(_sub(c2, c1))
+    m = (c1[0] + a * u[0], c1[1] + a * u[1])
+    return [(m[0] + k * h * -u[1], m[1] + k * h * u[0]) for k in (-1, 1)]
+
+
+def _with_end(e, p, at_end: bool):
+    if e[0] == "L":
+        return ("L", e[1], p) if at_end else ("L", p, e[2])
+    return ("A", e[1], p, e[3], e[4]) if at_end else ("A", p, e[2], e[3], e[4])
+
+
+def _check_trim(orig, new, idx):
+    if orig[0] == "L":
+        if _dot(_sub(new[2], new[1]), _sub(orig[2], orig[1])) <= 0:
+            raise OffsetError(idx, "the contour element is too short for the tool radius (bottleneck)")
+    elif sweep(new) > sweep(orig) + 1e-7 and sweep(orig) < 2 * math.pi - 1e-9:
+        raise OffsetError(idx, "the contour arc is too short for the tool radius (bottleneck)")
+
+
+def offset_chain(elems, d):
+    """Offset an open chain of elements by ``d`` (> 0 to the left of the travel, < 0 to the right):
+    offset every element, join neighbours by their intersection at concave corners and by an arc
+    about the corner at convex ones. Returns [(element, source index)]."""
+    if abs(d) < EPS:
+        return [(e, i) for i, e in enumerate(elems)]
+    offs = [_offset_elem(e, d, i) for i, e in enumerate(elems)]
+    out = []
+    for i in range(len(offs)):
+        if i + 1 < len(offs):
+            q1, q2 = offs[i][2], offs[i + 1][1]
+            if _norm(_sub(q1, q2)) > 1e-7:
+                t1, t2 = tangent(elems[i], True), tangent(elems[i + 1], False)
+                turn = _cross(t1, t2)
+                convex = (turn < 0) if d > 0 else (turn > 0)
+                if abs(turn) < 1e-12:
+                    convex = _dot(t1, t2) < 0  # reversal: go round the end
+                if convex:
+                    v = elems[i][2]
+                    offs_arc = ("A", q1, q2, v, d > 0)
+                    out.append((offs[i], i))
+                    out.append((offs_arc, i + 1))
+                    continue
+                pts = _intersections(offs[i], offs[i + 1])
+                if not pts:
+                    raise OffsetError(i + 1, "the offset contour has no corner here: the tool radius is too large")
+                mid = ((q1[0] + q2[0]) / 2, (q1[1] + q2[1]) / 2)
+                x = min(pts, key=lambda p: _norm(_sub(p, mid)))
+                a = _with_end(offs[i], x, True)
+                b = _with_end(offs[i + 1], x, False)
+                _check_trim(offs[i], a, i)
+                _check_trim(offs[i + 1], b, i + 1)
+                offs[i], offs[i + 1] = a, b
+        out.append((offs[i], i))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# G41/G42 in the program: offset the buffered records
+def _p2(v, plane):
+    a, b, _ = PLANE_AXES[plane]
+    return (v[a], v[b])
+
+
+def _p3(p, n, plane):
+    a, b, c = PLANE_AXES[plane]
+    v = [0.0, 0.0, 0.0]
+    v[a], v[b], v[c] = p[0], p[1], n
+    return (v[0], v[1], v[2])
+
+
+def compensate_records(m, buf, d, plane, has_departure, comp_src):
+    """Records between G41/G42 and G40 -> compensated records. The first motion is the approach
+    (a straight move to the offset start of the contour), the G40 block's motion the departure."""
+    a, b, nidx = PLANE_AXES[plane]
+    motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS)]
+    if len(motions) < 2 or abs(d) < EPS:
+        return list(buf)
+    first = motions[0]
+    last = motions[-1] if has_departure and len(motions) >= 3 else None
+    body = [k for k in motions[1:] if k != last]
+    elems, owner = [], []
+    for k in body:
+        r = buf[k]
+        if _norm(_sub(_p2(r.end, plane), _p2(r.start, plane))) < 1e-9 and not (isinstance(r, canon.Arc) and r.full_turn):
+            continue
+        if isinstance(r, canon.Arc):
+            if r.full_turn:
+                raise m.error(r.src.line, r.src.col, "a full circle under G41/G42 is not supported: split it in two arcs")
+            elems.append(("A", _p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise))
+        else:
+            elems.append(("L", _p2(r.start, plane), _p2(r.end, plane)))
+        owner.append(k)
+    if not elems:
+        return list(buf)
+    try:
+        chain = offset_chain(elems, d)
+    except OffsetError as e:
+        r = buf[owner[e.index]]
+        raise m.error(r.src.line, r.src.col, f"radius compensation: {e}") from None
+    by_owner: dict[int, list] = {}
+    for e, i in chain:
+        by_owner.setdefault(owner[i], []).append(e)
+    out = []
+    cur = None  # current 3D position
+    for k, r in enumerate(buf):
+        if not isinstance(r, canon.MOTIONS):
+            out.append(r)
+            continue
+        if k == first:
+            p = chain[0][0][1]
+            end = _p3(p, r.end[nidx], plane)
+            cls = canon.Rapid if isinstance(r, canon.Rapid) else None
+            if cls:
+                out.append(canon.Rapid(r.src, r.start, end, r.diameter))
+            else:
+                out.append(canon.Feed(r.src, r.start, end, r.diameter, r.feed, r.per_rev))
+            cur = end
+        elif k == last:
+            if isinstance(r, canon.Rapid):
+                out.append(canon.Rapid(r.src, cur, r.end, r.diameter))
+            else:
+                out.append(canon.Feed(r.src, cur, r.end, r.diameter, r.feed, r.per_rev))
+            cur = r.end
+        elif k in by_owner:
+            pieces = by_owner[k]
+            total = sum(length(e) for e in pieces)
+            z0, z1 = r.start[nidx], r.end[nidx]
+            run = 0.0
+            for e in pieces:
+                za = z0 + (z1 - z0) * (run / total if total > 0 else 0)
+                run += length(e)
+                zb = z0 + (z1 - z0) * (run / total if total > 0 else 1)
+                s3, e3 = _p3(e[1], za, plane), _p3(e[2], zb, plane)
+                feed = getattr(r, "feed", 0.0)
+                if e[0] == "L":
+                    if isinstance(r, canon.Rapid):
+                        out.append(canon.Rapid(r.src, s3, e3, r.diameter))
+                    else:
+                        out.append(canon.Feed(r.src, s3, e3, r.diameter, feed, r.per_rev))
+                else:
+                    c3 = _p3(e[3], za, plane)
+                    out.append(canon.Arc(r.src, s3, e3, r.diameter, c3, plane, e[4], False, feed,
+                                         getattr(r, "per_rev", False)))
+                cur = e3
+        else:  # a move along the tool axis only: done where the tool stands
+            end = list(cur)
+            end[nidx] = r.end[nidx]
+            end = (end[0], end[1], end[2])
+            if isinstance(r, canon.Rapid):
+                out.append(canon.Rapid(r.src, cur, end, r.diameter))
+            else:
+                out.append(canon.Feed(r.src, cur, end, r.diameter, getattr(r, "feed", 0.0), getattr(r, "per_rev", False)))
+            cur = end
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# parameters
+@dataclass(frozen=True)
+class P:
+    name: str
+    kind: str = "n"  # "n" number | "s" string
+    default: object = 0.0  # None: required
+
+
+def _spec(names: str, required: str = "", strings: str = ""):
+    req = set(required.split())
+    st = set(strings.split())
+    return [P(n, "s" if n in st else "n", None if n in req else ("" if n in st else 0.0)) for n in names.split()]
+
+
+SPECS = {
+    "SLOT1": _spec("RTP RFP SDIS DP DPR NUM LENG WID CPA CPO RAD STA1 INDA FFD FFP1 MID CDIR FAL VARI MIDF FFP2 SSF _FALD _STA2",
+                   "RTP RFP LENG WID"),
+    "SLOT2": _spec("RTP RFP SDIS DP DPR NUM AFSL WID CPA CPO RAD STA1 INDA FFD FFP1 MID CDIR FAL VARI MIDF FFP2 SSF _FFCP",
+                   "RTP RFP AFSL WID RAD"),
+    "POCKET1": _spec("RTP RFP SDIS DP DPR LENG WID CRAD CPA CPO STA1 FFD FFP1 MID CDIR FAL VARI MIDF FFP2 SSF",
+                     "RTP RFP LENG WID"),
+    "POCKET2": _spec("RTP RFP SDIS DP DPR PRAD CPA CPO FFD FFP1 MID CDIR FAL VARI MIDF FFP2 SSF", "RTP RFP PRAD"),
+    "POCKET3": _spec("_RTP _RFP _SDIS _DP _LENG _WID _CRAD _PA _PO _STA _MID _FAL _FALD _FFP1 _FFD _CDIR _VARI _MIDA "
+                     "_AP1 _AP2 _AD _RAD1 _DP1", "_RTP _RFP _DP _LENG _WID"),
+    "POCKET4": _spec("_RTP _RFP _SDIS _DP _PRAD _PA _PO _MID _FAL _FALD _FFP1 _FFD _CDIR _VARI _MIDA _AP1 _AD _RAD1 _DP1",
+                     "_RTP _RFP _DP _PRAD"),
+    "CYCLE71": _spec("_RTP _RFP _SDIS _DP _PA _PO _LENG _WID _STA _MID _MIDA _FDP _FALD _FFP1 _VARI _FDP1",
+                     "_RTP _RFP _DP _LENG _WID"),
+    "CYCLE72": _spec("_KNAME _RTP _RFP _SDIS _DP _MID _FAL _FALD _FFP1 _FFD _VARI _RL _AS1 _LP1 _FF3 _AS2 _LP2",
+                     "_KNAME _RTP _RFP _DP", "_KNAME"),
+}
+CYCLES = set(SPECS)
+
+
+class Cycle:
+    def __init__(self, m, name: str, args, src: Src, line):
+        self.m, self.name, self.src, self.line = m, name, src, line.line
+        self.col = next((s.col for s in line.stmts if s.kind == "call" and s.a == name), 1)
+        spec = SPECS[name]
+        if len(args) > len(spec):
+            raise m.error(self.line, args[len(spec)][1], f"{name} takes at most {len(spec)} parameters, not {len(args)}")
+        self.v: dict[str, object] = {}
+        self.given: set[str] = set()
+        for k, p in enumerate(spec):
+            val, col = args[k] if k < len(args) else (None, self.col)
+            if val is None:
+                if p.default is None:
+                    raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) is required")
+                self.v[p.name] = p.default
+                continue
+            if p.kind == "n" and isinstance(val, str):
+                raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) must be a number, not the string \"{val}\"")
+            if p.kind == "s" and not isinstance(val, str):
+                raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) must be a string in double quotes")
+            self.v[p.name] = val
+            self.given.add(p.name)
+        self.rt = m.tool_radius()
+        self.saved_feed = m.feed
+
+    def __getitem__(self, k):
+        return self.v[k]
+
+    def err(self, msg: str):
+        return self.m.error(self.line, self.col, f"{self.name}: {msg}")
+
+    def unsigned(self, *names):
+        for n in names:
+            if self.v[n] < 0:
+                raise self.err(f"{n} is written without a sign (got {self.v[n]:g})")
+
+    # -- motion helpers --------------------------------------------------------------------------
+    def p3(self, p, z):
+        return (p[0], p[1], z)
+
+    def rapid(self, p, z):
+        if self._here(p, z):
+            return
+        self.m.rapid(self.src, (p[0], p[1], z))
+
+    def feed_to(self, p, z, f):
+        if f and f > 0:
+            self.m.feed = f
+        if self._here(p, z):
+            return
+        self.m.linear(self.src, (p[0], p[1], z))
+
+    def _here(self, p, z):
+        q = self.m.pos
+        return abs(q[0] - p[0]) < 1e-9 and abs(q[1] - p[1]) < 1e-9 and abs(q[2] - z) < 1e-9
+
+    def run_elem(self, e, z, f):
+        if f and f > 0:
+            self.m.feed = f
+        if e[0] == "L":
+            if self._here(e[2], z):
+                return
+            self.m.linear(self.src, (e[2][0], e[2][1], z))
+        else:
+            self.m.arc(self.src, (e[2][0], e[2][1], z), (e[3][0], e[3][1], z), e[4])
+
+    def pos2(self):
+        return (self.m.pos[0], self.m.pos[1])
+
+    def depth(self, dp="DP", dpr="DPR", rfp="RFP"):
+        """Final depth: DPR (relative, unsigned) wins when given and non-zero."""
+        if dpr and dpr in self.given and self.v[dpr] != 0:
+            if self.v[dpr] < 0:
+                raise self.err(f"{dpr} is written without a sign")
+            return self.v[rfp] - self.v[dpr]
+        if dp not in self.given:
+            raise self.err(f"the depth is missing: give {dp}" + (f" or {dpr}" if dpr else ""))
+        return self.v[dp]
+
+    def levels(self, top, bottom, mid):
+        if bottom >= top - EPS:
+            return []
+        if mid < 0:
+            raise self.err("the infeed depth is written without a sign")
+        n = 1 if mid <= EPS else max(1, math.ceil((top - bottom) / mid - 1e-9))
+        return [top - (top - bottom) * k / n for k in range(1, n + 1)]
+
+    def start(self, rtp, p):
+        """To the retraction plane, then over the start point."""
+        if self.m.pos[2] < rtp - EPS:
+            self.m.rapid(self.src, (self.m.pos[0], self.m.pos[1], rtp))
+        self.rapid(p, rtp)
+
+    def finish(self, rtp):
+        self.m.rapid(self.src, (self.m.pos[0], self.m.pos[1], rtp))
+        self.m.feed = self.saved_feed
+
+    def need_radius(self):
+        if self.rt <= 0:
+            raise self.err("no tool radius: select a milling tool (T.. M6, D1) that the setup describes")
+
+    def ccw(self, cdir):
+        """Loops run counter-clockwise (G3) for climb milling with M3 (inside a pocket)."""
+        cdir = int(cdir)
+        if cdir not in (0, 1, 2, 3):
+            raise self.err(f"CDIR must be 0, 1, 2 or 3 (got {cdir})")
+        if cdir in (2, 3):
+            return cdir == 3
+        climb_ccw = self.m.spindle_dir >= 0
+        return climb_ccw if cdir == 0 else not climb_ccw
+
+
+# ---------------------------------------------------------------------------------------------
+# pocket-like regions: concentric closed paths
+def _rot(p, ang, c):
+    ca, sa = math.cos(ang), math.sin(ang)
+    return (c[0] + p[0] * ca - p[1] * sa, c[1] + p[0] * sa + p[1] * ca)
+
+
+def rounded_rect_loop(a, b, cr, centre, ang):
+    """CCW path of the rounded rectangle |u|<=a, |v|<=b (corner radius cr) from (0, -b), in global
+    coordinates; zero-length pieces dropped (a = 0 or b = 0 is a line travelled both ways)."""
+    cr = max(0.0, min(cr, a, b))
+    pts = []
+    seq = [("L", (a - cr, -b)), ("A", (a, -b + cr), (a - cr, -b + cr)), ("L", (a, b - cr)),
+           ("A", (a - cr, b), (a - cr, b - cr)), ("L", (-a + cr, b)), ("A", (-a, b - cr), (-a + cr, b - cr)),
+           ("L", (-a, -b + cr)), ("A", (-a + cr, -b), (-a + cr, -b + cr)), ("L", (0.0, -b))]
+    cur = (0.0, -b)
+    for s in seq:
+        nxt = s[1]
+        if math.hypot(nxt[0] - cur[0], nxt[1] - cur[1]) < 1e-9:
+            continue
+        g0, g1 = _rot(cur, ang, centre), _rot(nxt, ang, centre)
+        if s[0] == "L" or cr <= 1e-9:
+            pts.append(("L", g0, g1))
+        else:
+            pts.append(("A", g0, g1, _rot(s[2], ang, centre), False))
+        cur = nxt
+    if not pts:  # a point: the tool only plunges
+        g = _rot((0.0, -b), ang, centre)
+        pts.append(("L", g, g))
+    return pts
+
+
+def arc_slot_loop(rad, rho, t0, t1, centre):
+    """CCW path around the arc slot of centre-line radius ``rad`` from angle t0 to t1 (radians,
+    t1 > t0) at offset ``rho`` from the centre line, from the inner arc at the middle angle."""
+    tm = (t0 + t1) / 2
+
+    def P(r, t):
+        return (centre[0] + r * math.cos(t), centre[1] + r * math.sin(t))
+    e0, e1 = P(rad, t0), P(rad, t1)
+    out = [("A", P(rad - rho, tm), P(rad - rho, t0), centre, True)]
+    if rho > 1e-9:
+        out.append(("A", P(rad - rho, t0), P(rad + rho, t0), e0, False))
+    out.append(("A", P(rad + rho, t0), P(rad + rho, t1), centre, False))
+    if rho > 1e-9:
+        out.append(("A", P(rad + rho, t1), P(rad - rho, t1), e1, False))
+    out.append(("A", P(rad - rho, t1), P(rad - rho, tm), centre, True))
+    return out
+
+
+def offsets(d, rt, step):
+    """Offsets (from the final path inwards) of the concentric roughing paths: the innermost lies
+    within INNER_LOOP tool radii of the middle, neighbours at most ``step`` apart."""
+    if d <= INNER_LOOP * rt:
+        return [0.0]
+    inner = INNER_LOOP * rt
+    n = 1 + math.ceil((d - inner) / step - 1e-9)
+    s = (d - inner) / (n - 1)
+    return [(n - 1 - j) * s for j in range(n)]
+
+
+def cut_region(cy: Cycle, rtp, safe, top, bottom, loops_rough, loops_fin, mid, midf, plunge, ffd, ffp1, ffp2,
+               fald=0.0, helix=None):
+    """Rough the loops level by level (plunge at the first loop's start), then finish along the
+    final loop. ``loops_*`` are lists of CCW/CW element lists, inside first."""
+    rough_levels = cy.levels(top, bottom + fald, mid) if loops_rough else []
+    fin_levels = cy.levels(top, bottom, midf if midf > 0 else mid) if loops_fin else []
+    first = (loops_rough or loops_fin)[0][0][1] if (loops_rough or loops_fin) else None
+    if first is None:
+        return
+    cy.start(rtp, first)
+    cy.rapid(first, safe)
+    z_prev = safe
+    for lv in rough_levels:
+        _plunge(cy, loops_rough[0], z_prev, lv, plunge, ffd, top, helix)
+        for k, loop in enumerate(loops_rough):
+            if k:
+                cy.feed_to(loop[0][1], lv, ffp1)
+            for e in loop:
+                cy.run_elem(e, lv, ffp1)
+        cy.feed_to(loops_rough[0][0][1], lv, ffp1)
+        z_prev = lv
+    if fald > 0 and loops_rough:  # floor allowance: clear the floor at the final depth
+        _plunge(cy, loops_rough[0], z_prev, bottom, 1, ffd, top, None)
+        for k, loop in enumerate(loops_rough):
+            if k:
+                cy.feed_to(loop[0][1], bottom, ffp1)
+            for e in loop:
+                cy.run_elem(e, bottom, ffp1)
+        cy.feed_to(loops_rough[0][0][1], bottom, ffp1)
+        z_prev = bottom
+    for lv in fin_levels:
+        loop = loops_fin[-1]
+        if loops_rough:
+            cy.feed_to(loop[0][1], cy.m.pos[2], ffp2)
+            cy.feed_to(loop[0][1], lv, ffd)
+        else:
+            _plunge(cy, loop, z_prev, lv, plunge, ffd, top, None)
+        for e in loop:
+            cy.run_elem(e, lv, ffp2)
+        z_prev = lv
+    cy.feed_to(cy.pos2(), safe, ffd)
+    cy.finish(rtp)
+
+
+def _plunge(cy: Cycle, loop, z_prev, z, mode, ffd, top, helix):
+    p = loop[0][1]
+    if mode == 0:  # vertical with G0
+        cy.rapid(p, z)
+    elif mode == 2 and helix is not None:  # helix about the region centre
+        c, r, pitch = helix
+        s = (c[0] + r, c[1])
+        cy.feed_to(s, z_prev, ffd)
+        zc = z_prev
+        while zc > z + EPS:
+            zn = max(z, zc - pitch / 2)
+            cy.m.arc(cy.src, (c[0] - r, c[1], zn), (c[0], c[1], zn), False)
+            zc = zn
+            if zc <= z + EPS:
+                cy.m.arc(cy.src, (c[0] + r, c[1], zc), (c[0], c[1], zc), False)
+                break
+            zn = max(z, zc - pitch / 2)
+            cy.m.arc(cy.src, (c[0] + r, c[1], zn), (c[0], c[1], zn), False)
+            zc = zn
+        cy.m.arc(cy.src, (c[0] - r, c[1], z), (c[0], c[1], z), False)  # flatten the ramp's floor
+        cy.m.arc(cy.src, (c[0] + r, c[1], z), (c[0], c[1], z), False)
+        cy.feed_to(p, z, ffd)
+    elif mode == 3:  # oscillate along the first straight piece of the innermost path
+        e = loop[0]
+        if e[0] == "L" and length(e) > 1e-3:
+            zm = (z_prev + z) / 2
+            cy.feed_to(e[2], max(zm, z), ffd)
+            cy.feed_to(e[1], z, ffd)
+        else:
+            cy.feed_to(p, z, ffd)
+    else:  # vertical with G1
+        cy.feed_to(p, z, ffd)
+
+
+def _vari(cy: Cycle, key="VARI"):
+    v = cy[key]
+    if v < 0 or v != int(v):
+        raise cy.err(f"{key} must be a whole number without a sign (got {v:g})")
+    v = int(v)
+    units, tens = v % 10, (v // 10) % 10
+    if units not in (0, 1, 2):
+        raise cy.err(f"{key} units digit must be 0 (complete), 1 (roughing) or 2 (finishing), got {units}")
+    return units, tens
+
+
+def _plunge_mode(cy, tens, allowed):
+    if tens not in allowed:
+        raise cy.err(f"VARI tens digit {tens} is not one of {', '.join(map(str, sorted(allowed)))}")
+    return tens
+
+
+def _loops_for(units, fal, build_rough, build_fin):
+    rough = build_rough() if units in (0, 1) else []
+    fin = build_fin() if (units == 2 or (units == 0 and fal > 0)) else []
+    if units == 1 and fal == 0:
+        pass
+    return rough, fin
+
+
+def _orient(loops, ccw):
+    return [lp if ccw else reverse(lp) for lp in loops]
+
+
+# ---------------------------------------------------------------------------------------------
+def _seg_dist(p1, p2, q1, q2):
+    def pd(p, a, b):
+        ab = _sub(b, a)
+        L = _dot(ab, ab)
+        t = 0.0 if L < 1e-18 else max(0.0, min(1.0, _dot(_sub(p, a), ab) / L))
+        return _norm(_sub(p, (a[0] + t * ab[0], a[1] + t * ab[1])))
+    d1, d2 = _sub(p2, p1), _sub(q2, q1)
+    den = _cross(d1, d2)
+    if abs(den) > 1e-14:
+        t = _cross(_sub(q1, p1), d2) / den
+        u = _cross(_sub(q1, p1), d1) / den
+        if 0 <= t <= 1 and 0 <= u <= 1:
+            return 0.0
+    return min(pd(p1, q1, q2), pd(p2, q1, q2), pd(q1, p1, p2), pd(q2, p1, p2))
+
+
+def slot1(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("SDIS", "NUM", "LENG", "WID", "RAD", "MID", "FAL", "MIDF")
+    rt = cy.rt
+    num = cy["NUM"] if "NUM" in cy.given else 1
+    if num < 1 or num != int(num):
+        raise cy.err("NUM must be a whole number of slots, at least 1")
+    num = int(num)
+    leng, wid, fal = cy["LENG"], cy["WID"], cy["FAL"]
+    if 2 * rt > wid + 1e-9:
+        raise cy.err(f"the tool (diameter {2 * rt:g}) is wider than the slot (WID {wid:g})")
+    if leng < wid - 1e-9:
+        raise cy.err(f"the slot length LENG {leng:g} is shorter than its width WID {wid:g}")
+    if 2 * (rt + fal) > wid + 1e-9:
+        raise cy.err(f"the finishing allowance FAL {fal:g} leaves no room for the tool in the slot")
+    units, tens = _vari(cy)
+    mode = _plunge_mode(cy, tens, {0, 1, 3})
+    inda = cy["INDA"] if cy["INDA"] != 0 else 360.0 / num
+    c = (cy["CPA"], cy["CPO"])
+    axes = []
+    for k in range(num):
+        ang = math.radians(cy["STA1"] + k * inda)
+        u = (math.cos(ang), math.sin(ang))
+        r0, r1 = cy["RAD"] + wid / 2, cy["RAD"] + leng - wid / 2
+        axes.append((ang, (c[0] + r0 * u[0], c[1] + r0 * u[1]), (c[0] + r1 * u[0], c[1] + r1 * u[1])))
+    for i in range(num):
+        for j in range(i + 1, num):
+            if _seg_dist(axes[i][1], axes[i][2], axes[j][1], axes[j][2]) < wid - 1e-6:
+                raise cy.err(f"slots {i + 1} and {j + 1} overlap (width {wid:g}, angle step {inda:g} degrees)")
+    ccw = cy.ccw(cy["CDIR"])
+    bottom = cy.depth()
+    safe = cy["RFP"] + cy["SDIS"]
+    for ang, p0, p1 in axes:
+        mid = ((p0[0] + p1[0]) / 2, (p0[1] + p1[1]) / 2)
+        a, b = leng / 2 - rt, wid / 2 - rt
+
+        def build(extra, a=a, b=b, mid=mid, ang=ang):
+            return [rounded_rect_loop(a - extra - o, b - extra - o, b - extra - o, mid, ang)
+                    for o in offsets(b - extra, rt, SIDE_STEP * rt)]
+        rough, fin = _loops_for(units, fal, lambda: build(fal), lambda: [rounded_rect_loop(a, b, b, mid, ang)])
+        cut_region(cy, cy["RTP"], safe, cy["RFP"], bottom, _orient(rough, ccw), _orient(fin, ccw), cy["MID"],
+                   cy["MIDF"], mode, cy["FFD"], cy["FFP1"], cy["FFP2"] or cy["FFP1"])
+
+
+def slot2(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("SDIS", "NUM", "AFSL", "WID", "RAD", "MID", "FAL", "MIDF")
+    rt = cy.rt
+    num = cy["NUM"] if "NUM" in cy.given else 1
+    if num < 1 or num != int(num):
+        raise cy.err("NUM must be a whole number of slots, at least 1")
+    num = int(num)
+    afsl, wid, rad, fal = cy["AFSL"], cy["WID"], cy["RAD"], cy["FAL"]
+    if 2 * rt > wid + 1e-9:
+        raise cy.err(f"the tool (diameter {2 * rt:g}) is wider than the slot (WID {wid:g})")
+    if 2 * (rt + fal) > wid + 1e-9:
+        raise cy.err(f"the finishing allowance FAL {fal:g} leaves no room for the tool in the slot")
+    if rad - wid / 2 <= 1e-9:
+        raise cy.err(f"the slot (width {wid:g}) does not fit on the radius RAD {rad:g}")
+    if afsl <= 0 or afsl >= 360:
+        raise cy.err(f"AFSL must be between 0 and 360 degrees (got {afsl:g})")
+    units, tens = _vari(cy)
+    mode = _plunge_mode(cy, tens, {0, 1, 3})
+    inda = cy["INDA"] if cy["INDA"] != 0 else 360.0 / num
+    # neighbours: the ends' circles of radius WID/2 must not overlap
+    cap = 2 * math.degrees(math.asin(min(1.0, wid / (2 * rad))))
+    if num > 1:
+        gaps = [(((cy["STA1"] + (k + 1) * inda) - (cy["STA1"] + k * inda + afsl)) % 360.0) for k in range(num)]
+        starts = sorted(((cy["STA1"] + k * inda) % 360.0) for k in range(num))
+        spacing = min((starts[(k + 1) % num] - starts[k]) % 360.0 for k in range(num))
+        if spacing < afsl + cap - 1e-6 or min(gaps) < cap - 1e-6:
+            raise cy.err(f"the slots overlap: {num} slots of {afsl:g} degrees and width {wid:g} do not fit "
+                         f"with the angle step {inda:g} degrees")
+    elif afsl + cap > 360 + 1e-6:
+        raise cy.err("the slot closes on itself")
+    ccw = cy.ccw(cy["CDIR"])
+    c = (cy["CPA"], cy["CPO"])
+    bottom = cy.depth()
+    safe = cy["RFP"] + cy["SDIS"]
+    for k in range(num):
+        t0 = math.radians(cy["STA1"] + k * inda)
+        t1 = t0 + math.radians(afsl)
+        b = wid / 2 - rt
+
+        def build(extra, t0=t0, t1=t1, b=b):
+            return [arc_slot_loop(rad, b - extra - o, t0, t1, c) for o in offsets(b - extra, rt, SIDE_STEP * rt)]
+        rough, fin = _loops_for(units, fal, lambda: build(fal), lambda: [arc_slot_loop(rad, b, t0, t1, c)])
+        cut_region(cy, cy["RTP"], safe, cy["RFP"], bottom, _orient(rough, ccw), _orient(fin, ccw), cy["MID"],
+                   cy["MIDF"], mode, cy["FFD"], cy["FFP1"], cy["FFP2"] or cy["FFP1"])
+
+
+def _rect_pocket(cy: Cycle, leng, wid, crad, centre, sta, mid, midf, fal, fald, units, mode, ffd, ffp1, ffp2,
+                 cdir, rtp, rfp, sdis, bottom, step, helix_r=None, helix_pitch=None, circle=False):
+    rt = cy.rt
+    what = "pocket"
+    if circle:
+        if crad < rt - 1e-9:
+            raise cy.err(f"the pocket radius {crad:g} is smaller than the tool radius {rt:g}")
+    else:
+        if min(leng, wid) < 2 * rt - 1e-9:
+            raise cy.err(f"the tool (diameter {2 * rt:g}) is wider than the {what} ({leng:g} x {wid:g})")
+        if crad < rt - 1e-9:
+            raise cy.err(f"the corner radius CRAD {crad:g} is smaller than the tool radius {rt:g}")
+        if crad > min(leng, wid) / 2 + 1e-9:
+            raise cy.err(f"the corner radius CRAD {crad:g} is larger than half the pocket width")
+    a, b, cr = leng / 2 - rt, wid / 2 - rt, crad - rt
+    if min(a, b) - fal < -1e-9:
+        raise cy.err(f"the finishing allowance {fal:g} leaves no room for the tool in the pocket")
+    ang = math.radians(sta)
+    ccw = cy.ccw(cdir)
+
+    def build(extra):
+        d = max(min(a, b) - extra, 0.0)
+        return [rounded_rect_loop(max(a - extra - o, 0), max(b - extra - o, 0), cr - extra - o, centre, ang)
+                for o in offsets(d, rt, step)]
+    rough, fin = _loops_for(units, fal, lambda: build(fal), lambda: [rounded_rect_loop(a, b, cr, centre, ang)])
+    helix = None
+    if mode == 2:
+        r = helix_r if helix_r and helix_r > 0 else rt / 2
+        if r + rt > min(leng, wid) / 2 + 1e-9:
+            raise cy.err(f"the helix radius {r:g} does not fit in the pocket with this tool")
+        pitch = helix_pitch if helix_pitch and helix_pitch > 0 else max(rt / 2, 1e-3)
+        helix = (centre, r, pitch)
+    cut_region(cy, rtp, rfp + sdis, rfp, bottom, _orient(rough, ccw), _orient(fin, ccw), mid, midf, mode, ffd, ffp1,
+               ffp2, fald, helix)
+
+
+def pocket1(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("SDIS", "LENG", "WID", "CRAD", "MID", "FAL", "MIDF")
+    units, tens = _vari(cy)
+    mode = _plunge_mode(cy, tens, {0, 1})
+    _rect_pocket(cy, cy["LENG"], cy["WID"], cy["CRAD"], (cy["CPA"], cy["CPO"]), cy["STA1"], cy["MID"], cy["MIDF"],
+                 cy["FAL"], 0.0, units, mode, cy["FFD"], cy["FFP1"], cy["FFP2"] or cy["FFP1"], cy["CDIR"],
+                 cy["RTP"], cy["RFP"], cy["SDIS"], cy.depth(), SIDE_STEP * cy.rt)
+
+
+def pocket2(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("SDIS", "PRAD", "MID", "FAL", "MIDF")
+    units, tens = _vari(cy)
+    mode = _plunge_mode(cy, tens, {0, 1})
+    r = cy["PRAD"]
+    _rect_pocket(cy, 2 * r, 2 * r, r, (cy["CPA"], cy["CPO"]), 0.0, cy["MID"], cy["MIDF"], cy["FAL"], 0.0, units,
+                 mode, cy["FFD"], cy["FFP1"], cy["FFP2"] or cy["FFP1"], cy["CDIR"], cy["RTP"], cy["RFP"], cy["SDIS"],
+                 cy.depth(), SIDE_STEP * cy.rt, circle=True)
+
+
+def _mida(cy: Cycle):
+    mida = cy["_MIDA"]
+    if mida < 0:
+        raise cy.err("_MIDA is written without a sign")
+    if mida > 2 * cy.rt + 1e-9:
+        raise cy.err(f"_MIDA {mida:g} is larger than the tool diameter {2 * cy.rt:g}: material would be left")
+    return mida if mida > 0 else SIDE_STEP * cy.rt
+
+
+def pocket3(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("_SDIS", "_LENG", "_WID", "_CRAD", "_MID", "_FAL", "_FALD")
+    units, tens = _vari(cy, "_VARI")
+    mode = _plunge_mode(cy, tens, {0, 1, 2, 3})
+    _rect_pocket(cy, cy["_LENG"], cy["_WID"], cy["_CRAD"], (cy["_PA"], cy["_PO"]), cy["_STA"], cy["_MID"], 0.0,
+                 cy["_FAL"], cy["_FALD"] if units != 2 else 0.0, units, mode, cy["_FFD"], cy["_FFP1"], cy["_FFP1"],
+                 cy["_CDIR"], cy["_RTP"], cy["_RFP"], cy["_SDIS"], cy.depth("_DP", None, "_RFP"), _mida(cy),
+                 cy["_RAD1"], cy["_DP1"])
+
+
+def pocket4(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("_SDIS", "_PRAD", "_MID", "_FAL", "_FALD")
+    units, tens = _vari(cy, "_VARI")
+    mode = _plunge_mode(cy, tens, {0, 1, 2})
+    r = cy["_PRAD"]
+    _rect_pocket(cy, 2 * r, 2 * r, r, (cy["_PA"], cy["_PO"]), 0.0, cy["_MID"], 0.0, cy["_FAL"],
+                 cy["_FALD"] if units != 2 else 0.0, units, mode, cy["_FFD"], cy["_FFP1"], cy["_FFP1"], cy["_CDIR"],
+                 cy["_RTP"], cy["_RFP"], cy["_SDIS"], cy.depth("_DP", None, "_RFP"), _mida(cy), cy["_RAD1"], cy["_DP1"],
+                 circle=True)
+
+
+def cycle71(cy: Cycle):
+    cy.need_radius()
+    cy.unsigned("_SDIS", "_MID", "_MIDA", "_FDP", "_FALD", "_FDP1")
+    rt = cy.rt
+    v = cy["_VARI"]
+    if v < 0 or v != int(v):
+        raise cy.err("_VARI must be a whole number without a sign")
+    units, tens = int(v) % 10, (int(v) // 10) % 10
+    if units not in (0, 1, 2):
+        raise cy.err(f"_VARI units digit must be 1 (roughing) or 2 (finishing), got {units}")
+    if tens not in (1, 2, 3, 4):
+        raise cy.err(f"_VARI tens digit must be 1..4 (direction and one-way / zig-zag), got {tens}")
+    leng, wid = cy["_LENG"], cy["_WID"]
+    if leng == 0 or wid == 0:
+        raise cy.err("_LENG and _WID must not be 0")
+    along_first = tens in (1, 3)
+    zigzag = tens in (3, 4)
+    mida = cy["_MIDA"]
+    if mida > 2 * rt + 1e-9:
+        raise cy.err(f"_MIDA {mida:g} is larger than the tool diameter {2 * rt:g}: material would be left")
+    step = mida if mida > 0 else FACE_STEP * rt
+    ang = math.radians(cy["_STA"])
+    corner = (cy["_PA"], cy["_PO"])
+    u0, u1 = sorted((0.0, leng))
+    v0, v1 = sorted((0.0, wid))
+    if not along_first:  # cut along the second axis: swap the roles
+        u0, u1, v0, v1 = v0, v1, u0, u1
+    n = max(1, math.ceil((v1 - v0) / step - 1e-9))
+    vs = [v0 + (v1 - v0) * k / n for k in range(n + 1)]
+    ext0 = rt + (cy["_FDP"] if cy["_FDP"] > 0 else cy["_SDIS"])
+    ext1 = rt + cy["_FDP1"]
+
+    def G(u, v):
+        p = (u, v) if along_first else (v, u)
+        return _rot(p, ang, corner)
+    top, bottom = cy["_RFP"], cy["_DP"]
+    fald = cy["_FALD"]
+    levels = []
+    if units in (0, 1):
+        levels += cy.levels(top, bottom + (fald if units == 1 or fald > 0 else 0.0), cy["_MID"])
+    if units == 2 or (units == 0 and fald > 0):
+        levels.append(bottom)
+    f = cy["_FFP1"]
+    safe = top + cy["_SDIS"]
+    cy.start(cy["_RTP"], G(u0 - ext0, vs[0]))
+    for lv in levels:
+        cy.rapid(G(u0 - ext0, vs[0]), max(safe, lv + cy["_SDIS"]) if cy.m.pos[2] > lv else cy.m.pos[2])
+        cy.feed_to(G(u0 - ext0, vs[0]), lv, f)
+        fwd = True
+        for k, v in enumerate(vs):
+            if fwd:
+                a, b = G(u0 - ext0, v), G(u1 + ext1, v)
+            else:
+                a, b = G(u1 + ext1, v), G(u0 - ext0, v)
+            if k:
+                if zigzag:
+                    cy.feed_to(a, lv, f)
+                else:
+                    cy.rapid(cy.pos2(), lv + cy["_SDIS"])
+                    cy.rapid(a, lv + cy["_SDIS"])
+                    cy.feed_to(a, lv, f)
+            cy.feed_to(b, lv, f)
+            if zigzag:
+                fwd = not fwd
+        cy.rapid(cy.pos2(), safe)
+        cy.rapid(G(u0 - ext0, vs[0]), safe)
+    cy.finish(cy["_RTP"])
+
+
+# ---------------------------------------------------------------------------------------------
+def contour_elements(m, name: str, cy: Cycle):
+    """The contour named by _KNAME (a subprogram or "START:END" labels) as (start, elements) in
+    the XY plane; its blocks run in a sandbox that emits nothing."""
+    from .sinumerik import Frame
+    name = name.strip()
+    if not name:
+        raise cy.err("_KNAME is empty: name the contour (subprogram or \"START:END\" labels)")
+    if ":" in name:
+        l1, l2 = [s.strip().upper() for s in name.split(":", 1)]
+        unit = None
+        for u in [m.main, *m.subs.values()]:
+            if l1 in u.labels and l2 in u.labels:
+                unit = u
+                break
+        if unit is None:
+            raise cy.err(f"contour {name}: the labels {l1} and {l2} are not both in the program")
+        lines = unit.lines[unit.labels[l1]:unit.labels[l2] + 1]
+    else:
+        try:
+            unit = m.find_sub(name.upper(), cy.line, cy.col)
+        except Exception:
+            raise cy.err(f"contour {name} not found (no subprogram and no \"START:END\" labels of that name)") from None
+        lines = unit.lines
+    saved = (list(m.pos), m.absolute, m.plane, m.motion, m.feed, m.per_rev, m.program.records, m.comp_buf,
+             m._warned_feed, m.executed)
+    recs = []
+    m.program.records = recs
+    m.comp_buf = None
+    m.feed = m.feed or 1.0
+    try:
+        fr = Frame(unit, 0)
+        for ln in lines:
+            if not ln.stmts:
+                continue
+            for st in ln.stmts:
+                if st.kind in ("call", "sub", "goto", "repeat", "ret") or (
+                        st.kind == "word" and st.a in ("G",) and st.b[0] == "num" and st.b[1] in (41, 42)):
+                    raise m.error(ln.line, st.col, f"a contour for {cy.name} holds only G blocks (no jumps, calls or G41/G42)")
+            m.block(ln, fr, [fr])
+            if m.plane != "XY":
+                raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in G17 (XY)")
+    finally:
+        (pos, m.absolute, m.plane, m.motion, m.feed, m.per_rev, m.program.records, m.comp_buf,
+         m._warned_feed, m.executed) = saved
+        m.pos = pos
+    motions = [r for r in recs if isinstance(r, canon.MOTIONS)]
+    if not motions:
+        raise cy.err(f"contour {name} has no moves")
+    start = (motions[0].end[0], motions[0].end[1])
+    elems = []
+    for r in motions[1:]:
+        s, e = (r.start[0], r.start[1]), (r.end[0], r.end[1])
+        if isinstance(r, canon.Arc):
+            if r.full_turn:
+                raise cy.err("a full circle in the contour is not supported: split it in two arcs")
+            elems.append(("A", s, e, (r.center[0], r.center[1]), r.clockwise))
+        elif _norm(_sub(e, s)) > 1e-9:
+            elems.append(("L", s, e))
+    if not elems:
+        raise cy.err(f"contour {name} has a start point but no elements")
+    return start, elems
+
+
+def cycle72(cy: Cycle):
+    m = cy.m
+    cy.unsigned("_SDIS", "_MID", "_FAL", "_FALD", "_LP1", "_LP2")
+    rl = int(cy["_RL"]) if "_RL" in cy.given else 41
+    if rl not in (40, 41, 42):
+        raise cy.err(f"_RL must be 40, 41 or 42 (got {cy['_RL']:g})")
+    if rl != 40:
+        cy.need_radius()
+    v = cy["_VARI"]
+    if v < 0 or v != int(v):
+        raise cy.err("_VARI must be a whole number without a sign")
+    units = int(v) % 10
+    if units not in (0, 1, 2):
+        raise cy.err(f"_VARI units digit must be 0 (complete), 1 (roughing) or 2 (finishing), got {units}")
+    _, elems = contour_elements(m, cy["_KNAME"], cy)
+    side = {40: 0, 41: 1, 42: -1}[rl]
+    fal = cy["_FAL"] if rl != 40 else 0.0
+
+    def path(extra):
+        try:
+            chain = offset_chain(elems, side * (cy.rt + extra))
+        except OffsetError as e:
+            raise cy.err(f"contour element {e.index + 1}: {e}") from None
+        return [e for e, _ in chain]
+    top, bottom, fald = cy["_RFP"], cy["_DP"], cy["_FALD"]
+    passes = []
+    if units in (0, 1):
+        for lv in cy.levels(top, bottom + fald, cy["_MID"]):
+            passes.append((path(fal), lv, cy["_FFP1"]))
+    if units == 2 or (units == 0 and (fal > 0 or fald > 0)):
+        fin = path(0.0)
+        for lv in cy.levels(top, bottom, cy["_MID"]):
+            passes.append((fin, lv, cy["_FF3"] or cy["_FFP1"]))
+    safe = top + cy["_SDIS"]
+    for k, (pth, lv, f) in enumerate(passes):
+        app = _approach(pth, side, int(cy["_AS1"]) % 10 if cy["_AS1"] else 1, cy["_LP1"], True, cy)
+        dep = _approach(pth, side, int(cy["_AS2"]) % 10 if cy["_AS2"] else 1, cy["_LP2"], False, cy)
+        s = app[0][1] if app else pth[0][1]
+        if k == 0:
+            cy.start(cy["_RTP"], s)
+        else:
+            cy.rapid(s, cy.m.pos[2])
+        cy.rapid(s, safe)
+        cy.feed_to(s, lv, cy["_FFD"])
+        for e in app + pth + dep:
+            cy.run_elem(e, lv, f)
+        cy.rapid(cy.pos2(), safe)
+    cy.finish(cy["_RTP"])
+
+
+def _approach(pth, side, kind, lp, start: bool, cy: Cycle):
+    """Approach (start=True) to the path's first point or departure from its last: 1 straight along
+    the tangent, 2 quarter circle, 3 semicircle of radius _LP on the tool's side."""
+    if lp <= 0:
+        return []
+    e = pth[0] if start else pth[-1]
+    p = e[1] if start else e[2]
+    t = tangent(e, not start)
+    if kind not in (1, 2, 3):
+        raise cy.err(f"approach/retract mode must be 1 (straight), 2 (quarter circle) or 3 (semicircle), got {kind}")
+    if kind == 1 or side == 0:
+        q = (p[0] - lp * t[0], p[1] - lp * t[1]) if start else (p[0] + lp * t[0], p[1] + lp * t[1])
+        return [("L", q, p)] if start else [("L", p, q)]
+    n = _left(t) if side > 0 else (t[1], -t[0])  # towards the tool side, away from the contour
+    c = (p[0] + lp * n[0], p[1] + lp * n[1])
+    cw = side < 0
+    if kind == 2:
+        q = (c[0] - lp * t[0], c[1] - lp * t[1]) if start else (c[0] + lp * t[0], c[1] + lp * t[1])
+    else:
+        q = (c[0] + lp * n[0], c[1] + lp * n[1])
+    return [("A", q, p, c, cw)] if start else [("A", p, q, c, cw)]
+
+
+RUNNERS = {"SLOT1": slot1, "SLOT2": slot2, "POCKET1": pocket1, "POCKET2": pocket2, "POCKET3": pocket3,
+           "POCKET4": pocket4, "CYCLE71": cycle71, "CYCLE72": cycle72}
+
+
+def run_cycle(m, name: str, args, src: Src, line) -> None:
+    if m.comp_buf is not None:
+        raise m.error(line.line, 1, f"{name} cannot run with radius compensation G41/G42 on: program G40 first")
+    if m.plane != "XY":
+        raise m.error(line.line, 1, f"{name} is simulated in the G17 plane only")
+    cy = Cycle(m, name, args, src, line)
+    motion = m.motion
+    RUNNERS[name](cy)
+    m.motion = motion
