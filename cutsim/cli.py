@@ -13,7 +13,7 @@ import click
 
 from cutsim.interp.errors import CutsimError
 
-FORMATS = ("stl",)
+FORMATS = ("stl", "3mf", "glb")
 
 
 class _Progress:
@@ -55,16 +55,18 @@ def main():
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
               help="Output directory for part.stl and report.json.")
 @click.option("--tolerance", type=float, default=None, help="Chordal tolerance in mm (overrides the setup).")
-@click.option("--images", is_flag=True, help="Also write off-screen PNG views.")
+@click.option("--images", is_flag=True, help="Also write off-screen PNG views and report.html.")
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="stl", show_default=True,
+              help="File format of the part: DIR/part.stl, part.3mf or part.glb.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress and no summary.")
-def simulate(program, setup_path, out_dir, tolerance, images, quiet):
+def simulate(program, setup_path, out_dir, tolerance, images, fmt, quiet):
     """Simulate PROGRAM and write DIR/part.stl and DIR/report.json."""
-    sys.exit(run_simulate(program, setup_path, out_dir, tolerance, images, quiet))
+    sys.exit(run_simulate(program, setup_path, out_dir, tolerance, images, quiet, fmt))
 
 
-def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=False) -> int:
+def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=False, fmt="stl") -> int:
     import cutsim
-    from cutsim.reports.report import mesh_arrays, report_bytes, stl_bytes, write_outputs
+    from cutsim.reports.report import mesh_arrays, part_bytes, report_bytes, write_outputs
 
     progress = _Progress(not quiet)
     try:
@@ -73,12 +75,15 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
         result = cutsim.simulate(program, setup_path, tolerance=tolerance, progress=progress)
         files = {}
         v, f = mesh_arrays(result.part)
-        files["part.stl"] = stl_bytes(v, f)
+        files[f"part.{fmt}"] = part_bytes(v, f, fmt)
         files["report.json"] = report_bytes(result.report)
         if images:
+            from cutsim.reports.html import report_html
             from cutsim.reports.images import render_images  # pyvista only when asked
 
-            files.update(render_images(result))
+            pngs = render_images(result)
+            files.update(pngs)
+            files["report.html"] = report_html(result.report, pngs)
         write_outputs(out_dir, files)
     except CutsimError as e:
         progress.close()
@@ -98,6 +103,10 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
     for w in rep["warnings"]:
         click.echo(f"{w['program']}:{w['line']}:{w['column']}: warning: {w['message']}", err=True)
     failed = [c for c in rep.get("checks", []) if not c.get("passed", True)]
+    if failed:
+        from cutsim.reports.checks import format_failures
+
+        click.echo(format_failures(failed), err=True)
     if not quiet:
         click.echo(f"{rep['program']}: {rep['blocks']} blocks, {rep['moves']} moves, removed "
                    f"{rep['removed_volume']:.3f} mm^3, {len(rep['warnings'])} warning(s) -> {out_dir}", err=True)

@@ -85,3 +85,52 @@ def _umask() -> int:
 
 def report_bytes(report: dict) -> bytes:
     return (json.dumps(report, indent=2, ensure_ascii=False, sort_keys=False) + "\n").encode("utf-8")
+
+
+def part_bytes(verts: np.ndarray, faces: np.ndarray, fmt: str = "stl") -> bytes:
+    """The part file in ``fmt``: "stl" (stl_bytes), "3mf" (threemf_bytes) or "glb" (trimesh's
+    exporter). Same mesh, same bytes for all three: the 3MF zip has fixed entry dates and GLB
+    carries no timestamps."""
+    if fmt == "stl":
+        return stl_bytes(verts, faces)
+    if fmt == "3mf":
+        return threemf_bytes(verts, faces)
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices=verts, faces=faces, process=False)
+    if fmt == "glb":
+        return trimesh.exchange.gltf.export_glb(trimesh.Scene(mesh))
+    raise ValueError(f"unknown part format {fmt!r}")
+
+
+def threemf_bytes(verts: np.ndarray, faces: np.ndarray) -> bytes:
+    """A minimal 3MF package (core spec: one mesh object, unit millimetre), written without lxml;
+    zip entries carry a fixed date so the bytes depend only on the mesh."""
+    import io
+    import zipfile
+
+    v = "".join(f'<vertex x="{x:.9g}" y="{y:.9g}" z="{z:.9g}"/>' for x, y, z in np.asarray(verts, dtype=np.float64))
+    t = "".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in np.asarray(faces, dtype=np.int64))
+    model = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+             '<model unit="millimeter" xml:lang="en-US" '
+             'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">'
+             '<resources><object id="1" type="model" name="part"><mesh>'
+             f"<vertices>{v}</vertices><triangles>{t}</triangles></mesh></object></resources>"
+             '<build><item objectid="1"/></build></model>\n')
+    types = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+             '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+             '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+             '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+             "</Types>\n")
+    rels = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+            '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+            '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+            'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>\n')
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_DEFLATED) as z:
+        for name, text in (("[Content_Types].xml", types), ("_rels/.rels", rels), ("3D/3dmodel.model", model)):
+            info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            z.writestr(info, text.encode("utf-8"))
+    return buf.getvalue()
