@@ -36,32 +36,59 @@ def outer_radius(segs: np.ndarray, z: np.ndarray) -> np.ndarray:
     out = np.full(z.shape, np.nan)
     z0, z1 = segs[:, 0, 1], segs[:, 1, 1]
     r0, r1 = segs[:, 0, 0], segs[:, 1, 0]
+    ok = np.abs(z1 - z0) > 1e-12
+    z0, z1, r0, r1 = z0[ok], z1[ok], r0[ok], r1[ok]
+    lo, hi = np.minimum(z0, z1), np.maximum(z0, z1)
+    order = np.argsort(lo)
+    lo, hi, z0, z1, r0, r1 = lo[order], hi[order], z0[order], z1[order], r0[order], r1[order]
+    maxlen = float(np.max(hi - lo)) if len(lo) else 0.0
     for i, zz in enumerate(z):
-        m = (np.minimum(z0, z1) <= zz) & (np.maximum(z0, z1) >= zz) & (np.abs(z1 - z0) > 1e-12)
+        a = np.searchsorted(lo, zz - maxlen, side="left")
+        b = np.searchsorted(lo, zz, side="right")
+        m = hi[a:b] >= zz
         if np.any(m):
-            t = (zz - z0[m]) / (z1[m] - z0[m])
-            out[i] = np.max(r0[m] + t * (r1[m] - r0[m]))
+            t = (zz - z0[a:b][m]) / (z1[a:b][m] - z0[a:b][m])
+            out[i] = np.max(r0[a:b][m] + t * (r1[a:b][m] - r0[a:b][m]))
     return out
 
 
-def groove_roots(segs: np.ndarray, zlo: float, zhi: float, below: float) -> np.ndarray:
-    """(z, r) of the deepest section vertex of each groove between ``zlo`` and ``zhi``: connected
-    runs of boundary vertices with r < ``below`` (the crest level), one root per run."""
-    pts = segs.reshape(-1, 2)
-    pts = pts[(pts[:, 1] >= zlo) & (pts[:, 1] <= zhi) & (pts[:, 0] < below) & (pts[:, 0] > 1e-6)]
-    if len(pts) == 0:
+def outer_profile(segs: np.ndarray, zlo: float, zhi: float) -> tuple[np.ndarray, np.ndarray]:
+    """The outer profile r(z) between ``zlo`` and ``zhi`` as a polyline through every section
+    vertex height (the profile is piecewise linear, so its kinks are all among these heights)."""
+    zs = np.unique(segs[..., 1].ravel())
+    zs = zs[(zs >= zlo) & (zs <= zhi)]
+    return zs, outer_radius(segs, zs)
+
+
+def groove_roots(segs: np.ndarray, zlo: float, zhi: float, below: float, min_gap: float = 0.3) -> np.ndarray:
+    """(z, r) of the root (deepest point) of each groove between ``zlo`` and ``zhi``.
+
+    The outer profile r(z) is taken at every vertex height; a root is a point lower than ``below``
+    (the crest level) where the profile is lowest within ``min_gap`` on both sides and which is
+    not within ``min_gap`` of the ends of the range. ``min_gap`` must be smaller than half the
+    distance between neighbouring grooves and larger than the small notches chords leave on
+    the flanks; a third of the lead is a good choice.
+    """
+    z, r = outer_profile(segs, zlo, zhi)
+    good = ~np.isnan(r)
+    z, r = z[good], r[good]
+    if len(z) < 3:
         return np.zeros((0, 2))
-    pts = pts[np.argsort(pts[:, 1])]
-    roots = []
-    run = [pts[0]]
-    for p in pts[1:]:
-        if p[1] - run[-1][1] > 0.05 * max(1.0, 1.0):  # a gap along z: a new groove
-            roots.append(min(run, key=lambda q: q[0]))
-            run = [p]
-        else:
-            run.append(p)
-    roots.append(min(run, key=lambda q: q[0]))
-    return np.array(roots)
+    lo = np.searchsorted(z, z - min_gap, side="left")
+    hi = np.searchsorted(z, z + min_gap, side="right")
+    # the profile is linear between vertex heights: its minimum over a window is at a vertex
+    # inside or at one of the window's ends
+    edge = np.minimum(np.interp(z - min_gap, z, r), np.interp(z + min_gap, z, r))
+    roots: list[int] = []
+    for i in np.argsort(r, kind="stable"):
+        if r[i] >= below:
+            break
+        if z[i] - min_gap < zlo or z[i] + min_gap > zhi:
+            continue
+        if r[i] <= min(r[lo[i]:hi[i]].min(), edge[i]) and all(abs(z[i] - z[k]) > min_gap for k in roots):
+            roots.append(i)
+    roots.sort(key=lambda k: z[k])
+    return np.column_stack([z[roots], r[roots]]) if roots else np.zeros((0, 2))
 
 
 def wrap(dz: np.ndarray, period: float) -> np.ndarray:

@@ -1,0 +1,174 @@
+"""The simulated thread solids against analytic geometry, measured independently of cutsim.
+
+Every number asserted here comes from the program and the conventions (conventions.md), never
+from cutsim: the part is sliced with trimesh in the axial half-plane at angle ``phi`` and the
+groove roots are the local minima of the outer profile r(z) (tests/geometry.py).
+
+Groove phase. With the spindle turning ``rho`` (+1 M03, -1 M04) and the tool feeding ``sigma``
+(+1 towards +Z, -1 towards -Z) from ``z0`` after waiting for the start angle ``a`` past the zero
+pulse, the spindle angle is theta = a + 360*(z - z0)*sigma/L and the tool meets the workpiece at
+phi = -rho*theta. Hence a groove at the fixed angle phi lies at
+
+    z = z0 - sigma * L * (rho*phi + a) / 360      (mod L)
+
+which for M03 feeding -Z is conventions.md's z = z0 + L*(phi + a)/360 (right-hand), and flips the
+hand when either the spindle or the feed direction is reversed.
+
+Roots. Within the half-plane at phi the screw sweep contains the tool profile exactly where the
+tool passes phi, so each root is the tool point at that instant: r = programmed X/2, or on a
+ramp r = r0 +/- d*tan(alpha) with d the axial distance into the ramp. Between the sweep's
+stations the solid follows chords of the helix, which lie inside it by at most the tolerance, so
+the roots may be up to ``tol`` deeper than programmed and never shallower.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import cutsim
+from conftest import EXAMPLES
+from geometry import groove_roots, outer_radius, section, wrap
+
+LATHE = EXAMPLES / "cnc8x6-lathe"
+TOL = 0.002  # chordal tolerance of the runs that check micrometres
+PHIS = (0.0, 90.0, 200.0, 321.7)
+
+
+def run(name: str, tol: float = TOL):
+    return cutsim.simulate(str(LATHE / f"{name}.nc"), str(LATHE / f"{name}.toml"), tolerance=tol)
+
+
+def phase_z(phi, z0, lead, a=0.0, rho=1, sigma=-1):
+    """Axial position of the groove at angle phi, modulo the lead (see the module docstring)."""
+    return z0 - sigma * lead * (rho * phi + a) / 360.0
+
+
+def assert_roots(roots, expect_r, tol, what):
+    """Every root at most ``tol`` deeper than the programmed radius and not shallower (2 nm slack
+    for float32 vertices)."""
+    err = roots[:, 1] - expect_r
+    assert np.all(err <= 2e-6) and np.all(err >= -tol - 2e-6), f"{what}: root errors {err}"
+
+
+def assert_phase(roots, z0, lead, tol, **kw):
+    for phi, rts in roots.items():
+        dz = wrap(rts[:, 0] - phase_z(phi, z0, lead, **kw), lead)
+        assert np.all(np.abs(dz) < tol), f"phi={phi}: groove off its helix by {dz}"
+
+
+# -- multipass: three passes, one groove (re-synchronised at the zero pulse) -------------------
+
+@pytest.fixture(scope="module")
+def multipass():
+    r = run("multipass")
+    mesh = r.mesh()
+    return r, {phi: groove_roots(section(mesh, phi), -8.0, 0.0, 13.45, 0.5) for phi in PHIS}
+
+
+def test_multipass_root_diameter(multipass):
+    _, roots = multipass
+    for phi, rts in roots.items():
+        assert len(rts) >= 4, (phi, rts)  # 8 mm of thread at lead 1.5, minus the range margins
+        assert_roots(rts, 26.177 / 2, TOL, f"phi={phi}")
+
+
+def test_multipass_passes_share_one_right_hand_groove(multipass):
+    # M03 feeding -Z from Z3: right-hand, z = 3 + 1.5*phi/360 (mod 1.5). A pass that drifted
+    # would show as a second, shallower root per lead.
+    _, roots = multipass
+    assert_phase(roots, 3.0, 1.5, 1e-4)
+    for rts in roots.values():
+        assert np.all(np.diff(rts[:, 0]) > 1.5 - 1e-3)
+
+
+# -- start offset, M04: left-hand thread rotated 180 degrees -------------------------------------
+
+def test_start_offset_left_hand_180():
+    r = run("start-offset")
+    mesh = r.mesh()
+    for phi in PHIS:
+        rts = groove_roots(section(mesh, phi), 199.9, 203.0, 17.45, 0.5)
+        assert len(rts) >= 1
+        assert_roots(rts, 34.0 / 2, TOL, f"phi={phi}")
+        # M04 (rho=-1) feeding -Z (sigma=-1) from Z205 with I180: z = 205 + 1.5*(180 - phi)/360
+        dz = wrap(rts[:, 0] - phase_z(phi, 205.0, 1.5, a=180.0, rho=-1, sigma=-1), 1.5)
+        assert np.all(np.abs(dz) < 1e-4), (phi, dz)
+        # and not the right-hand groove, nor the unrotated left-hand one
+        assert np.all(np.abs(wrap(rts[:, 0] - phase_z(phi, 205.0, 1.5, a=180.0), 1.5)) > 0.05) or phi in (0.0, 180.0)
+        assert np.all(np.abs(wrap(rts[:, 0] - phase_z(phi, 205.0, 1.5, a=0.0, rho=-1), 1.5)) > 0.7)
+
+
+# -- lead-in: X71.798 -> X64 over the first 12 mm at 18 degrees (R16 = 118.0) --------------------
+
+def test_lead_in_ramp_and_phase():
+    r = run("lead-in")
+    mesh = r.mesh()
+    tan18 = math.tan(math.radians(18.0))
+    r_start, z_start = 71.798 / 2, -100.0
+    r_end = r_start - 12.0 * tan18  # 31.999965: X64 after 12 mm
+    assert r_end == pytest.approx(32.0, abs=5e-5)
+    on_ramp = 0
+    for phi in (45.0, 200.0, 300.0, 10.0):
+        rts = groove_roots(section(mesh, phi), -100.0, 0.0, 35.69, 2.0)
+        # M04 feeding +Z: right-hand, z = -100 + 6*phi/360 (mod 6)
+        dz = wrap(rts[:, 0] - phase_z(phi, z_start, 6.0, rho=-1, sigma=1), 6.0)
+        assert np.all(np.abs(dz) < 1e-4), (phi, dz)
+        d = rts[:, 0] - z_start
+        expect = np.where(d < 12.0, r_start - d * tan18, r_end)
+        assert_roots(rts, expect, TOL, f"phi={phi}")
+        on_ramp += int(np.sum(d < 12.0))
+        assert len(rts) >= 15
+    assert on_ramp >= 5
+
+
+# -- runouts: the last 12 mm of Z-100 climb outwards -------------------------------------------------
+
+@pytest.mark.parametrize("name,angle", [("runout-constant", 12.5), ("runout-parameter", 20.0)])
+def test_runout_ramp_and_phase(name, angle):
+    r = run(name)
+    mesh = r.mesh()
+    tana = math.tan(math.radians(angle))
+    on_ramp = 0
+    for phi in (0.0, 90.0, 200.0, 321.7):
+        # stay 2.5 mm clear of Z-100, where runout-constant's N50 rapid revolves a ring
+        rts = groove_roots(section(mesh, phi), -98.0, 0.0, 35.69, 2.0)
+        dz = wrap(rts[:, 0] - phase_z(phi, 5.0, 6.0), 6.0)  # M03 feeding -Z from Z5: right-hand
+        assert np.all(np.abs(dz) < 1e-4), (phi, dz)
+        d = -88.0 - rts[:, 0]  # distance into the runout, which starts 12 mm before Z-100
+        expect = np.where(d > 0, 32.0 + d * tana, 32.0)
+        assert_roots(rts, expect, TOL, f"{name} phi={phi}")
+        on_ramp += int(np.sum(d > 0))
+    assert on_ramp >= 4
+
+
+# -- taper: roots on the cone 113 -> 123 over Z3..-100 ---------------------------------------------
+
+def test_taper_roots_follow_the_cone():
+    tol = TOL
+    r = run("taper", tol)
+    mesh = r.mesh()
+    cone = lambda z: 113.0 + (3.0 - z) * 10.0 / 103.0  # noqa: E731
+    for phi in (0.0, 200.0):
+        segs = section(mesh, phi)
+        rts = groove_roots(segs, -97.0, 0.0, 200.0, 0.5)
+        crest = outer_radius(segs, rts[:, 0] + 0.75)  # half a lead away: the uncut cone stock
+        rts = rts[rts[:, 1] < crest - 0.1]
+        assert len(rts) >= 60
+        assert_phase({phi: rts}, 3.0, 1.5, 1e-4)
+        assert_roots(rts, cone(rts[:, 0]), tol, f"taper phi={phi}")
+
+
+# -- large lead: 250 mm/rev from R10 ------------------------------------------------------------
+
+def test_large_lead_250():
+    r = run("large-lead", 0.005)
+    mesh = r.mesh()
+    # M03 feeding +Z from Z-60: left-hand, z = -60 - 250*phi/360 (mod 250); one groove per angle
+    for phi in (90.0, 180.0, 200.0, 250.0):
+        rts = groove_roots(section(mesh, phi), 0.0, 150.0, 29.9, 5.0)
+        assert len(rts) == 1, (phi, rts)
+        dz = wrap(rts[:, 0] - phase_z(phi, -60.0, 250.0, sigma=1), 250.0)
+        assert abs(dz[0]) < 1e-3, (phi, dz)
+        assert_roots(rts, 25.0, 0.005, f"phi={phi}")
