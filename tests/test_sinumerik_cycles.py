@@ -1,0 +1,146 @@
+"""Sinumerik milling cycles: the finished geometry of complete (VARI units 0) cycles against the
+analytic shapes of spec/sinumerik.md, measured on the part mesh with plane sections and rays
+(tests/sinumerik_measure.py), never with cutsim's own geometry."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import cutsim
+from cutsim import CutsimError
+from sinumerik_measure import floor_z, hsection, point_segment_distance, ray
+
+TOL = 0.002  # chordal tolerance: the asserted 5 um width needs the tool polygon this fine
+SETUP = """
+[machine]
+kind = "mill"
+dialect = "sinumerik"
+start = [{sx}, {sy}, 50.0]
+
+[stock]
+shape = "box"
+x = [{x0}, {x1}]
+y = [{y0}, {y1}]
+z = [{z0}, {z1}]
+
+[[tool]]
+number = 1
+kind = "endmill"
+diameter = 10.0
+length = 40.0
+
+[[tool]]
+number = 2
+kind = "endmill"
+diameter = 20.0
+length = 40.0
+"""
+HEAD = "G17 G90\nT1 D1\nM6\nS2000 M3 F300\n"
+
+
+def run(tmp_path, body, box=((0, 100), (0, 100), (-20, 0)), start=(50, 50), tol=TOL):
+    setup = tmp_path / "setup.toml"
+    setup.write_text(SETUP.format(sx=start[0], sy=start[1], x0=box[0][0], x1=box[0][1], y0=box[1][0], y1=box[1][1],
+                                  z0=box[2][0], z1=box[2][1]))
+    prog = tmp_path / "p.mpf"
+    prog.write_text(HEAD + body + "\nM30\n")
+    return cutsim.simulate(str(prog), str(setup), tolerance=tol)
+
+
+def across(segs, c, u):
+    """Width of the cavity through c perpendicular to u, and its length along u."""
+    n = np.array([-u[1], u[0]])
+    return ray(segs, c, n) + ray(segs, c, -n), ray(segs, c, u) + ray(segs, c, -u)
+
+
+def test_slot1_stadiums(tmp_path):
+    # 3 radial slots 12 x 30 from radius 10 about (50, 50), at 20 + k*120 degrees, floor at -6
+    r = run(tmp_path, "SLOT1(10, 0, 2, -6, , 3, 30, 12, 50, 50, 10, 20, 120, 100, 300, 6, 0, 0, 0)")
+    m = r.mesh()
+    hs = hsection(m, -3.0)
+    for k in range(3):
+        a = math.radians(20 + 120 * k)
+        u = np.array([math.cos(a), math.sin(a)])
+        c = np.array([50.0, 50.0]) + u * (10 + 15)
+        w, length = across(hs, c, u)
+        assert w == pytest.approx(12.0, abs=0.005)
+        assert length == pytest.approx(30.0, abs=0.005)
+        assert floor_z(m, c, 5.0) == pytest.approx(-6.0, abs=0.002)
+    area = 12 * 18 + math.pi * 36
+    assert r.report["removed_volume"] == pytest.approx(3 * area * 6, rel=5e-4)
+    assert all(w["line"] == 5 for w in r.report["warnings"])  # VARI tens 0: G0 plunges into the stock
+
+
+def test_slot2_arc_slots(tmp_path):
+    # 3 circular slots of width 12 on radius 30 about (50, 50), 60 degrees long, floor at -5
+    r = run(tmp_path, "SLOT2(10, 0, 2, -5, , 3, 60, 12, 50, 50, 30, 10, 120, 100, 300, 5, 0, 0, 10)")
+    m = r.mesh()
+    hs = hsection(m, -2.5)
+    for k in range(3):
+        a = math.radians(10 + 120 * k + 30)
+        u = np.array([math.cos(a), math.sin(a)])
+        c = np.array([50.0, 50.0]) + 30 * u
+        w = ray(hs, c, u) + ray(hs, c, -u)
+        assert w == pytest.approx(12.0, abs=0.005)
+        assert floor_z(m, c, 5.0) == pytest.approx(-5.0, abs=0.002)
+        # the round end: its centre lies at angle 10 + 120 k (start), radius 30
+        e = np.array([50.0, 50.0]) + 30 * np.array([math.cos(math.radians(10 + 120 * k)), math.sin(math.radians(10 + 120 * k))])
+        t = np.array([math.sin(math.radians(10 + 120 * k)), -math.cos(math.radians(10 + 120 * k))])
+        assert ray(hs, e, t) == pytest.approx(6.0, abs=0.005)
+    area = math.radians(60) * 30 * 12 + math.pi * 36
+    assert r.report["removed_volume"] == pytest.approx(3 * area * 5, rel=5e-4)
+
+
+def test_pocket1_rounded_rectangle(tmp_path):
+    # 40 x 24 pocket, corner radius 8, centre (50, 50), long side at 30 degrees, floor -5 in two steps
+    r = run(tmp_path, "POCKET1(10, 0, 2, -5, , 40, 24, 8, 50, 50, 30, 100, 300, 5, 0, 0, 10)")
+    m = r.mesh()
+    hs = hsection(m, -2.5)
+    a = math.radians(30)
+    u = np.array([math.cos(a), math.sin(a)])
+    c = np.array([50.0, 50.0])
+    w, length = across(hs, c, u)
+    assert w == pytest.approx(24.0, abs=0.005)
+    assert length == pytest.approx(40.0, abs=0.005)
+    # corner: along the diagonal from the corner circle's centre the wall is 8 away
+    v = np.array([-u[1], u[0]])
+    cc = c + 12 * u + 4 * v
+    assert ray(hs, cc, (u + v) / math.sqrt(2)) == pytest.approx(8.0, abs=0.005)
+    for p in (c, c + 15 * u + 7 * v, c - 15 * u - 7 * v):
+        assert floor_z(m, p, 5.0) == pytest.approx(-5.0, abs=0.002)
+    area = 40 * 24 - (4 - math.pi) * 64
+    assert r.report["removed_volume"] == pytest.approx(area * 5, rel=5e-4)
+
+
+def test_pocket2_disc_with_finishing_allowance(tmp_path):
+    # circular pocket radius 14 at (50, 50), floor -4, FAL 0.5: roughing then a finishing pass
+    r = run(tmp_path, "POCKET2(10, 0, 2, -4, , 14, 50, 50, 100, 300, 4, 0, 0.5, 10)")
+    m = r.mesh()
+    hs = hsection(m, -2.0)
+    c = np.array([50.0, 50.0])
+    for ang in (0, 50, 130, 250):
+        u = np.array([math.cos(math.radians(ang)), math.sin(math.radians(ang))])
+        assert ray(hs, c, u) == pytest.approx(14.0, abs=0.005)
+    for p in (c, c + (9, 0), c + (0, -12.5)):
+        assert floor_z(m, p, 5.0) == pytest.approx(-4.0, abs=0.002)
+    assert r.report["removed_volume"] == pytest.approx(math.pi * 196 * 4, rel=5e-4)
+
+
+@pytest.mark.parametrize("body, message", [
+    ("T2 D1\nM6\nSLOT1(10, 0, 2, -6, , 3, 30, 12, 50, 50, 10, 20, 120)", "wider than the slot"),
+    ("SLOT1(10, 0, 2, -6, , 6, 30, 12, 50, 50, 5, 0, 0)", "overlap"),
+    ("SLOT2(10, 0, 2, -5, , 4, 80, 12, 50, 50, 30, 0, 0)", "overlap"),
+    ("POCKET1(10, 0, 2, -5, , 40, 24, 3, 50, 50)", "CRAD 3 is smaller than the tool radius"),
+    ("POCKET1(10, 0, 2, -5, , 40, 24, 8, 50, 50, 0, 100, 300, 5, 0, 0, 10, 0, 0, 0, 99)", "at most 20 parameters"),
+    ("POCKET2(10, 0, 2, \"deep\", , 14, 50, 50)", "must be a number"),
+    ("SLOT1(10, 0, 2, -6)", "required"),
+    ("CYCLE72(\"NOPE\", 10, 0, 2, -5)", "not found"),
+    ("CYCLE72(\"A:B\", 10, 0, 2, -5)", "not both in the program"),
+])
+def test_cycle_errors_carry_the_line(tmp_path, body, message):
+    with pytest.raises(CutsimError) as e:
+        run(tmp_path, body)
+    assert message in e.value.message
+    assert e.value.line == 5 + body.count("\n")
