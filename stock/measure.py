@@ -413,6 +413,15 @@ def _mesh(man) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(m.vert_properties, dtype=np.float64)[:, :3], np.asarray(m.tri_verts, dtype=np.int64)
 
 
+def _probe_points(man) -> np.ndarray:
+    """Vertices, edge midpoints and centroids of a solid's triangles (large flat faces have no
+    inner vertices; their centroids are where the distance to the other surface is largest)."""
+    v, f = _mesh(man)
+    t = v[f]
+    return np.concatenate([v, t.mean(axis=1), 0.5 * (t[:, 0] + t[:, 1]), 0.5 * (t[:, 1] + t[:, 2]),
+                           0.5 * (t[:, 2] + t[:, 0])])
+
+
 def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
     """Gouge and excess of ``part`` against ``design`` (both manifolds, same frame).
 
@@ -430,13 +439,13 @@ def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
     pv_, pf = _mesh(part)
     cands = []
     if not excess.is_empty():
-        ev, _ = _mesh(excess)
+        ev = _probe_points(excess)
         ev = ev[:: max(1, len(ev) // max_points)]
         d, _n, _i = _point_triangle_distance(ev, dv[df])
         k = int(np.argmax(d))
         cands.append((float(d[k]), ev[k]))
     if not gouge.is_empty():
-        gv, _ = _mesh(gouge)
+        gv = _probe_points(gouge)
         gv = gv[:: max(1, len(gv) // max_points)]
         d, _n, _i = _point_triangle_distance(gv, pv_[pf])
         k = int(np.argmax(d))
