@@ -16,6 +16,7 @@ import numpy as np
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments
 
 from .build import stock_outline
+from . import mill
 from .specs import StockSpec, ToolSpec
 from .sweeps import clipped_profile, planar_region, screw_sweep, spatial_hulls
 from .tools import lathe_body, lathe_profile, mill_body
@@ -85,6 +86,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     def revolve(region: m3d.CrossSection) -> m3d.Manifold:
         return m3d.Manifold.revolve(region, circular_segments=nseg)
 
+    millb = mill.MillBatch(tol)
     cuts: list[_Cut] = []
     checks: list[tuple[_Cut, object]] = []
     n = len(paths)
@@ -92,14 +94,13 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         if progress:
             progress("sweeping", i, n)
         if isinstance(path, ScrewPath):
-            rmin, _ = path.radius_range()
-            h = r_clip - rmin
-            if h <= 0:
+            solids = []
+            for s0, s1, h in _screw_pieces(path, profile(path.tool), outline, r_clip, margin):
+                prof = clipped_profile(profile(path.tool), h)
+                if not prof.is_empty():
+                    solids.extend(screw_sweep(path, prof, tol, s0, s1))
+            if not solids:
                 continue
-            prof = clipped_profile(profile(path.tool), h)
-            if prof.is_empty():
-                continue
-            solids = screw_sweep(path, prof, tol)
             lo, hi = _bbox(solids)
             if _overlap(lo, hi, slo, shi):
                 cuts.append(_Cut(i, solids, None, lo, hi))
@@ -123,13 +124,23 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
                 if path.rapid:
                     checks.append((cut, path))
         elif isinstance(path, SpatialPath):
-            solids = spatial_hulls(path, body(path.tool))
+            if millb.take(i, path):  # flat end mill at constant Z: swept per Z level (stock/mill.py)
+                continue
+            checked = path.rapid or path.tool.is_lathe_tool or mill.plunges(path)
+            if checked:
+                millb.cut_run()
+            solids = spatial_hulls(path, body(path.tool)) if path.tool.is_lathe_tool else mill.sweep(path, body(path.tool), tol)
             lo, hi = _bbox(solids)
             if _overlap(lo, hi, slo, shi):
                 cut = _Cut(i, solids, None, lo, hi)
                 cuts.append(cut)
-                if path.rapid or path.tool.is_lathe_tool:
+                if checked:
                     checks.append((cut, path))
+    for lv in millb.levels():
+        solid = lv.solid()
+        lo, hi = _bbox([solid])
+        if _overlap(lo, hi, slo, shi):
+            cuts.append(_Cut(lv.index, [solid], None, lo, hi))
     if progress:
         progress("sweeping", n, n)
 
@@ -141,9 +152,16 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         if vol > MIN_COLLISION_VOLUME:
             if path.rapid:
                 msg = f"rapid (G00) cuts the stock: {vol:.3f} mm^3 removed"
+            elif not path.tool.is_lathe_tool:
+                msg = mill.plunge_message(path, vol)
             else:
                 msg = f"cutting with the spindle stopped: only the tool's own swept volume is removed ({vol:.3f} mm^3)"
             warnings.append((path.src, msg))
+
+    if millb or any(isinstance(p, SpatialPath) and not p.tool.is_lathe_tool for p in paths):
+        warnings += mill.flute_warnings(millb, paths, float(shi[2]), tol, lambda idx, sol: _fresh_volume(
+            stock, _Cut(idx, sol, None, *_bbox(sol)), cuts, revolve))
+        stock = mill.refined(stock)
 
     if progress:
         progress("subtracting", 0, 1)
@@ -156,6 +174,67 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     if progress:
         progress("subtracting", 1, 1)
     return Removal(part, warnings, len(solids))
+
+
+def _stock_rmax(outline: np.ndarray | None, zlo: float, zhi: float, default: float) -> float:
+    """Largest radius of a stock of revolution between the heights ``zlo`` and ``zhi``."""
+    if outline is None:
+        return default
+    a, b = outline, np.roll(outline, -1, axis=0)
+    best = -np.inf
+    for (ra, za), (rb, zb) in zip(a, b):
+        lo, hi = min(za, zb), max(za, zb)
+        if hi < zlo or lo > zhi:
+            continue
+        if zb == za:
+            best = max(best, ra, rb)
+            continue
+        for z in (max(lo, zlo), min(hi, zhi)):
+            best = max(best, ra + (rb - ra) * (z - za) / (zb - za))
+    return float(best) if best > -np.inf else 0.0
+
+
+def _screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, margin: float):
+    """Split a screw path into pieces (s0, s1, clip height) such that each piece's profile is clipped
+    where it leaves the stock *locally*: a tool point further out than the stock's largest radius
+    over the heights the piece can reach never touches material, so the clip is exact. A taper
+    thread in a cone then sweeps a profile narrower than the lead (no overlapping turns) instead
+    of one as tall as the whole cone, which made the subtract slow.
+    """
+    vlo, vhi = float(profile[:, 1].min()), float(profile[:, 1].max())
+    brk = path.breakpoints()
+
+    def clip(s0: float, s1: float) -> float:
+        s = np.array([s0] + [b for b in brk if s0 < b < s1] + [s1])
+        r, z, _ = path.pose(s)
+        rloc = _stock_rmax(outline, float(z.min()) + vlo, float(z.max()) + vhi, r_clip - margin)
+        return min(r_clip, rloc + margin) - float(r.min())
+
+    lead = path.travel / path.revolutions if path.revolutions > 0 else np.inf
+
+    def fits(s0: float, s1: float) -> bool:
+        h = clip(s0, s1)
+        if h <= 0:
+            return True
+        b = clipped_profile(profile, h).bounds()
+        return b[3] - b[1] < 0.999 * lead
+
+    if outline is None or fits(0.0, 1.0) or path.revolutions <= 1.0:
+        h = clip(0.0, 1.0)
+        return [(0.0, 1.0, h)] if h > 0 else []
+    pieces = []
+    step = 1.0 / path.revolutions  # one turn
+    s0 = 0.0
+    while s0 < 1.0 - 1e-12:
+        s1 = min(1.0, s0 + step)
+        if fits(s0, s1):  # grow by whole turns while the piece stays narrower than the lead
+            while s1 < 1.0 and fits(s0, min(1.0, s1 + step)):
+                s1 = min(1.0, s1 + step)
+        h = clip(s0, s1)
+        if h > 0:
+            pieces.append((s0, s1, h))
+        s0 = s1
+    return pieces
 
 
 def drop_debris(part: m3d.Manifold) -> m3d.Manifold:
@@ -176,8 +255,11 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
     hit = m3d.Manifold.batch_boolean([stock, m3d.Manifold.batch_boolean(mine, m3d.OpType.Add)], m3d.OpType.Intersect)
     if hit.volume() <= MIN_COLLISION_VOLUME:
         return 0.0
-    earlier = [c for c in cuts if c.index < cut.index and _overlap(c.lo, c.hi, cut.lo, cut.hi)]
-    prior = [s for c in earlier for s in c.solids]
+    b = hit.bounding_box()
+    hlo, hhi = np.array(b[:3]), np.array(b[3:])
+    earlier = [c for c in cuts if c.index < cut.index and _overlap(c.lo, c.hi, hlo, hhi)]
+    # only the pieces of earlier sweeps that can reach what this cut hits (a long thread is many pieces)
+    prior = [s for c in earlier for s in c.solids if _overlap(*_bbox([s]), hlo, hhi)]
     regions = [c.region for c in earlier if c.region is not None]
     if regions:
         prior.append(revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))

@@ -29,18 +29,19 @@ def clipped_profile(profile: np.ndarray, height: float) -> m3d.CrossSection:
     return cs ^ box
 
 
-def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float) -> list[m3d.Manifold]:
-    """Solids whose union is the profile swept along ``path`` (workpiece frame)."""
+def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
+                s0: float = 0.0, s1: float = 1.0) -> list[m3d.Manifold]:
+    """Solids whose union is the profile swept along ``path`` for s in [s0, s1] (workpiece frame)."""
     bounds = profile.bounds()  # (umin, vmin, umax, vmax)
     width = bounds[3] - bounds[1]
-    rmin, rmax = path.radius_range()
+    brk = [s0] + [b for b in path.breakpoints() if s0 < b < s1] + [s1]
+    rmax = float(np.max(path.pose(np.array(brk))[0]))
     reach = rmax + bounds[2]
     total = 360.0 * path.revolutions
     lead = path.travel / path.revolutions if path.revolutions > 0 else math.inf
     step = math.degrees(segment_angle(reach, tol))
     # The whole cut is one piece unless the profile is wider than the lead (turns would overlap);
     # then pieces narrower than a turn. Ramp ends are piece ends, so the kinks are exact.
-    brk = path.breakpoints()
     single = width < 0.999 * lead
     limit = math.inf if single else MAX_CHUNK_DEGREES
     edges = [brk[0]]
