@@ -46,10 +46,11 @@ def phase_z(phi, z0, lead, a=0.0, rho=1, sigma=-1):
 
 
 def assert_roots(roots, expect_r, tol, what):
-    """Every root at most ``tol`` deeper than the programmed radius and not shallower (2 nm slack
-    for float32 vertices)."""
+    """Every root at most ``tol`` deeper than the programmed radius and not shallower, give or
+    take the rounding of float32 mesh vertices (one float32 step at r = 128 is 7.6e-6 mm)."""
     err = roots[:, 1] - expect_r
-    assert np.all(err <= 2e-6) and np.all(err >= -tol - 2e-6), f"{what}: root errors {err}"
+    slack = np.spacing(np.float32(np.max(roots[:, 1]))).item()
+    assert np.all(err <= slack) and np.all(err >= -tol - slack), f"{what}: root errors {err}"
 
 
 def assert_phase(roots, z0, lead, tol, **kw):
