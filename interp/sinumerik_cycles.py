@@ -162,6 +162,11 @@ def offset_chain(elems, d):
             if _norm(_sub(q1, q2)) > 1e-7:
                 t1, t2 = tangent(elems[i], True), tangent(elems[i + 1], False)
                 turn = _cross(t1, t2)
+                if _norm(_sub(q1, q2)) < 0.01 and _dot(t1, t2) > 0.9999:
+                    # tangent within the rounding of the written coordinates: bridge the gap
+                    out.append((offs[i], i))
+                    out.append((("L", q1, q2), i + 1))
+                    continue
                 convex = (turn < 0) if d > 0 else (turn > 0)
                 if abs(turn) < 1e-12:
                     convex = _dot(t1, t2) < 0  # reversal: go round the end

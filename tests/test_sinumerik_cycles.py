@@ -144,3 +144,100 @@ def test_cycle_errors_carry_the_line(tmp_path, body, message):
         run(tmp_path, body)
     assert message in e.value.message
     assert e.value.line == 5 + body.count("\n")
+
+
+# the seed's free contour (seed 003, contour editor output, OCR damage repaired)
+SEED_CONTOUR = """KONT_A:
+;#7__DlgK contour definition begin - Don't change!;*GP*;*RO*
+G17 G90 ;*GP*
+G1 X13 Y69.65 ;*GP*
+G3 X28 Y54.65 I=AC(28) J=AC(69.65) ;*GP*
+G2 X47.741 Y37.856 I=AC(28) J=AC(34.65) ;*GP*
+G1 X52.435 Y8.951 ;*GP*
+G2 X44.714 Y3.998 I=AC(47.5) J=AC(8.15) ;*GP*
+G3 X11.286 I=AC(28) J=AC(-20.915) ;*GP*
+G2 X3.565 Y8.951 I=AC(8.5) J=AC(8.15) ;*GP*
+G1 X8.259 Y37.856 ;*GP*
+G2 X28 Y54.65 I=AC(28) J=AC(34.65) ;*GP*
+G3 X43 Y69.65 I=AC(28) J=AC(69.65) ;*GP*
+;CON,0,0.000,2,2,MST:2,1,AX:X,Y,1,J;*GP**RO*
+;S,EX:13,EY:69.65ATT:G1;*GP*;*RO*
+;ACCW,EX:28,EY:54.65,RAD:15;*GP*;*RO*
+;#End contour definition end - Don't change!;*GP*;*RO*
+KONT_E:
+"""
+# the same contour the other way round (for G42)
+SEED_REVERSED = """KREV_A:
+G17 G90
+G1 X43 Y69.65
+G2 X28 Y54.65 I=AC(28) J=AC(69.65)
+G3 X8.259 Y37.856 I=AC(28) J=AC(34.65)
+G1 X3.565 Y8.951
+G3 X11.286 Y3.998 I=AC(8.5) J=AC(8.15)
+G2 X44.714 Y3.998 I=AC(28) J=AC(-20.915)
+G3 X52.435 Y8.951 I=AC(47.5) J=AC(8.15)
+G1 X47.741 Y37.856
+G3 X28 Y54.65 I=AC(28) J=AC(34.65)
+G2 X13 Y69.65 I=AC(28) J=AC(69.65)
+KREV_E:
+"""
+# (start, end, centre or None, clockwise) of the seed contour: the analytic wall
+SEED_ELEMENTS = [((13, 69.65), (28, 54.65), (28, 69.65), False), ((28, 54.65), (47.741, 37.856), (28, 34.65), True),
+                 ((47.741, 37.856), (52.435, 8.951), None, False), ((52.435, 8.951), (44.714, 3.998), (47.5, 8.15), True),
+                 ((44.714, 3.998), (11.286, 3.998), (28, -20.915), False), ((11.286, 3.998), (3.565, 8.951), (8.5, 8.15), True),
+                 ((3.565, 8.951), (8.259, 37.856), None, False), ((8.259, 37.856), (28, 54.65), (28, 34.65), True),
+                 ((28, 54.65), (43, 69.65), (28, 69.65), False)]
+
+
+def contour_samples(n=7):
+    pts = []
+    for s, e, c, cw in SEED_ELEMENTS:
+        s, e = np.array(s, float), np.array(e, float)
+        for t in np.linspace(0.1, 0.9, n):
+            if c is None:
+                pts.append(s + t * (e - s))
+                continue
+            c = np.array(c, float)
+            r = np.linalg.norm(s - c)
+            a0 = math.atan2(*(s - c)[::-1])
+            a1 = math.atan2(*(e - c)[::-1])
+            d = (a0 - a1) % (2 * math.pi) if cw else (a1 - a0) % (2 * math.pi)
+            a = a0 - t * d if cw else a0 + t * d
+            pts.append(c + r * np.array([math.cos(a), math.sin(a)]))
+    return pts
+
+
+@pytest.mark.parametrize("call", [
+    'CYCLE72("KONT_A:KONT_E", 10, 0, 2, -5, 5, 0, 0, 300, 100, 0, 41, 1, 10, 0, 1, 10)',
+    'CYCLE72("KREV_A:KREV_E", 10, 0, 2, -5, 5, 0, 0, 300, 100, 0, 42, 1, 10, 0, 1, 10)',
+], ids=["G41", "G42-reversed"])
+def test_cycle72_wall_on_the_seed_contour(tmp_path, call):
+    r = run(tmp_path, call + "\nM30\n" + SEED_CONTOUR + SEED_REVERSED, box=((-20, 76), (-35, 69.65), (-10, 0)),
+            start=(28, 90))
+    m = r.mesh()
+    hs = hsection(m, -2.5)
+    # At the neck the fillets (r 15) touch the big circle (r 20 about (28, 34.65)): where a fillet
+    # comes closer than the tool diameter to that circle, the pass along the circle necessarily cuts
+    # into it (the contour itself is a bottleneck there), so those samples cannot lie on the wall.
+    pts = [p for p in contour_samples() if abs(math.dist(p, (28, 34.65)) - 20) >= 10 or math.dist(p, (28, 69.65)) > 15.01]
+    assert len(pts) == 53
+    dist = [point_segment_distance(hs, p) for p in pts]
+    assert max(dist) < 0.005
+    # the tool ran outside the body: 1 mm beyond the wall there is no material at mid-depth,
+    # 1 mm inside there is (a ray from there outwards meets the wall after 1 mm)
+    for s, e, c, cw in SEED_ELEMENTS[2:3]:
+        mid = (np.array(s) + np.array(e)) / 2
+        out = np.array([e[1] - s[1], -(e[0] - s[0])]) / math.dist(s, e)  # right of travel = body side
+        assert ray(hs, mid - out, out) == pytest.approx(1.0, abs=0.005)
+    assert floor_z(m, (58.0, 20.0), 5.0) == pytest.approx(-5.0, abs=0.002)
+
+
+def test_cycle71_face(tmp_path):
+    # face the whole 60 x 40 block from Z 0 to -1.5 in two infeeds, zig-zag along X
+    r = run(tmp_path, "CYCLE71(10, 0, 2, -1.5, 0, 0, 60, 40, 0, 1, 6, 5, 0, 500, 31, 2)",
+            box=((0, 60), (0, 40), (-10, 0)), start=(-20, -20))
+    m = r.mesh()
+    assert m.bounds[1][2] == pytest.approx(-1.5, abs=0.002)  # no material left above the face
+    for p in ((0.5, 0.5), (30, 20), (59.5, 39.5), (12.3, 33.3)):
+        assert floor_z(m, p, 5.0) == pytest.approx(-1.5, abs=0.002)
+    assert r.report["part_volume"] == pytest.approx(60 * 40 * 8.5, rel=5e-4)
