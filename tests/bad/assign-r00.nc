@@ -1,0 +1,3 @@
+"EXPECT 2:5 R00 is reserved
+N10 R00=1.0
+N20 G00 X28. Z2.

@@ -1,0 +1,3 @@
+"EXPECT 3:14 R80 is reserved
+N10 G00 X28. Z2.
+N20 M03 S100 R80=5.0

@@ -1,0 +1,3 @@
+"EXPECT 3:15 outside 0..360
+N10 M03 S100 X28. Z2.
+N20 G33 Z-20. I-10. F2.

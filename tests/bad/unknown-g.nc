@@ -1,0 +1,3 @@
+"EXPECT 3:5 unknown G code G77
+N10 G00 X28. Z2.
+N20 G77 Z-20.

@@ -1,0 +1,3 @@
+"EXPECT 2:5 unknown M code M77
+N10 M77 S100
+N20 G00 X28. Z2.

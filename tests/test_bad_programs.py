@@ -1,0 +1,45 @@
+"""One bad program per CNC8x6 rule (tests/bad/*.nc): each must stop the CLI with exit status 2,
+the message ``PROGRAM:LINE:COL: error: TEXT`` naming the offending line (and column), and nothing
+written. The first line of each file says what is expected: ``"EXPECT LINE:COL fragment``.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from cutsim.cli import main
+
+BAD = Path(__file__).parent / "bad"
+PROGRAMS = sorted(BAD.glob("*.nc"))
+RULES = {  # every rule of the issue has its file
+    "lead-over-99.99", "e-without-point", "missing-empty-block", "missing-axis", "assign-r00",
+    "assign-r80", "angle-over-60", "unknown-g", "unknown-m", "malformed-number", "lead-zero",
+    "start-angle-over-360", "start-angle-negative",
+}
+
+
+def expectation(path: Path) -> tuple[int, int, str]:
+    m = re.match(r'"EXPECT (\d+):(\d+) (.+)', path.read_text().splitlines()[0])
+    assert m, f"{path.name}: first line must be '\"EXPECT LINE:COL text'"
+    return int(m.group(1)), int(m.group(2)), m.group(3).strip()
+
+
+def test_every_rule_has_a_program():
+    assert {p.stem for p in PROGRAMS} >= RULES
+
+
+@pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
+def test_bad_program_exits_2_with_its_line(program, tmp_path):
+    line, col, text = expectation(program)
+    out = tmp_path / "out"
+    res = CliRunner().invoke(main, ["simulate", str(program), "--setup", str(BAD / "setup.toml"),
+                                    "--out", str(out), "-q"])
+    assert res.exit_code == 2, res.output
+    msg = res.stderr.strip() if hasattr(res, "stderr") else res.output.strip()
+    assert msg.startswith(f"{program}:{line}:{col}: error: "), msg
+    assert text in msg
+    assert "Traceback" not in res.output
+    assert not out.exists() or not any(out.iterdir())
