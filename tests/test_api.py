@@ -66,8 +66,7 @@ def test_part_formats(tmp_path):
         for k in (1, 2):
             out = tmp_path / f"{fmt}{k}"
             proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(HERE / "multipass.nc"), "--setup",
-                                   str(HERE / "multipass.toml"), "--out", str(out), "--format", fmt,
-                                   "--tolerance", "0.05", "-q"],
+                                   str(HERE / "multipass.toml"), "--out", str(out), "--format", fmt, "-q"],
                                   capture_output=True, text=True)
             assert proc.returncode == 0, proc.stderr
             outs[fmt, k] = (out / f"part.{fmt}").read_bytes()
