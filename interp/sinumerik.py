@@ -784,6 +784,10 @@ class Sinumerik(ModalMachine):
     def ret(self, stack: list[Frame]) -> None:
         while stack and stack[-1].kind == "repeat":
             stack.pop()
+        if len(stack) > 1 and stack[-1].count > 1:  # P<n>: run the subprogram again
+            stack[-1].count -= 1
+            stack[-1].pc = stack[-1].restart
+            return
         if len(stack) <= 1:
             stack[:] = []  # RET / M17 in the main program ends it
             return

@@ -1,0 +1,202 @@
+"""Sinumerik 840D language core: block syntax, modal state, parameters and jumps, subprograms,
+the contour editor's blocks and tool radius compensation, checked on the canonical moves
+(numbers worked out by hand from the programs), plus every shipped Sinumerik example simulates."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import cutsim
+from cutsim import CutsimError
+from cutsim.interp import InterpConfig, interpret
+from cutsim.interp import canon
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "sinumerik"
+
+
+def moves(text, radii=None, start=(0.0, 0.0, 50.0), name="t.mpf"):
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=start, tool_radii=radii or {1: 5.0})
+    return interpret(name, text, cfg)
+
+
+def ends(prog):
+    return [tuple(round(v, 6) for v in r.end) for r in prog.moves]
+
+
+def test_words_comments_ac_ic_and_arcs():
+    p = moves("""; a comment line
+N10 G90 G17 F100 ; comment after a block
+N20 G1 X10 Y10 Z0
+N30 G91 X5 Y=AC(0)      ; incremental X, absolute Y
+N40 G90 X=IC(5) Y20
+N50 G2 X30 Y10 I0 J-10  ; centre incremental from the start
+N60 G3 X40 Y20 CR=10    ; short arc by radius
+N70 G2 X30 Y30 I=AC(30) J=AC(20)
+N80 M30
+""")
+    assert ends(p) == [(10, 10, 0), (15, 0, 0), (20, 20, 0), (30, 10, 0), (40, 20, 0), (30, 30, 0)]
+    arcs = [r for r in p.moves if isinstance(r, canon.Arc)]
+    assert arcs[0].center == (20, 10, 0) and arcs[0].clockwise
+    assert arcs[1].center[:2] == pytest.approx((30, 20)) and not arcs[1].clockwise  # CR=10, CCW, the short way
+    assert arcs[2].center[:2] == (30, 20)
+    assert all(r.src.line == i for r, i in zip(p.moves, (3, 4, 5, 6, 7, 8)))
+
+
+def test_negative_cr_takes_the_long_way():
+    p = moves("G90 G17 F100\nG1 X0 Y0 Z0\nG2 X20 Y0 CR=-10\nM30\n")
+    arc = p.moves[-1]
+    # from (0,0) to (20,0) radius 10 either way is a half circle: the centre is the chord's middle
+    assert arc.center[:2] == pytest.approx((10, 0))
+    p = moves("G90 G17 F100\nG1 X0 Y0 Z0\nG2 X10 Y10 CR=-10\nM30\n")
+    c = p.moves[-1].center
+    # CW over more than 180 degrees from (0,0) to (10,10): centre (10, 0)... mirrored: (0, 10)
+    assert (round(c[0], 6), round(c[1], 6)) == (0, 10)
+
+
+def test_parameters_def_jumps_repeat():
+    p = moves("""G90 F100
+R1=2 R2=R1*3+1       ; 7
+DEF REAL STEP=2.5, CNT
+CNT=0
+LOOP:
+G1 X=CNT*STEP Y=R2 Z=-R1
+CNT=CNT+1
+IF CNT<3 GOTOB LOOP
+GOTOF SKIP
+G1 X99                ; skipped
+SKIP:
+G1 Y=SQRT(16)+ABS(-1)
+START:
+G1 Z=R1
+R1=R1+1
+STOP:
+REPEAT START STOP P=2
+G1 X=COS(60)*10
+M30
+""")
+    # the loop three times, X99 skipped, the section START..STOP once more twice, COS(60)*10 = 5
+    assert ends(p) == [(0, 7, -2), (2.5, 7, -2), (5, 7, -2), (5, 5, -2), (5, 5, 2), (5, 5, 3), (5, 5, 4), (5, 5, 4)]
+
+
+def test_repeat_label_and_subprograms():
+    p = moves("""G90 F100
+G1 X0 Y0 Z0
+MARK:
+G91 G1 X1
+G90
+REPEAT MARK P=2
+HOLE P2
+L10
+M30
+PROC HOLE
+G91 G1 Y1
+G90
+RET
+%_N_L10_SPF
+G1 Z5
+M17
+""")
+    assert ends(p) == [(0, 0, 0), (1, 0, 0), (2, 0, 0), (3, 0, 0), (3, 1, 0), (3, 2, 0), (3, 2, 5)]
+    assert p.moves[-1].src.calls == (("t.mpf", 8),)
+
+
+def test_tool_change_and_spindle():
+    p = moves("T2 D1\nM6\nS1500 M3\nM5\nM30\n", radii={1: 5.0, 2: 3.0})
+    recs = [r for r in p.records if not isinstance(r, canon.ProgramEnd)]
+    assert isinstance(recs[0], canon.ToolChange) and recs[0].tool == 2 and recs[0].src.line == 2
+    assert [(r.direction, r.speed) for r in recs[1:]] == [(1, 1500), (0, 1500)]
+
+
+def test_contour_editor_blocks_are_plain_g_blocks():
+    p = moves(""";#7__DlgK contour definition begin - Don't change!;*GP*;*RO*
+G17 G90 ;*GP*
+G1 X13 Y69.65 F100 ;*GP*
+G3 X28 Y54.65 I=AC(28) J=AC(69.65) ;*GP*
+;CON,0,0.000,2,2,MST:2,1,AX:X,Y,1,J;*GP**RO*
+;ACCW,EX:28,EY:54.65,RAD:15;*GP*;*RO*
+;#End contour definition end - Don't change!;*GP*;*RO*
+M30
+""")
+    assert ends(p) == [(13, 69.65, 50), (28, 54.65, 50)]
+    assert p.moves[1].center == (28, 69.65, 50)
+
+
+def test_g42_outside_a_square_goes_round_the_corners():
+    # CCW square 0..20 with G42 (tool right of the path = outside), tool radius 5
+    p = moves("""G90 G17 F100
+G0 X-10 Y-10 Z-1
+G42 G1 X0 Y0
+X20
+Y20
+X0
+Y0
+G40 X-10 Y-10
+M30
+""")
+    e = ends(p)[1:]
+    assert e == [(0, -5, -1), (20, -5, -1), (25, 0, -1), (25, 20, -1), (20, 25, -1), (0, 25, -1), (-5, 20, -1),
+                 (-5, 0, -1), (-10, -10, -1)]
+    corner = p.moves[3]
+    assert isinstance(corner, canon.Arc) and corner.center == (20, 0, -1) and not corner.clockwise
+
+
+def test_g41_inside_a_square_meets_at_the_corners():
+    p = moves("""G90 G17 F100
+G0 X10 Y10 Z-1
+G41 G1 X10 Y0
+X20
+Y20
+X0
+Y0
+X10
+G40 Y10
+M30
+""")
+    assert ends(p)[1:] == [(10, 5, -1), (15, 5, -1), (15, 15, -1), (5, 15, -1), (5, 5, -1), (10, 5, -1), (10, 10, -1)]
+
+
+def test_g41_arc_radius_changes():
+    # a CCW half circle of radius 20 about (0,0); G41 (left = towards the centre) -> radius 15
+    p = moves("G90 G17 F100\nG0 X20 Y-10 Z0\nG41 G1 X20 Y0\nG3 X-20 Y0 CR=20\nG40 G1 X-20 Y-10\nM30\n")
+    arc = p.moves[2]
+    assert arc.start[:2] == pytest.approx((15, 0)) and arc.end[:2] == pytest.approx((-15, 0))
+    with pytest.raises(CutsimError) as e:
+        moves("G90 G17 F100\nG0 X20 Y-10 Z0\nG41 G1 X20 Y0\nG3 X-20 Y0 CR=20\nG40 G1 X-20 Y-10\nM30\n",
+              radii={1: 25.0})
+    assert e.value.line == 4 and "does not fit" in e.value.message
+
+
+@pytest.mark.parametrize("text, line, col, message", [
+    ("G1 X10\nG7 X1\n", 2, 1, "unknown G code G7"),
+    ("G1 X1.2.3\n", 1, 5, "malformed number"),
+    ("GOTOF NOWHERE\n", 1, 1, "label NOWHERE does not exist"),
+    ("G1 X=FOO+1\n", 1, 6, "unknown variable 'FOO'"),
+    ("G1 X0 Y0\nG2 X30 Y0 CR=10\n", 2, 11, "CR=10 is too small"),
+    ("F100\nKONTUR7\n", 2, 1, "subprogram KONTUR7 is not defined"),
+    ("G1 X10 X20\n", 1, 8, "appears twice"),
+    ("G1 X10 & Y\n", 1, 8, "unexpected character '&'"),
+    ("LOOP:\nGOTOB LOOP\n", 2, 1, "does not end"),
+    ("SLOT9(1, 2)\n", 1, 1, "unknown cycle"),
+    ("G2 X10 Y10\n", 1, 1, "needs its centre"),
+    ("M6\n", 1, 1, "M6 without a tool"),
+    ("T9 M6\n", 1, 1, "T9 is not in the setup"),
+])
+def test_errors_have_line_and_column(text, line, col, message):
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0, 0, 0), tool_radii={1: 5.0}, max_blocks=1000)
+    with pytest.raises(CutsimError) as e:
+        interpret("t.mpf", text, cfg)
+    assert (e.value.line, e.value.col) == (line, col)
+    assert message in e.value.message
+
+
+PROGRAMS = sorted(EXAMPLES.glob("*.mpf"))
+
+
+@pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.name)
+def test_sinumerik_example_simulates(program):
+    r = cutsim.simulate(str(program), str(program.with_suffix(".toml")), tolerance=0.01)
+    assert r.part.status().name == "NoError"
+    assert r.report["removed_volume"] > 0
+    assert r.report["dialect"] == "sinumerik"
