@@ -241,3 +241,34 @@ def test_cycle71_face(tmp_path):
     for p in ((0.5, 0.5), (30, 20), (59.5, 39.5), (12.3, 33.3)):
         assert floor_z(m, p, 5.0) == pytest.approx(-1.5, abs=0.002)
     assert r.report["part_volume"] == pytest.approx(60 * 40 * 8.5, rel=5e-4)
+
+
+def test_pocket3_helix_floor_allowance(tmp_path):
+    # 36 x 22 pocket, corner radius 6, centre (50, 50), 15 degrees, floor -4, helix plunge,
+    # floor allowance 0.3 and wall allowance 0.4 (complete: roughed, floor cleared, wall finished)
+    r = run(tmp_path, "POCKET3(10, 0, 2, -4, 36, 22, 6, 50, 50, 15, 4, 0.4, 0.3, 300, 100, 0, 20, 5, , , , 3, 2)")
+    m = r.mesh()
+    hs = hsection(m, -2.0)
+    a = math.radians(15)
+    u = np.array([math.cos(a), math.sin(a)])
+    c = np.array([50.0, 50.0])
+    w, length = across(hs, c, u)
+    assert w == pytest.approx(22.0, abs=0.005)
+    assert length == pytest.approx(36.0, abs=0.005)
+    for p in (c, c + 12 * u, c - 14 * u + 2 * np.array([-u[1], u[0]])):
+        assert floor_z(m, p, 5.0) == pytest.approx(-4.0, abs=0.002)
+    area = 36 * 22 - (4 - math.pi) * 36
+    assert r.report["removed_volume"] == pytest.approx(area * 4, rel=5e-4)
+
+
+def test_pocket4_disc(tmp_path):
+    # circular pocket radius 13 centred (40, 60), floor -3, vertical G1 plunge
+    r = run(tmp_path, "POCKET4(10, 0, 2, -3, 13, 40, 60, 3, 0, 0, 300, 100, 0, 10)")
+    m = r.mesh()
+    hs = hsection(m, -1.5)
+    c = np.array([40.0, 60.0])
+    for ang in (10, 100, 200, 300):
+        u = np.array([math.cos(math.radians(ang)), math.sin(math.radians(ang))])
+        assert ray(hs, c, u) == pytest.approx(13.0, abs=0.005)
+    assert floor_z(m, c + (4, 4), 5.0) == pytest.approx(-3.0, abs=0.002)
+    assert r.report["removed_volume"] == pytest.approx(math.pi * 169 * 3, rel=5e-4)
