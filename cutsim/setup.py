@@ -400,5 +400,9 @@ def load_setup(path: str) -> Setup:
         line = getattr(e, "lineno", 0) or 0
         col = getattr(e, "colno", 0) or 0
         msg = getattr(e, "msg", str(e))
+        where = re.search(r"\s*\(at line (\d+), column (\d+)\)$", msg)  # Python < 3.14: only in the text
+        if where:
+            line, col = line or int(where.group(1)), col or int(where.group(2))
+            msg = msg[:where.start()]
         raise CutsimError(path, line, col, f"not valid TOML: {msg}") from None
     return _Loader(path, text).load(data)
