@@ -22,7 +22,8 @@ KNOWN_G = {0, 1, 2, 3, 17, 18, 19, 33, 51, 52, 90, 91, 94, 95}
 # geometric effect).
 KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 29, 30}
 LEADS = {"I": "X", "J": "Y", "K": "Z"}
-NAME = re.compile(r"\w+")  # letters (any script), digits, underscore
+NAME = re.compile(r"(?:\w|[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f])+")
+# letters (any script, also written with combining marks), digits, underscore
 SPINDLE_ATTR = re.compile(r"\.([A-Za-z_]\w*)")
 
 
