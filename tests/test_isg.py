@@ -279,3 +279,15 @@ def test_three_starts_equally_spaced():
         hits = [np.abs(wrap(rt[:, 0] - (15 + 3 * (phi + a) / 360), 3.0)) < 0.002 for a in (0, 120, 240)]
         assert np.all(sum(h.astype(int) for h in hits) == 1), (phi, rt)
         assert all(h.sum() >= 3 for h in hits), phi
+
+
+def test_offset_turns_the_groove_against_the_spindle():
+    """An asymmetric offset (90) tells the sense apart, which 180 and 0/120/240 cannot: the groove
+    lies at z = 15 + 3*(phi + 90)/360 (mod 3), a quarter lead towards +Z from offset 0."""
+    tol = 0.002
+    r = cutsim.simulate(str(OWN / "offset90.nc"), str(OWN / "three-start.toml"), tolerance=tol)
+    mesh = mesh64(r)
+    for phi in PHIS:
+        rt = roots(mesh, phi, 0.4, 11.6, 13.0, 14.8, 0.3)
+        assert len(rt) >= 3 and np.all(np.abs(rt[:, 1] - 14.4) <= tol + 2e-6), phi
+        assert np.all(np.abs(wrap(rt[:, 0] - (15 + 3 * (phi + 90) / 360), 3.0)) < 0.002), (phi, rt)
