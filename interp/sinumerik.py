@@ -304,6 +304,8 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
         if name == "PROC":
             sc.ws()
             pname = sc.ident()
+            if not pname:
+                raise sc.err(sc.i + 1, "PROC needs the subprogram's name")
             ln.stmts.append(Stmt("proc", col, pname))
             sc.i = len(text)
             break
@@ -355,6 +357,8 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
             continue
         if re.fullmatch(r"[A-Z]", name):
             raise sc.err(col, f"address {name} needs a value")
+        if col > 1 and (text[col - 2].isdigit() or text[col - 2] == "."):
+            raise sc.err(col, f"unexpected '{name}' right after a number")
         ln.stmts.append(Stmt("sub", col, name))
     return ln
 
@@ -773,12 +777,12 @@ class Sinumerik(ModalMachine):
                 stack.append(Frame(fr2.unit, a, stop, a, cur + 1, int(n), "repeat", fr2.calls))
                 return end
         if end:
+            if any(f.kind == "unit" for f in stack[1:]):  # M2/M30 in a subprogram: return
+                self.ret(stack)
+                return False
             if self.comp_buf is not None:
                 self.flush_comp(None, line)
             self.end(src)
-            if len(stack) > 1 and stack[-1].kind == "unit":  # M2/M30 in a subprogram: return
-                self.ret(stack)
-                return False
         return end
 
     def ret(self, stack: list[Frame]) -> None:
