@@ -1,0 +1,150 @@
+"""Benchmark: a five-pass M70x1.5 external thread over 57 mm (CNC8x6 G33 passes, after the ISG
+example m70x1.5.nc), simulated by ``cutsim simulate`` and by a bare script that does only the
+exact manifold3d sweep (extrude + warp_batch) + batch subtract + binary STL write of the same
+five passes, no cutsim code. Each case runs in its own subprocess so its peak memory
+(resource.getrusage ru_maxrss, which sees manifold3d's C++ allocations) is its own.
+
+    python3 bench/bench_thread.py [TOL ...]      # default: 0.01 0.001
+
+Prints, per tolerance: wall time of the work (after imports) and of the whole process, triangle
+count, peak RSS, and the ratio cutsim / bare (target: within 2x).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+PASSES = (69.54, 69.08, 68.62, 68.16, 68.16)  # diameters, as in the ISG example
+LEAD, Z_START, Z_END = 1.5, 105.0, 48.0
+BAR_D, BAR_Z = 70.0, (0.0, 100.0)
+ANGLE, HEIGHT = 60.0, 10.0  # thread tool: included angle, profile height (cutsim's default)
+
+PROGRAM = "N10 G00 G95 T1 M03 S400 X72. Z105.\n" + "".join(
+    f"N{20 + 10 * i} G00 X{d:.2f}\nN{21 + 10 * i} G33 Z48. F1.5 I0.\nN{22 + 10 * i} G00 X72.\nN{23 + 10 * i} Z105.\n"
+    for i, d in enumerate(PASSES)) + "N90 M05 X150. Z200.\n"
+
+SETUP = f"""[machine]
+kind = "lathe"
+dialect = "cnc8x6"
+start = [150.0, 0.0, 200.0]
+
+[stock]
+shape = "cylinder"
+diameter = {BAR_D}
+z = [{BAR_Z[0]}, {BAR_Z[1]}]
+
+[[tool]]
+number = 1
+kind = "thread"
+angle = {ANGLE}
+"""
+
+
+def case_cutsim(tol: float, work: str) -> dict:
+    from cutsim.cli import run_simulate
+
+    prog, setup = os.path.join(work, "m70.nc"), os.path.join(work, "m70.toml")
+    with open(prog, "w") as f:
+        f.write(PROGRAM)
+    with open(setup, "w") as f:
+        f.write(SETUP)
+    t = time.perf_counter()
+    rc = run_simulate(prog, setup, os.path.join(work, "out"), tol, quiet=True)
+    dt = time.perf_counter() - t
+    with open(os.path.join(work, "out", "report.json")) as f:
+        rep = json.load(f)
+    return {"rc": rc, "time": dt, "triangles": _stl_triangles(os.path.join(work, "out", "part.stl")),
+            "removed": rep["removed_volume"]}
+
+
+def case_bare(tol: float, work: str) -> dict:
+    import manifold3d as m3d
+    import numpy as np
+
+    t = time.perf_counter()
+    R = BAR_D / 2
+    seg = lambda r: 2 * math.acos(1 - tol / r)  # noqa: E731  largest angle with chord error tol
+    n = max(8, 4 * math.ceil(math.ceil(2 * math.pi / seg(R)) / 4))
+    bar = m3d.Manifold.revolve(m3d.CrossSection([np.array([[0, BAR_Z[0]], [R, BAR_Z[0]], [R, BAR_Z[1]], [0, BAR_Z[1]]])]),
+                               circular_segments=n)
+    clip = R + max(10 * tol, 0.05)
+    half = math.radians(ANGLE) / 2
+    turns = (Z_START - Z_END) / LEAD
+    cuts = []
+    for d in PASSES:
+        r0 = d / 2
+        h = min(HEIGHT, clip - r0)
+        w = h * math.tan(half)
+        prof = m3d.CrossSection([np.array([[0.0, 0.0], [h, -w], [h, w]])])
+        steps = math.ceil(turns * 2 * math.pi / seg(r0 + h))
+        solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=steps - 1)
+
+        def warp(p, r0=r0):  # M03 feeding -Z: right-hand, phi = -2*pi*turns*t
+            t_ = np.clip(p[:, 2], 0.0, 1.0)
+            phi = -2 * math.pi * turns * t_
+            rr = r0 + p[:, 0]
+            z = Z_START + (Z_END - Z_START) * t_ + p[:, 1]
+            return np.column_stack([rr * np.cos(phi), rr * np.sin(phi), z])
+
+        cuts.append(solid.warp_batch(warp))
+    part = m3d.Manifold.batch_boolean([bar] + cuts, m3d.OpType.Subtract)
+    mesh = part.to_mesh()
+    v = np.asarray(mesh.vert_properties, dtype=np.float32)[:, :3]
+    f_ = np.asarray(mesh.tri_verts, dtype=np.int64)
+    tri = v[f_]
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-30)
+    rec = np.zeros(len(f_), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"], rec["v"] = nrm, tri
+    os.makedirs(os.path.join(work, "bare"), exist_ok=True)
+    with open(os.path.join(work, "bare", "part.stl"), "wb") as fh:
+        fh.write(b"bare".ljust(80, b" ") + np.uint32(len(f_)).tobytes() + rec.tobytes())
+    dt = time.perf_counter() - t
+    return {"rc": 0, "time": dt, "triangles": len(f_), "removed": bar.volume() - part.volume()}
+
+
+def _stl_triangles(path: str) -> int:
+    with open(path, "rb") as f:
+        f.seek(80)
+        return int.from_bytes(f.read(4), "little")
+
+
+def child(kind: str, tol: float) -> None:
+    with tempfile.TemporaryDirectory() as work:
+        out = (case_cutsim if kind == "cutsim" else case_bare)(tol, work)
+    out["maxrss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    print(json.dumps(out))
+
+
+def main(tols: list[float]) -> None:
+    print(f"five-pass M70x1.5 over 57 mm ({len(PASSES)} G33 passes), {os.cpu_count()} cpus")
+    print(f"{'tol mm':>8} {'case':>7} {'work s':>8} {'proc s':>8} {'triangles':>10} {'peak MB':>8} {'removed mm3':>12}")
+    for tol in tols:
+        res = {}
+        for kind in ("bare", "cutsim"):
+            t = time.perf_counter()
+            p = subprocess.run([sys.executable, __file__, "--child", kind, str(tol)], capture_output=True, text=True)
+            wall = time.perf_counter() - t
+            if p.returncode != 0:
+                sys.exit(f"{kind} at {tol} failed:\n{p.stderr}")
+            r = json.loads(p.stdout.strip().splitlines()[-1])
+            r["wall"] = wall
+            res[kind] = r
+            print(f"{tol:>8g} {kind:>7} {r['time']:>8.2f} {wall:>8.2f} {r['triangles']:>10d} {r['maxrss_mb']:>8.0f} {r['removed']:>12.3f}")
+        ratio = res["cutsim"]["time"] / res["bare"]["time"]
+        ratio_w = res["cutsim"]["wall"] / res["bare"]["wall"]
+        print(f"{tol:>8g}   ratio cutsim/bare: work {ratio:.2f}x, whole process {ratio_w:.2f}x "
+              f"({'within' if ratio <= 2 else 'OVER'} the 2x target)")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1 and sys.argv[1] == "--child":
+        child(sys.argv[2], float(sys.argv[3]))
+    else:
+        main([float(a) for a in sys.argv[1:]] or [0.01, 0.001])
