@@ -24,7 +24,7 @@ TOOL_KEYS = {
     "thread": {"angle", "tip_radius", "height", "thickness"},
     "turning": {"angle", "tip_radius", "height", "thickness"},
     "profile": {"points", "thickness"},
-    "endmill": {"diameter", "length", "corner_radius"},
+    "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
     "ballmill": {"diameter", "length"},
 }
 
@@ -368,6 +368,7 @@ class _Loader:
             if kind == "endmill":
                 kw["corner_radius"] = t.get("corner_radius", float, 0.0, check=lambda v: 0 <= v <= kw["diameter"] / 2,
                                             why="must be between 0 and half the diameter")
+                kw["center_cutting"] = t.get("center_cutting", bool, True)
             else:
                 kw["corner_radius"] = kw["diameter"] / 2
         if kind in ("thread", "turning") and kw["tip_radius"] > 0:

@@ -15,8 +15,8 @@ import numpy as np
 
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments
 
-from .build import stock_outline
 from . import mill
+from .build import stock_outline
 from .specs import StockSpec, ToolSpec
 from .sweeps import clipped_profile, planar_region, screw_sweep, spatial_hulls
 from .tools import lathe_body, lathe_profile, mill_body
@@ -43,6 +43,7 @@ class _Cut:
     region: m3d.CrossSection | None  # ... or a 2D region to revolve
     lo: np.ndarray
     hi: np.ndarray
+    near: Callable[[float, float], list] | None = None  # the solids restricted to heights z0..z1
 
 
 def _bbox(solids: list[m3d.Manifold]):
@@ -94,16 +95,21 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         if progress:
             progress("sweeping", i, n)
         if isinstance(path, ScrewPath):
-            solids = []
+            solids, parts = [], []
             for s0, s1, h in _screw_pieces(path, profile(path.tool), outline, r_clip, margin):
                 prof = clipped_profile(profile(path.tool), h)
                 if not prof.is_empty():
                     solids.extend(screw_sweep(path, prof, tol, s0, s1))
+                    parts.append((s0, s1, prof))
             if not solids:
                 continue
+
+            def near(z0, z1, path=path, parts=parts):
+                return [x for s0, s1, prof in parts for x in screw_sweep(path, prof, tol, s0, s1, (z0, z1))]
+
             lo, hi = _bbox(solids)
             if _overlap(lo, hi, slo, shi):
-                cuts.append(_Cut(i, solids, None, lo, hi))
+                cuts.append(_Cut(i, solids, None, lo, hi, near))
         elif isinstance(path, PlanarPath):
             pts = path.points
             h = r_clip - float(pts[:, 0].min())
@@ -135,7 +141,8 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
                 cut = _Cut(i, solids, None, lo, hi)
                 cuts.append(cut)
                 if checked:
-                    checks.append((cut, path))
+                    checks.append((cut if path.tool.is_lathe_tool else
+                                   _Cut(i, mill.check_solids(path, tol), None, lo, hi), path))
     for lv in millb.levels():
         solid = lv.solid()
         lo, hi = _bbox([solid])
@@ -259,7 +266,11 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
     hlo, hhi = np.array(b[:3]), np.array(b[3:])
     earlier = [c for c in cuts if c.index < cut.index and _overlap(c.lo, c.hi, hlo, hhi)]
     # only the pieces of earlier sweeps that can reach what this cut hits (a long thread is many pieces)
-    prior = [s for c in earlier for s in c.solids if _overlap(*_bbox([s]), hlo, hhi)]
+    # (a long thread is many turns: rebuild it only near the heights this cut reaches)
+    prior = []
+    for c in earlier:
+        cand = c.near(float(hlo[2]), float(hhi[2])) if c.near is not None else c.solids
+        prior.extend(s for s in cand if _overlap(*_bbox([s]), hlo, hhi))
     regions = [c.region for c in earlier if c.region is not None]
     if regions:
         prior.append(revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))

@@ -38,6 +38,7 @@ class ToolSpec:
     diameter: float = 0.0  # mills
     length: float = 0.0  # mills: flute length
     corner_radius: float = 0.0  # mills: bull-nose corner radius (ballmill: diameter / 2)
+    center_cutting: bool = True  # mills: can plunge (an end mill without centre cutting edges cannot)
 
     @property
     def is_lathe_tool(self) -> bool:

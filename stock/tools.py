@@ -54,12 +54,15 @@ def lathe_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
 
 
 def mill_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
-    """Convex vertex cloud of a milling cutter's fluted part, tip centre at the origin, axis +Z."""
+    """Convex vertex cloud of a milling cutter's fluted part, tip centre at the origin, axis +Z
+    (flat, bull-nose: corner radius, ball: corner radius = radius)."""
     r = tool.diameter / 2.0
     rc = min(tool.corner_radius, r)
     n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
     ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
-    ring = np.column_stack([np.cos(ang), np.sin(ang)])
+    # Vertices a little outside the circle so the polygon has the circle's perimeter, hence its
+    # mean width: the walls a sweep cuts deviate both ways within the tolerance, unbiased in volume.
+    ring = np.column_stack([np.cos(ang), np.sin(ang)]) * (math.pi / (n * math.sin(math.pi / n)))
     layers = []
     if rc > 0:
         k = max(1, math.ceil((math.pi / 2) / segment_angle(rc, tol)))

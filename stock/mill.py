@@ -1,0 +1,255 @@
+"""Milling sweeps: the fast 2.5D path and the milling checks.
+
+A flat end mill (no corner radius) that moves at constant Z sweeps a prism: the 2D region its
+circle sweeps in the XY plane, from the tip Z up to Z + flute length. Each straight piece of such
+a move sweeps a stadium (the hull of the circle at both ends), built directly with its straight
+flanks exactly at distance r from the path and its half circles within the chordal tolerance.
+Arcs arrive as chords from the kinematics (vertices on the true arc), so their stadiums are the
+annular sector within the tolerance. All stadiums of one Z level (per tool, per run of moves
+between checked moves) are unioned by one CrossSection (Clipper, positive fill) and extruded
+once. Every other mill move (3D lines, helices, ball and bull-nose tools) is the hull of the two
+tool poses per segment (``sweeps.spatial_hulls``); everything is subtracted in the one batch.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import manifold3d as m3d
+import numpy as np
+
+from cutsim.kinematics.paths import SpatialPath, segment_angle
+
+from .specs import ToolSpec
+
+Z_EPS = 1e-9  # mm: a move whose Z varies less than this is a constant-Z move
+# Faces of the stock are split to at most this fraction of its extent before the batch subtract:
+# a pocket outline with tens of thousands of vertices on one big stock face makes the boolean's
+# face triangulation quadratic; on small faces it stays linear.
+REFINE_FRACTION = 1.0 / 64
+CHECK_SHRINK = 2.0  # tolerances the tool shrinks by for the collision checks
+
+
+def is_flat(tool: ToolSpec) -> bool:
+    return tool.kind == "endmill" and tool.corner_radius <= 0.0
+
+
+def is_constant_z(path: SpatialPath) -> bool:
+    z = path.points[:, 2]
+    return float(z.max() - z.min()) <= Z_EPS
+
+
+def batchable(path: SpatialPath) -> bool:
+    """A feed move the fast path sweeps exactly: flat end mill, constant Z."""
+    return not path.rapid and not path.tool.is_lathe_tool and is_flat(path.tool) and is_constant_z(path)
+
+
+def stadiums(pts: np.ndarray, r: float, tol: float, p1: np.ndarray | None = None) -> np.ndarray:
+    """Counter-clockwise polygons (n-1, m, 2) of the regions a circle of radius ``r`` sweeps along
+    each straight piece of the XY polyline ``pts`` (a single point gives a disc); with ``p1`` the
+    pieces are ``pts[i] -> p1[i]``."""
+    pts = np.asarray(pts, dtype=float)[:, :2]
+    if p1 is None:
+        if len(pts) == 1:
+            pts = np.vstack([pts, pts])
+        p0, p1 = pts[:-1], pts[1:]
+    else:
+        p0, p1 = pts, np.asarray(p1, dtype=float)[:, :2]
+    k = max(2, math.ceil(math.pi / segment_angle(r, tol)))
+    d = p1 - p0
+    th = np.arctan2(d[:, 1], d[:, 0])  # zero-length pieces: any direction, the region is the disc
+    a = np.linspace(-math.pi / 2, math.pi / 2, k + 1)
+    a1 = th[:, None] + a[None, :]
+    a0 = a1 + math.pi
+    c1 = p1[:, None, :] + r * np.stack([np.cos(a1), np.sin(a1)], axis=-1)
+    c0 = p0[:, None, :] + r * np.stack([np.cos(a0), np.sin(a0)], axis=-1)
+    return np.concatenate([c1, c0], axis=1)
+
+
+def region(polys: list[np.ndarray]) -> m3d.CrossSection:
+    """Union of counter-clockwise polygons in one Clipper call."""
+    return m3d.CrossSection(polys, m3d.FillRule.Positive)
+
+
+def prism(reg: m3d.CrossSection, z0: float, z1: float) -> m3d.Manifold:
+    return m3d.Manifold.extrude(reg, z1 - z0).translate((0.0, 0.0, z0))
+
+
+def path_region(path: SpatialPath, tol: float) -> m3d.CrossSection:
+    return region(list(stadiums(path.points, path.tool.diameter / 2.0, tol)))
+
+
+def constant_z_solid(path: SpatialPath, tol: float) -> m3d.Manifold:
+    """The exact prism a flat end mill sweeps on one constant-Z move."""
+    z = float(path.points[0, 2])
+    return prism(path_region(path, tol), z, z + path.tool.length)
+
+
+@dataclass
+class Level:
+    index: int  # index of the first path of the level (its place in the cut order)
+    src: object  # Src of that path
+    tool: ToolSpec
+    z: float
+    tol: float
+    starts: list = field(default_factory=list)  # (k, 2) segment starts per move
+    ends: list = field(default_factory=list)  # (k, 2) segment ends per move
+    _region: m3d.CrossSection | None = None
+
+    def add(self, pts: np.ndarray) -> None:
+        xy = pts[:, :2]
+        if len(xy) == 1:
+            xy = np.vstack([xy, xy])
+        self.starts.append(xy[:-1])
+        self.ends.append(xy[1:])
+
+    def region(self) -> m3d.CrossSection:
+        if self._region is None:
+            polys = stadiums(np.concatenate(self.starts), self.tool.diameter / 2.0, self.tol, np.concatenate(self.ends))
+            self._region = region(list(polys))
+        return self._region
+
+    def solid(self) -> m3d.Manifold:
+        return prism(self.region(), self.z, self.z + self.tool.length)
+
+
+class MillBatch:
+    """Collects fast-path moves grouped by (run, tool, Z). A run ends at every move whose
+    collisions are checked (rapids, plunges): the checks compare against the cuts before them,
+    so no level may span such a move."""
+
+    def __init__(self, tol: float):
+        self.tol = tol
+        self.run = 0
+        self._levels: dict[tuple, Level] = {}
+
+    def take(self, i: int, path: SpatialPath) -> bool:
+        if not batchable(path):
+            return False
+        z = float(path.points[0, 2])
+        key = (self.run, path.tool.number, round(z, 9))
+        lv = self._levels.get(key)
+        if lv is None:
+            lv = self._levels[key] = Level(i, path.src, path.tool, z, self.tol)
+        lv.add(path.points)
+        return True
+
+    def cut_run(self) -> None:
+        self.run += 1
+
+    def levels(self) -> list[Level]:
+        return sorted(self._levels.values(), key=lambda lv: lv.index)
+
+    def __bool__(self) -> bool:
+        return bool(self._levels)
+
+
+def refined(stock: m3d.Manifold) -> m3d.Manifold:
+    """The stock with its faces split (same solid) so big 2.5D outlines subtract in linear time."""
+    b = stock.bounding_box()
+    ext = max(b[3] - b[0], b[4] - b[1], b[5] - b[2])
+    return stock.refine_to_length(ext * REFINE_FRACTION) if ext > 0 else stock
+
+
+# -- checks ------------------------------------------------------------------------------------
+def plunges(path: SpatialPath) -> bool:
+    """A feed move downwards with a tool that cannot cut at its centre."""
+    if path.rapid or path.tool.is_lathe_tool or path.tool.center_cutting:
+        return False
+    return float(path.points[-1, 2]) < float(path.points[0, 2]) - Z_EPS
+
+
+def plunge_message(path: SpatialPath, vol: float) -> str:
+    return (f"plunge (feed downwards in Z) with the non-centre-cutting tool T{path.tool.number} "
+            f"into the stock: {vol:.3f} mm^3")
+
+
+def flute_short(zmin: float, tool: ToolSpec, top: float) -> bool:
+    """The stock reaches above the flutes somewhere: a candidate for the flute-length check."""
+    return zmin + tool.length < top - Z_EPS
+
+
+def shank_level(level: Level, top: float) -> m3d.Manifold:
+    """What the part of the tool above the flutes sweeps on a level (up to the stock top), shrunk
+    by ``CHECK_SHRINK`` tolerances so discretisation slivers against the earlier cuts do not count."""
+    reg = level.region().offset(-CHECK_SHRINK * level.tol, m3d.JoinType.Round, 2.0, 16)
+    return prism(reg, level.z + level.tool.length, top + 1.0)
+
+
+def check_solids(path: SpatialPath, tol: float) -> list[m3d.Manifold]:
+    """The move's swept solid for the collision checks: the tool shrunk by ``CHECK_SHRINK``
+    tolerances (radius and tip) so the slivers two discretisations of one surface leave between a
+    move and the earlier cuts are not reported as collisions; any real collision remains."""
+    from .tools import mill_body
+
+    t = path.tool
+    d = max(t.diameter - 2 * CHECK_SHRINK * tol, t.diameter / 2)
+    cr = t.corner_radius if t.corner_radius <= 0 else max(0.0, t.corner_radius - (t.diameter - d) / 2)
+    small = replace(t, diameter=d, corner_radius=min(cr, d / 2))
+    moved = replace(path, tool=small, points=path.points + np.array([0.0, 0.0, CHECK_SHRINK * tol]))
+    return sweep(moved, mill_body(small, tol), tol)
+
+
+def shank_hulls(path: SpatialPath, top: float, tol: float) -> list[m3d.Manifold]:
+    """The tool above its flutes (a cylinder of the tool diameter up to the stock top) swept along
+    a 3D path: one hull per segment."""
+    r = path.tool.diameter / 2.0 - CHECK_SHRINK * tol
+    n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
+    ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    ring = np.column_stack([r * np.cos(ang), r * np.sin(ang)])
+    out = []
+    for p0, p1 in zip(path.points[:-1], path.points[1:]):
+        pts = []
+        for p in (p0, p1):
+            z0 = p[2] + path.tool.length
+            if z0 >= top:
+                continue
+            for z in (z0, top + 1.0):
+                pts.append(np.column_stack([ring + p[:2], np.full(n, z)]))
+        if pts:
+            out.append(m3d.Manifold.hull_points(np.vstack(pts)))
+    return out
+
+
+def flute_message(tool: ToolSpec, z: float, top: float, vol: float) -> str:
+    return (f"the cut is deeper than the flute length of T{tool.number} ({tool.length:g} mm): material up to "
+            f"Z{top:g} above the flutes at tip Z{z:g} ({vol:.3f} mm^3 would meet the shank)")
+
+
+def sweep(path: SpatialPath, body: list[np.ndarray], tol: float) -> list[m3d.Manifold]:
+    """Solids whose union a milling tool sweeps on one move: the exact prism for a flat end mill
+    at constant Z (rapids too), else one hull of the two poses per straight segment."""
+    from .sweeps import spatial_hulls
+
+    if is_flat(path.tool) and is_constant_z(path):
+        return [constant_z_solid(path, tol)]
+    return spatial_hulls(path, body)
+
+
+def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh) -> list:
+    """(src, message) for the first move of each tool that cuts deeper than its flutes: the tool
+    above the flutes would meet material still there (``fresh(index, solids)`` gives the volume of
+    ``solids`` inside the stock as it is before the move ``index``). Checked in program order only
+    where the tip is lower than the stock top minus the flute length."""
+    cands = []
+    for lv in batch.levels():
+        if flute_short(lv.z, lv.tool, top):
+            cands.append((lv.index, lv.src, lv.tool, lv.z, lambda lv=lv: [shank_level(lv, top)]))
+    for i, p in enumerate(paths):
+        if not isinstance(p, SpatialPath) or p.rapid or p.tool.is_lathe_tool or batchable(p):
+            continue
+        zmin = float(p.points[:, 2].min())
+        if flute_short(zmin, p.tool, top):
+            cands.append((i, p.src, p.tool, zmin, lambda p=p: shank_hulls(p, top, tol)))
+    out, warned = [], set()
+    for idx, src, tool, z, solids in sorted(cands, key=lambda c: c[0]):
+        if tool.number in warned:
+            continue
+        sol = solids()
+        if not sol:
+            continue
+        vol = fresh(idx, sol)
+        if vol > 1e-3:
+            warned.add(tool.number)
+            out.append((src, flute_message(tool, z, top, vol)))
+    return out
