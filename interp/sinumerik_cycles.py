@@ -906,6 +906,8 @@ def contour_elements(m, name: str, cy: Cycle):
         for ln in lines:
             if not ln.stmts:
                 continue
+            if any(st.kind == "ret" for st in ln.stmts):  # RET ends a contour subprogram
+                break
             for st in ln.stmts:
                 if st.kind in ("call", "sub", "goto", "repeat", "ret") or (
                         st.kind == "word" and st.a in ("G",) and st.b[0] == "num" and st.b[1] in (41, 42)):

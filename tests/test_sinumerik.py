@@ -200,3 +200,46 @@ def test_sinumerik_example_simulates(program):
     assert r.part.status().name == "NoError"
     assert r.report["removed_volume"] > 0
     assert r.report["dialect"] == "sinumerik"
+
+
+def test_g41_concave_line_arc_corner_is_cut_back():
+    # line (0,0)->(20,0), then a CCW arc about (10,10) to (20,20): the path turns left by 45 degrees;
+    # G41 (left, radius 5): the offset line Y=5 meets the offset arc (radius sqrt(200)-5) at
+    # X = 10 + sqrt((sqrt(200)-5)^2 - 25)
+    p = moves("G90 G17 F100\nG0 X0 Y-10 Z0\nG41 G1 X0 Y0\nX20\nG3 X20 Y20 I=AC(10) J=AC(10)\nG40 G1 X30 Y30\nM30\n")
+    r2 = math.sqrt(200) - 5
+    xi = 10 + math.sqrt(r2 * r2 - 25)
+    e = [m.end[:2] for m in p.moves]
+    assert e[1] == pytest.approx((0, 5))
+    assert e[2] == pytest.approx((xi, 5))
+    assert e[3] == pytest.approx((10 + r2 / math.sqrt(2), 10 + r2 / math.sqrt(2)))
+    assert p.moves[3].start[:2] == pytest.approx((xi, 5)) and p.moves[3].center[:2] == (10, 10)
+
+
+def test_cycle72_contour_from_a_subprogram_and_a_file(tmp_path):
+    body = "G17 G90\nG1 X0 Y0\nG1 X20\nG1 Y20\n"
+    main = ("T1 D1 M6\nF100\nCYCLE72(\"{}\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 42, 1, 5, 0, 1, 5)\nM30\n")
+    p1 = moves(main.format("KONT") + "PROC KONT\n" + body + "RET\n")
+    (tmp_path / "kont2.spf").write_text(body + "M17\n")
+    p2 = moves(main.format("KONT2"), name=str(tmp_path / "main.mpf"))
+    for p in (p1, p2):
+        cuts = [m for m in p.moves if m.end[2] == -3 and m.start[2] == -3]
+        # G42 (right of travel): the first edge X 0..20 at Y=0 is offset to Y=-5, the second to X=25,
+        # with a quarter circle about the corner (20, 0); straight approach and retract of 5
+        assert [tuple(round(v, 6) for v in m.end[:2]) for m in cuts] == [(0, -5), (20, -5), (25, 0), (25, 20), (25, 25)]
+        assert all(m.src.line == 3 for m in cuts)
+
+
+def test_slot1_oscillating_infeed_ramps():
+    p = moves("T1 D1 M6\nF100\nSLOT1(10, 0, 2, -4, , 1, 30, 10, 0, 0, 0, 0, 0, 100, 300, 2, 0, 0, 30)\nM30\n")
+    ramps = [m for m in p.moves if isinstance(m, canon.Feed) and m.start[2] != m.end[2]
+             and (m.start[0], m.start[1]) != (m.end[0], m.end[1])]
+    # two depth steps of 2 mm, each reached by going along the slot axis and back, half the way
+    # down each way; the first starts at the safety plane RFP + SDIS = 2
+    assert [round(m.start[2] - m.end[2], 6) for m in ramps] == [2, 2, 1, 1]
+    assert all(abs(m.end[1]) < 1e-9 for m in ramps)
+
+
+def test_dpr_wins_over_dp():
+    p = moves("T1 D1 M6\nF100\nPOCKET2(10, 2, 1, -50, 3, 5, 0, 0, 100, 300, 0, 0, 0, 10)\nM30\n")
+    assert min(m.end[2] for m in p.moves) == pytest.approx(-1.0)
