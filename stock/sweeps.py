@@ -30,8 +30,12 @@ def clipped_profile(profile: np.ndarray, height: float) -> m3d.CrossSection:
 
 
 def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
-                s0: float = 0.0, s1: float = 1.0) -> list[m3d.Manifold]:
-    """Solids whose union is the profile swept along ``path`` for s in [s0, s1] (workpiece frame)."""
+                s0: float = 0.0, s1: float = 1.0, zwindow: tuple[float, float] | None = None) -> list[m3d.Manifold]:
+    """Solids whose union is the profile swept along ``path`` for s in [s0, s1] (workpiece frame).
+
+    With ``zwindow`` only the stretches between stations that can reach those heights are built,
+    on exactly the stations of the full sweep: the same solid, restricted near the window.
+    """
     bounds = profile.bounds()  # (umin, vmin, umax, vmax)
     width = bounds[3] - bounds[1]
     brk = [s0] + [b for b in path.breakpoints() if s0 < b < s1] + [s1]
@@ -57,6 +61,15 @@ def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
         if b - a <= 0:
             continue
         n = max(1, math.ceil((b - a) * total / step))
+        if zwindow is not None:
+            zs = path.pose(a + (b - a) * np.arange(n + 1) / n)[1]
+            reach_v = max(abs(bounds[1]), abs(bounds[3]))
+            near = np.nonzero((np.minimum(zs[:-1], zs[1:]) - reach_v <= zwindow[1]) &
+                              (np.maximum(zs[:-1], zs[1:]) + reach_v >= zwindow[0]))[0]
+            if len(near) == 0:
+                continue
+            j, k = int(near[0]), int(near[-1]) + 1
+            a, b, n = a + (b - a) * j / n, a + (b - a) * k / n, k - j
         solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=n - 1)
 
         def warp(p, a=a, b=b):
