@@ -173,3 +173,58 @@ def test_large_lead_250():
         dz = wrap(rts[:, 0] - phase_z(phi, -60.0, 250.0, sigma=1), 250.0)
         assert abs(dz[0]) < 1e-3, (phi, dz)
         assert_roots(rts, 25.0, 0.005, f"phi={phi}")
+
+
+# -- removed volume of one full-depth pass through a plain bar ------------------------------------
+
+VOLUME_SETUP = """[machine]
+kind = "lathe"
+dialect = "cnc8x6"
+start = [40.0, 0.0, 8.0]
+[stock]
+shape = "cylinder"
+diameter = 30.0
+z = [-32.0, 0.0]
+[[tool]]
+number = 1
+kind = "thread"
+angle = 60.0
+"""
+# X22 from Z8 to Z-40: the 60-degree V (half width 4*tan30 = 2.31 at the bar surface) enters and
+# leaves through the end faces; rapids at Z8 and Z-40 stay clear of the bar.
+VOLUME_PROGRAM = "N10 G00 G95 M03 S200 X22. Z8.\nN20 G33 Z-40. F8. I0.\nN30 G00 X40.\n"
+
+
+def screw_volume(R, r0, lead, length, half_angle):
+    """Exact volume a screw sweep of a V (tip at r0) removes from a bar of radius R and length
+    ``length`` when the sweep runs through both end faces and ``length`` is a whole number of
+    leads. At angle phi the section holds one V per lead at z_k = c(phi) + k*lead; over a turn
+    c sweeps one lead, so sum_k and the phi integral become (2*pi/lead) * integral dc, and
+    integral dc of the V's part inside the slab = length * (V's area moment):
+        V = (2*pi/lead) * length * int_{r0}^{R} r * 2*(r - r0)*tan(half) dr
+          = (2*pi/lead) * length * 2*tan(half) * ((R^3 - r0^3)/3 - r0*(R^2 - r0^2)/2).
+    """
+    t = math.tan(math.radians(half_angle))
+    return 2 * math.pi / lead * length * 2 * t * ((R**3 - r0**3) / 3 - r0 * (R**2 - r0**2) / 2)
+
+
+def _volume_error(tmp_path, tol):
+    (tmp_path / "bar.toml").write_text(VOLUME_SETUP)
+    r = cutsim.simulate("bar.nc", str(tmp_path / "bar.toml"), tolerance=tol, text=VOLUME_PROGRAM)
+    assert r.warnings == []
+    removed = r.stock.volume() - r.part.volume()
+    truth = screw_volume(15.0, 11.0, 8.0, 32.0, 30.0)  # 3172.94 mm^3
+    return removed / truth - 1.0
+
+
+def test_full_pass_removes_the_screw_volume(tmp_path):
+    # measured: +0.074 % at tol 0.002 (the polygonal bar removes less, the sweep more; see below)
+    assert abs(_volume_error(tmp_path, 0.002)) < 1e-3
+
+
+@pytest.mark.xfail(strict=True, reason="known bias: the sweep's side faces are twisted quads split by one "
+                   "diagonal always the same way, so the swept V is ~0.05-0.07 % too big, shrinking only "
+                   "like sqrt(tol) (+0.056 % at tol 0.001); alternating diagonals or subdividing long "
+                   "profile edges would remove it")
+def test_full_pass_volume_within_0_05_percent(tmp_path):
+    assert abs(_volume_error(tmp_path, 0.002)) < 5e-4
