@@ -29,6 +29,27 @@ def clipped_profile(profile: np.ndarray, height: float) -> m3d.CrossSection:
     return cs ^ box
 
 
+# The side faces between two stations are twisted quads, split by one diagonal that always runs
+# the same way; on a long profile edge that biases the swept volume (about +0.07 % on an M70x1.5
+# groove at 2 um). Cutting the profile's edges into pieces no longer than EDGE_STEPS * sqrt(tol * r),
+# the length of one chord at tolerance tol, makes each quad nearly flat and the bias negligible.
+EDGE_STEPS = 2.0
+
+
+def subdivide(cs: m3d.CrossSection, max_len: float) -> m3d.CrossSection:
+    """The same region with extra (collinear) vertices so no edge is longer than ``max_len``."""
+    polys = []
+    for poly in cs.to_polygons():
+        out = []
+        nxt = np.roll(poly, -1, axis=0)
+        for p, q in zip(poly, nxt):
+            k = max(1, math.ceil(float(np.hypot(*(q - p))) / max_len))
+            t = np.arange(k)[:, None] / k
+            out.append(p + t * (q - p))
+        polys.append(np.vstack(out))
+    return m3d.CrossSection(polys, m3d.FillRule.Positive)
+
+
 def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
                 s0: float = 0.0, s1: float = 1.0, zwindow: tuple[float, float] | None = None) -> list[m3d.Manifold]:
     """Solids whose union is the profile swept along ``path`` for s in [s0, s1] (workpiece frame).
@@ -56,6 +77,7 @@ def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
     # orientation: the map (u, v, t) -> space keeps handedness when phi falls with t
     flip = path.sense > 0
     prof = profile.mirror((0.0, 1.0)) if flip else profile
+    prof = subdivide(prof, EDGE_STEPS * math.sqrt(tol * reach))
     out = []
     for a, b in zip(edges, edges[1:]):
         if b - a <= 0:

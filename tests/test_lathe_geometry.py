@@ -218,13 +218,10 @@ def _volume_error(tmp_path, tol):
 
 
 def test_full_pass_removes_the_screw_volume(tmp_path):
-    # measured: +0.074 % at tol 0.002 (the polygonal bar removes less, the sweep more; see below)
+    # measured: -0.009 % at tol 0.002 (profile edges subdivided to chord length; the residual is
+    # the polygonal bar, which holds slightly less material than the round one)
     assert abs(_volume_error(tmp_path, 0.002)) < 1e-3
 
 
-@pytest.mark.xfail(strict=True, reason="known bias: the sweep's side faces are twisted quads split by one "
-                   "diagonal always the same way, so the swept V is ~0.05-0.07 % too big, shrinking only "
-                   "like sqrt(tol) (+0.056 % at tol 0.001); alternating diagonals or subdividing long "
-                   "profile edges would remove it")
 def test_full_pass_volume_within_0_05_percent(tmp_path):
     assert abs(_volume_error(tmp_path, 0.002)) < 5e-4
