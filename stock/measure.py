@@ -315,36 +315,68 @@ def gap_at(part, point, direction: str) -> tuple[float, float] | None:
 # --------------------------------------------------------------------------------------------
 # design comparison
 # --------------------------------------------------------------------------------------------
-def _point_triangle_distance(pts: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _point_triangle_distance(pts: np.ndarray, tri: np.ndarray, max_only: bool = False
+                             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Distance from every point to the nearest triangle, that nearest point and the triangle's
-    index. Exact when points x triangles is small; otherwise each point is tested against the 48
-    triangles whose centroids are nearest to it (scipy's cKDTree), which is exact unless the
-    triangles are very uneven in size."""
+    index. Exact: brute force when points x triangles is small, else pruned with a kd-tree of the
+    triangle centroids (scipy). With ``max_only`` only the largest distance is exact: points
+    that cannot beat it keep an upper bound that is no larger than it."""
     n, m = len(pts), len(tri)
     best = np.full(n, np.inf)
     near = np.zeros_like(pts)
     idx = np.zeros(n, dtype=np.int64)
     if n == 0 or m == 0:
         return best, near, idx
-    if n * m > 20_000_000:
+    if n * m > 500_000:
         try:
             from scipy.spatial import cKDTree
         except ImportError:  # pragma: no cover - scipy ships with trimesh's usual installs
             cKDTree = None
         if cKDTree is not None:
-            k = min(48, m)
-            _, cand = cKDTree(tri.mean(axis=1)).query(pts, k=k)
-            cand = cand.reshape(n, k)
-            for i in range(0, n, 4096):
-                c = cand[i:i + 4096]
+            # exact pruning: the distance to the triangles of the nearest centroids is an upper
+            # bound; a triangle within it has its centroid within the bound plus its own radius.
+            # Large triangles (radius above the 90th percentile) are always tested.
+            cen = tri.mean(axis=1)
+            rad = np.linalg.norm(tri - cen[:, None, :], axis=2).max(axis=1)
+            rsmall = float(np.percentile(rad, 90))
+            big = np.flatnonzero(rad > rsmall)
+            tree = cKDTree(cen)
+            ub, near_c = tree.query(pts, k=1)
+            best[:], idx[:] = ub, near_c
+            near[:] = cen[near_c]
+            kk = min(8, m)  # exact distances to the triangles of the kk nearest centroids: a tight bound
+            _, cnear = tree.query(pts, k=kk)
+            cnear = cnear.reshape(n, kk)
+            for i in range(0, n, 8192):
+                c = cnear[i:i + 8192]
                 t = tri[c]
-                p = pts[i:i + 4096, None, :]
+                p = pts[i:i + 8192, None, :]
                 q = _closest_on_triangles(p, t[..., 0, :], t[..., 1, :], t[..., 2, :],
                                           t[..., 1, :] - t[..., 0, :], t[..., 2, :] - t[..., 0, :])
                 d = np.linalg.norm(q - p, axis=2)
                 j = np.argmin(d, axis=1)
                 rows = np.arange(len(j))
-                best[i:i + 4096], near[i:i + 4096], idx[i:i + 4096] = d[rows, j], q[rows, j], c[rows, j]
+                better = d[rows, j] < best[i:i + 8192]
+                sl = np.arange(i, i + len(j))[better]
+                best[sl], near[sl], idx[sl] = d[rows, j][better], q[rows, j][better], c[rows, j][better]
+            ub = best.copy()
+            small = rad <= rsmall
+            top = 0.0
+            order = np.argsort(-ub, kind="stable") if max_only else range(n)
+            for i in order:
+                if max_only and ub[i] <= top:
+                    break
+                cand = np.asarray(tree.query_ball_point(pts[i], ub[i] + rsmall + 1e-9), dtype=np.int64)
+                cand = np.concatenate([cand[small[cand]], big]) if len(cand) else big
+                if len(cand):
+                    t = tri[cand]
+                    p = pts[i][None, :]
+                    q = _closest_on_triangles(p, t[:, 0], t[:, 1], t[:, 2], t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+                    d = np.linalg.norm(q - p, axis=1)
+                    j = int(np.argmin(d))
+                    if d[j] < best[i]:
+                        best[i], near[i], idx[i] = d[j], q[j], cand[j]
+                top = max(top, best[i])
             return best, near, idx
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     ab, ac = b - a, c - a
@@ -441,13 +473,13 @@ def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
     if not excess.is_empty():
         ev = _probe_points(excess)
         ev = ev[:: max(1, len(ev) // max_points)]
-        d, _n, _i = _point_triangle_distance(ev, dv[df])
+        d, _n, _i = _point_triangle_distance(ev, dv[df], max_only=True)
         k = int(np.argmax(d))
         cands.append((float(d[k]), ev[k]))
     if not gouge.is_empty():
         gv = _probe_points(gouge)
         gv = gv[:: max(1, len(gv) // max_points)]
-        d, _n, _i = _point_triangle_distance(gv, pv_[pf])
+        d, _n, _i = _point_triangle_distance(gv, pv_[pf], max_only=True)
         k = int(np.argmax(d))
         cands.append((-float(d[k]), gv[k]))
     if cands:
