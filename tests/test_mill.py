@@ -165,11 +165,12 @@ def test_helix_trench_floor(helix):
         expect = 1.05 * (u - delta) / (2 * math.pi)
         pts = segs.reshape(-1, 2)
         near = pts[(np.abs(pts[:, 0] - y) < 0.5) & (pts[:, 1] > 1e-6)]  # not the plate bottom
-        assert abs(near[:, 1].min() - expect) <= 0.01, (y, near[:, 1].min(), expect)
+        assert abs(near[:, 1].min() - expect) <= 0.02, (y, near[:, 1].min(), expect)
         # the trench walls at radii 95 and 105 about (100, 0), through the plate
         ys = _inner(_crossings(segs, 10.0), -120.0, 120.0)
         side = ys[(ys * np.sign(y)) > 0]
-        assert np.allclose(np.sort(np.abs(side)), [95.0, 105.0], atol=0.01)
+        # within the path's chord error plus the tool polygon's, each at most the tolerance 0.02
+        assert np.allclose(np.sort(np.abs(side)), [95.0, 105.0], atol=2 * 0.02)
 
 
 # -- bad helix/jump programs: exit 2 with the line ---------------------------------------------
@@ -177,7 +178,6 @@ def test_helix_trench_floor(helix):
     ("helix-g98.nc", 3, "G98"),
     ("helix-missing.nc", 2, "N15"),
     ("helix-noq.nc", 2, "Q"),
-    ("helix-endless.nc", 3, "does not end"),
 ])
 def test_bad_helix_programs_exit_2(tmp_path, name, line, text):
     out = tmp_path / "out"
@@ -187,6 +187,18 @@ def test_bad_helix_programs_exit_2(tmp_path, name, line, text):
     assert f"{name}:{line}:" in proc.stderr and text in proc.stderr
     assert "Traceback" not in proc.stderr
     assert not (out / "part.stl").exists() and not (out / "report.json").exists()
+
+
+def test_jump_loop_that_does_not_end():
+    # Q99999999 repeats cannot finish: the executed-blocks guard stops it with the G73 line (a
+    # small guard here; the CLI's default guard takes a while to reach)
+    from cutsim.interp import InterpConfig, interpret
+
+    cfg = InterpConfig(dialect="cnc8x6", machine_kind="mill", start=(0.0, 0.0, 0.0), max_blocks=10000)
+    text = (HERE / "helix-endless.nc").read_text()
+    with pytest.raises(cutsim.CutsimError) as e:
+        interpret("helix-endless.nc", text, cfg)
+    assert e.value.line == 3 and "does not end" in str(e.value)
 
 
 # -- warnings ----------------------------------------------------------------------------------
