@@ -1,0 +1,172 @@
+"""Milling speed benchmark: generated CAM-like programs through the whole pipeline.
+
+    python bench/bench_mill.py                 # the full table (several minutes on 2 cores)
+    python bench/bench_mill.py --quick         # 5k/10k only
+    python bench/bench_mill.py --baseline 5000 # also the slow path (one hull per move, no 2.5D fast path)
+
+Cases (each run in its own process, so the peak memory is its own):
+- pocket N: a zig-zag pocket at one Z, a 6 mm flat end mill, passes 0.5 mm apart, every pass
+  written as 2 mm pieces (as CAM posts a polyline): N constant-Z moves, square side ~ sqrt(N) mm.
+- raster N: a 3D ball-end raster (6 mm ball) over a wavy surface, 1 mm moves, 1 mm stepover, at
+  tolerance 0.01 (CUTSIM_BENCH_RASTER_TOL to change; at 0.002 it takes ~20 ms/move and ~6 GB at 5k).
+- baseline: the pocket with the fast path switched off (a hull per move, all unioned in the batch).
+
+Targets (issue 4): pocket <= 0.2 ms/move at 10k and >= 10x faster than the baseline; raster
+<= 2 ms/move; doubling the moves costs <= 2.2x the time; peak memory <= 2 GB at 50k.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+POCKET_TOL = 0.002  # the default chordal tolerance
+RASTER_TOL = float(os.environ.get("CUTSIM_BENCH_RASTER_TOL", "0.01"))  # 0.002 needs ~6 GB at 5k moves
+SETUP = """[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [0.0, 0.0, 20.0]
+
+[stock]
+shape = "box"
+x = [{x0}, {x1}]
+y = [{y0}, {y1}]
+z = [-10.0, 0.0]
+
+[[tool]]
+number = 1
+kind = "{kind}"
+diameter = 6.0
+length = 20.0
+
+[simulation]
+tolerance = {tol}
+"""
+
+
+def pocket(n: int) -> tuple[str, str]:
+    """Zig-zag at Z-2 with ~n constant-Z moves."""
+    side = math.sqrt(n * 2 * 0.5)  # passes side/0.5, each side/2 pieces -> n ~ side^2
+    piece = 2.0
+    per_pass = max(1, round(side / piece))
+    passes = max(1, n // (per_pass + 1))
+    lines = ["N1 G00 X0 Y0 Z5", "N2 G01 Z-2 F1000"]
+    moves = 0
+    for p in range(passes):
+        y = p * 0.5
+        xs = [i * piece for i in range(per_pass + 1)]
+        if p % 2:
+            xs = xs[::-1]
+        if p:
+            lines.append(f"Y{y:.3f}")
+            moves += 1
+        for x in xs[1:]:
+            lines.append(f"X{x:.3f}")
+            moves += 1
+    lines.append("G00 Z20")
+    w, h = per_pass * piece, (passes - 1) * 0.5
+    setup = SETUP.format(x0=-10.0, x1=w + 10, y0=-10.0, y1=h + 10, kind="endmill", tol=POCKET_TOL)
+    return "\n".join(lines) + "\n", setup
+
+
+def raster(n: int) -> tuple[str, str]:
+    """Ball-end raster: lines along X of 1 mm 3D moves over z = -2 + sin(x/7) cos(y/9)."""
+    per_line = 100
+    nlines = max(1, n // per_line)
+    lines = ["N1 G00 X0 Y0 Z5", "N2 G01 Z-2 F1000"]
+    for j in range(nlines):
+        y = float(j)
+        xs = range(per_line + 1) if j % 2 == 0 else range(per_line, -1, -1)
+        first = True
+        for x in xs:
+            z = -2.0 + math.sin(x / 7.0) * math.cos(y / 9.0)
+            if first and j:
+                lines.append(f"Y{y:.3f} Z{z:.4f}")
+            elif not first:
+                lines.append(f"X{x:.3f} Z{z:.4f}")
+            first = False
+    lines.append("G00 Z20")
+    setup = SETUP.format(x0=-5.0, x1=per_line + 5.0, y0=-5.0, y1=nlines + 5.0, kind="ballmill", tol=RASTER_TOL)
+    return "\n".join(lines) + "\n", setup
+
+
+def run_case(kind: str, n: int, baseline: bool) -> dict:
+    import cutsim
+    from cutsim.interp import InterpConfig, interpret
+    from cutsim.kinematics import plan
+    from cutsim.stock import build_stock, remove
+
+    if baseline:
+        from cutsim.stock import mill
+
+        mill.batchable = lambda path: False  # every move: one hull, all unioned in the batch
+        mill.is_constant_z = lambda path: False
+    text, setup_text = (pocket if kind != "raster" else raster)(n)
+    with tempfile.TemporaryDirectory() as d:
+        sp = os.path.join(d, "setup.toml")
+        with open(sp, "w") as f:
+            f.write(setup_text)
+        setup = cutsim.load_setup(sp)
+        t0 = time.perf_counter()
+        stock = build_stock(setup.stock, setup.tolerance)
+        cfg = InterpConfig(dialect="cnc8x6", machine_kind="mill", start=setup.machine.start)
+        prog = interpret("bench.nc", text, cfg)
+        t1 = time.perf_counter()
+        pl = plan(prog, setup.machine, setup.tools, setup.tolerance)
+        t2 = time.perf_counter()
+        rem = remove(stock, setup.stock, pl.paths, setup.tolerance)
+        vol = rem.part.volume()  # forces the lazy boolean
+        t3 = time.perf_counter()
+    moves = len(prog.moves)
+    return {"case": ("baseline" if baseline else kind), "moves": moves, "interp_s": t1 - t0, "plan_s": t2 - t1,
+            "remove_s": t3 - t2, "total_s": t3 - t0, "ms_per_move": 1000 * (t3 - t0) / moves,
+            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, "removed": stock.volume() - vol,
+            "warnings": len(rem.warnings)}
+
+
+def sub(kind: str, n: int, baseline: bool = False) -> dict:
+    args = [sys.executable, __file__, "--case", kind, str(n)] + (["--as-baseline"] if baseline else [])
+    out = subprocess.run(args, capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--case", nargs=2)
+    ap.add_argument("--as-baseline", action="store_true")
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--baseline", type=int, nargs="*", default=[5000])
+    a = ap.parse_args()
+    if a.case:
+        print(json.dumps(run_case(a.case[0], int(a.case[1]), a.as_baseline)))
+        return
+    sizes = [5000, 10000] if a.quick else [5000, 10000, 20000, 50000]
+    rows = [sub("pocket", n) for n in sizes]
+    rows += [sub("raster", n) for n in (5000, 10000)]
+    rows += [sub("pocket", n, baseline=True) for n in a.baseline]
+    print(f"{'case':9} {'moves':>6} {'interp s':>9} {'plan s':>7} {'remove s':>9} {'total s':>8} {'ms/move':>8} "
+          f"{'x prev':>7} {'peak MB':>8}")
+    prev = {}
+    for r in rows:
+        k = r["case"]
+        ratio = f"{r['total_s'] / prev[k]['total_s']:.2f}" if k in prev else "-"
+        print(f"{k:9} {r['moves']:6d} {r['interp_s']:9.2f} {r['plan_s']:7.2f} {r['remove_s']:9.2f} {r['total_s']:8.2f} "
+              f"{r['ms_per_move']:8.3f} {ratio:>7} {r['peak_mb']:8.0f}")
+        prev[k] = r
+    for r in rows:
+        if r["case"] == "baseline":
+            fast = next((x for x in rows if x["case"] == "pocket" and x["moves"] == r["moves"]), None)
+            if fast:
+                print(f"fast path vs hull-per-move at {r['moves']} moves: {r['total_s'] / fast['total_s']:.1f}x faster "
+                      f"(removal alone {r['remove_s'] / fast['remove_s']:.1f}x); removed volume "
+                      f"{fast['removed']:.1f} vs {r['removed']:.1f} mm^3")
+
+
+if __name__ == "__main__":
+    main()
