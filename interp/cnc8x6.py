@@ -222,16 +222,8 @@ class Cnc8x6(ModalMachine):
             groups[group] = g
             if group == "motion":
                 motion = code
-            elif code == 90:
-                self.absolute = True
-            elif code == 91:
-                self.absolute = False
-            elif code == 94:
-                self.per_rev = False
-            elif code == 95:
-                self.per_rev = True
-            elif code in PLANES:
-                self.plane = PLANES[code]
+            elif self.common_g(code):
+                pass
             elif code == 9:
                 g09 = True
             elif code == 10:

@@ -310,12 +310,8 @@ class Isg(ModalMachine):
             groups[group] = g
             if group == "motion":
                 motion = code
-            elif code in (90, 91):
-                self.absolute = code == 90
-            elif code in (94, 95):
-                self.per_rev = code == 95
-            elif code in PLANES:
-                self.plane = PLANES[code]
+            elif self.common_g(code):
+                pass
             elif code in (51, 52):
                 if self.cfg.machine_kind != "lathe":
                     raise self.error(b.line, g.col, f"G{g.raw} (diameter programming) needs a lathe")

@@ -71,6 +71,19 @@ class ModalMachine:
             end[i] = v if ab else self.pos[i] + v
         return (end[0], end[1], end[2])
 
+    def common_g(self, code: int) -> bool:
+        """Apply a G code every dialect means the same way: G90/G91 distance mode, G94/G95 feed
+        mode, G17/G18/G19 plane. False when ``code`` is none of them."""
+        if code in (90, 91):
+            self.absolute = code == 90
+        elif code in (94, 95):
+            self.per_rev = code == 95
+        elif code in PLANES:
+            self.plane = PLANES[code]
+        else:
+            return False
+        return True
+
     # -- motions ---------------------------------------------------------------------------------
     def rapid(self, src: Src, end: Vec3) -> None:
         self.emit(canon.Rapid(src, tuple(self.pos), end, self.diameter))

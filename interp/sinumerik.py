@@ -641,18 +641,10 @@ class Sinumerik(ModalMachine):
                 if motion is not None:
                     raise self.error(line, col, f"G{code} conflicts with G{motion} in the same block")
                 motion = code
-            elif code == 90:
-                self.absolute = True
-            elif code == 91:
-                self.absolute = False
-            elif code == 94:
-                self.per_rev = False
-            elif code == 95:
-                self.per_rev = True
-            elif code in PLANES:
-                if self.comp_buf is not None:
-                    raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
-                self.plane = PLANES[code]
+            elif code in PLANES and self.comp_buf is not None:
+                raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
+            elif self.common_g(code):
+                pass
             elif code in (40, 41, 42):
                 new_comp = (code, col)
         # spindle, tool, feed
