@@ -9,7 +9,7 @@ import math
 from . import canon
 from .canon import Ramp, Src
 from .errors import CutsimError
-from .lexer import Block, Word, parse_number, split_lines
+from .lexer import Block, Word, block_number, parse_number, split_lines
 from .modal import AXES, PLANE_AXES, PLANES, InterpConfig, ModalMachine
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
@@ -50,15 +50,7 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
         letter = c.upper()
         i += 1
         if letter == "N":
-            j = i
-            while j < n and text[j].isdigit():
-                j += 1
-            if j == i:
-                raise CutsimError(name, lineno, col, "N must be followed by a block number")
-            if block.label or block.words or block.assigns:
-                raise CutsimError(name, lineno, col, "the block number N must open the block")
-            block.label = "N" + text[i:j]
-            i = j
+            i = block_number(name, lineno, text, i, block, must_open=True)
             continue
         if letter == "R":  # parameter assignment R<nn>=<value>
             j = i

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from . import canon
 from .canon import Src
 from .errors import CutsimError
-from .lexer import Block, Word, parse_number, split_lines
+from .lexer import Block, Word, block_number, parse_number, split_lines
 from .modal import AXES, PLANE_AXES, PLANES, InterpConfig, ModalMachine
 
 LETTERS = set("NGMXYZIJKFSTDL")
@@ -83,15 +83,7 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
         letter = c.upper()
         i += 1
         if letter == "N":
-            j = i
-            while j < n and text[j].isdigit():
-                j += 1
-            if j == i:
-                raise CutsimError(name, lineno, col, "N must be followed by a block number")
-            if block.label:
-                raise CutsimError(name, lineno, col, "two block numbers N in one block")
-            block.label = "N" + text[i:j]
-            i = j
+            i = block_number(name, lineno, text, i, block, must_open=False)
             continue
         if letter == "L":
             if not (i < n and text[i] in "lL"):

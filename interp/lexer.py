@@ -55,6 +55,24 @@ def parse_number(program: str, line: int, text: str, i: int, what: str) -> tuple
     return float(raw.replace("\u2212", "-")), raw, j
 
 
+def block_number(program: str, line: int, text: str, i: int, block: Block, must_open: bool) -> int:
+    """Read the block number after the ``N`` at ``text[i - 1]`` into ``block.label`` (``"N330"``);
+    return the index after its digits. ``must_open``: N must be the first word of the block
+    (CNC8x6); otherwise it may stand anywhere, once (ISG)."""
+    col = i
+    j = i
+    while j < len(text) and text[j].isdigit():
+        j += 1
+    if j == i:
+        raise CutsimError(program, line, col, "N must be followed by a block number")
+    if must_open and (block.label or block.words or block.assigns):
+        raise CutsimError(program, line, col, "the block number N must open the block")
+    if block.label:
+        raise CutsimError(program, line, col, "two block numbers N in one block")
+    block.label = "N" + text[i:j]
+    return j
+
+
 def split_lines(text: str) -> list[str]:
     """Program lines without their line ends (CR LF, LF or CR)."""
     return text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
