@@ -19,7 +19,7 @@ from . import mill
 from .build import stock_outline
 from .specs import StockSpec, ToolSpec
 from .sweeps import clipped_profile, planar_region, screw_sweep, spatial_hulls
-from .tools import lathe_body, lathe_profile, mill_body
+from .tools import lathe_body, lathe_profile
 
 # A collision smaller than this is numerical noise between two discretisations of one surface.
 MIN_COLLISION_VOLUME = 1e-3  # mm^3
@@ -81,7 +81,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
 
     def body(tool: ToolSpec) -> list:
         if tool.number not in bodies:
-            bodies[tool.number] = lathe_body(tool, tol) if tool.is_lathe_tool else mill_body(tool, tol)
+            bodies[tool.number] = lathe_body(tool, tol)  # mills: stock/mill.py builds its own bodies
         return bodies[tool.number]
 
     def revolve(region: m3d.CrossSection) -> m3d.Manifold:
@@ -90,10 +90,30 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     millb = mill.MillBatch(tol)
     cuts: list[_Cut] = []
     checks: list[tuple[_Cut, object]] = []
+    cap = mill.cap_height(float(shi[2]), tol)
+    chain = mill.Chain()
+
+    def flush() -> None:
+        if chain.parts:
+            src_index = chain.index
+            solids = chain.take(tol, cap)
+            if solids:
+                lo, hi = _bbox(solids)
+                if _overlap(lo, hi, slo, shi):
+                    cuts.append(_Cut(src_index, solids, None, lo, hi))
+
     n = len(paths)
     for i, path in enumerate(paths):
         if progress:
             progress("sweeping", i, n)
+        if isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid \
+                and not mill.batchable(path) and not mill.plunges(path):
+            if not chain.continues(path):
+                flush()
+            chain.add(i, path)  # 3D mill feed: joined with the moves it continues (stock/mill.py)
+            continue
+        if not (isinstance(path, SpatialPath) and mill.batchable(path)):
+            flush()
         if isinstance(path, ScrewPath):
             solids, parts = [], []
             for s0, s1, h in _screw_pieces(path, profile(path.tool), outline, r_clip, margin):
@@ -135,14 +155,17 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
             checked = path.rapid or path.tool.is_lathe_tool or mill.plunges(path)
             if checked:
                 millb.cut_run()
-            solids = spatial_hulls(path, body(path.tool)) if path.tool.is_lathe_tool else mill.sweep(path, body(path.tool), tol)
+            solids = spatial_hulls(path, body(path.tool)) if path.tool.is_lathe_tool else mill.sweep(path, tol, cap)
+            if not solids:
+                continue
             lo, hi = _bbox(solids)
             if _overlap(lo, hi, slo, shi):
                 cut = _Cut(i, solids, None, lo, hi)
                 cuts.append(cut)
                 if checked:
                     checks.append((cut if path.tool.is_lathe_tool else
-                                   _Cut(i, mill.check_solids(path, tol), None, lo, hi), path))
+                                   _Cut(i, mill.check_solids(path, tol, cap), None, lo, hi), path))
+    flush()
     for lv in millb.levels():
         solid = lv.solid()
         lo, hi = _bbox([solid])

@@ -53,24 +53,35 @@ def lathe_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
     return out
 
 
-def mill_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
+def mill_body(tool: ToolSpec, tol: float, height: float | None = None) -> list[np.ndarray]:
     """Convex vertex cloud of a milling cutter's fluted part, tip centre at the origin, axis +Z
-    (flat, bull-nose: corner radius, ball: corner radius = radius)."""
+    (flat, bull-nose: corner radius, ball: corner radius = radius). With ``height`` below the flute
+    length the body is cut off at that height (a plane section of the true tool): the part of the
+    tool above the stock top never meets material and only costs triangles."""
     r = tool.diameter / 2.0
     rc = min(tool.corner_radius, r)
+    top = tool.length if height is None else min(tool.length, max(0.0, height))
     n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
     ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
     # Vertices a little outside the circle so the polygon has the circle's perimeter, hence its
     # mean width: the walls a sweep cuts deviate both ways within the tolerance, unbiased in volume.
     ring = np.column_stack([np.cos(ang), np.sin(ang)]) * (math.pi / (n * math.sin(math.pi / n)))
+
+    def layer(rad: float, z: float) -> np.ndarray:
+        return np.column_stack([ring * rad, np.full(n, z)]) if rad > 1e-12 else np.array([[0.0, 0.0, z]])
+
     layers = []
     if rc > 0:
         k = max(1, math.ceil((math.pi / 2) / segment_angle(rc, tol)))
         for a in np.linspace(0, math.pi / 2, k + 1):
-            rad = (r - rc) + rc * math.sin(a)
             z = rc - rc * math.cos(a)
-            layers.append(np.column_stack([ring * rad, np.full(n, z)]) if rad > 1e-12 else np.array([[0.0, 0.0, z]]))
+            if z >= top:
+                break
+            layers.append(layer((r - rc) + rc * math.sin(a), z))
     else:
-        layers.append(np.column_stack([ring * r, np.zeros(n)]))
-    layers.append(np.column_stack([ring * r, np.full(n, tool.length)]))
+        layers.append(layer(r, 0.0))
+    if top < rc:  # the cut falls on the corner: its section circle
+        layers.append(layer((r - rc) + math.sqrt(max(0.0, rc * rc - (rc - top) ** 2)), top))
+    elif top > 0.0 or rc > 0:
+        layers.append(layer(r, top))
     return [np.vstack(layers)]
