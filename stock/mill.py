@@ -322,16 +322,43 @@ def runs(pts: np.ndarray, tol: float, mergeable: bool) -> list[tuple[int, int]]:
 
 
 def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> list[m3d.Manifold]:
-    """Hulls whose union is the mill swept along the tip polyline ``points``, below ``cap``."""
+    """Solids whose union is the mill swept along the tip polyline ``points``, below ``cap``: for a
+    ball-end mill, mitred tubes along planar stretches (stock/tube.py) closed by the tool's body at
+    their ends; everything else hulls of merged runs of poses."""
+    from . import tube
     from .tools import mill_body
+
+    def body(p: np.ndarray, h: float | None) -> np.ndarray:
+        return mill_body(tool, tol, h)[0] + p
 
     out = []
     for pts in below_cap(points, cap):
         h = cap - pts[:, 2]  # the body height each pose needs
         closed = bool(np.all(h <= tool.length))  # flutes reach above the cap at every pose
-        for i, j in runs(pts, tol, closed):
-            cloud = [mill_body(tool, tol, h[k] if closed else None)[0] + pts[k] for k in range(i, j + 1)]
-            out.append(m3d.Manifold.hull_points(np.vstack(cloud)))
+        pieces, ends = [], set()
+        start = 0
+        if closed and tube.is_ball(tool) and len(pts) > tube.TUBE_MIN_SEGMENTS:
+            z_top = max(cap, float(pts[:, 2].max()) + tool.diameter / 2.0 + 1e-3)
+            for i, j in tube.stretches(pts, tool, tol, z_top):
+                # each tube's own top (no higher than the one checked): no coplanar tops to union
+                own = max(cap, float(pts[i:j + 1, 2].max()) + tool.diameter / 2.0 + 1e-3)
+                out.append(tube.tube(pts[i:j + 1], tool, tol, own))
+                ends.update((i, j))
+                if i > start:
+                    pieces.append((start, i))
+                start = j
+        if start < len(pts) - 1 or not pieces and not ends:
+            pieces.append((start, len(pts) - 1))
+        # a tube's end needs the tool's body there unless a hull piece beside it holds that pose
+        # (adding it twice would put coincident faces into the union)
+        ends -= {k for piece in pieces for k in piece}
+        for k in sorted(ends):
+            out.append(m3d.Manifold.hull_points(body(pts[k], h[k])))
+        for a, b in pieces:
+            sub = pts[a:b + 1]
+            for i, j in runs(sub, tol, closed):
+                cloud = [body(sub[k], h[a + k] if closed else None) for k in range(i, j + 1)]
+                out.append(m3d.Manifold.hull_points(np.vstack(cloud)))
     return [s for s in out if not s.is_empty()]
 
 

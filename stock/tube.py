@@ -1,0 +1,163 @@
+"""A ball-end mill swept along a polyline in a vertical plane: one mitred tube, built directly.
+
+A CAM raster is thousands of short moves along lines in vertical planes. A ball (radius r)
+swept along a straight segment is a cylinder about the segment through the ball centre; two
+consecutive cylinders of equal radius meet exactly in the bisector (mitre) plane of their axes, in
+the same ellipse (semi-axes r and r / cos(theta/2)). So the lower half of the ball's sweep along the
+whole line is ONE tube: the half-disc profile extruded along a parameter axis and ``warp_batch``ed
+so station k lands on the mitre plane at vertex k. Between stations every profile vertex runs
+along a ruling of its cylinder, so the only error is the profile's chord (the one tolerance) and,
+on the outside of a bend, the mitre corner standing out of the ball's round joint by
+r (1/cos(theta/2) - 1), kept within half the tolerance (bends sharper than that split the line).
+
+Above the ball's equator the tool is its cylinder, and where the flutes reach above the stock the
+tool is upward closed (see stock/mill.py): the sweep is everything above the lower surface, between
+the walls y = +-r of the plane. The profile's two top vertices therefore run up the mitre plane to
+a common height above the stock; walls and top are planar and exact. The tool's own body at both
+ends of the line closes the sweep (the half-balls in front of the first and behind the last
+station). One line of n moves is then ~n x (profile vertices) x 2 triangles, an order of magnitude
+fewer than one hull per move, and nothing inside the line needs a boolean.
+"""
+from __future__ import annotations
+
+import math
+
+import manifold3d as m3d
+import numpy as np
+
+from cutsim.kinematics.paths import segment_angle
+
+from .specs import ToolSpec
+
+TUBE_MIN_SEGMENTS = 3  # shorter stretches are cheaper as hulls
+MAX_SLOPE = 0.95  # |sin| of a segment's slope; steeper segments (plunges) are hulled
+MITRE_FRACTION = 0.5  # the mitre corner may stand out of the round joint by this many tolerances
+PLANAR_EPS = 1e-7  # mm: points this close to the vertical plane lie in it
+TOP_MARK = 1.0  # profile v of the two top vertices (the arc has v <= 0)
+
+
+def is_ball(tool: ToolSpec) -> bool:
+    return tool.kind in ("endmill", "ballmill", "bullnose") and tool.corner_radius >= tool.diameter / 2.0 - 1e-12
+
+
+def max_turn(r: float, tol: float) -> float:
+    """Largest bend (radians) whose mitre stands out of the round joint by at most MITRE_FRACTION tol."""
+    return 2.0 * math.acos(1.0 / (1.0 + MITRE_FRACTION * tol / r))
+
+
+def stretches(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> list[tuple[int, int]]:
+    """Index ranges (i, j) of the tip polyline that one tube sweeps exactly: segments in one
+    vertical plane, progressing along it, not steeper than MAX_SLOPE, bends within ``max_turn``,
+    the tool long enough to reach ``z_top`` and neighbouring mitre lines not crossing."""
+    r = tool.diameter / 2.0
+    n = len(pts)
+    if n < TUBE_MIN_SEGMENTS + 1:
+        return []
+    d = np.diff(pts, axis=0)
+    hl = np.hypot(d[:, 0], d[:, 1])
+    ln = np.linalg.norm(d, axis=1)
+    reach = pts[:, 2] + tool.length >= z_top
+    seg_ok = (hl > 1e-9) & (np.abs(d[:, 2]) <= MAX_SLOPE * ln) & reach[:-1] & reach[1:]
+    h = d[:, :2] / np.maximum(hl, 1e-300)[:, None]
+    cross = h[:-1, 0] * h[1:, 1] - h[:-1, 1] * h[1:, 0]
+    same_plane = (np.abs(cross) <= 1e-9) & (np.einsum("ij,ij->i", h[:-1], h[1:]) > 0)
+    bend_ok = np.einsum("ij,ij->i", d[:-1], d[1:]) >= math.cos(max_turn(r, tol)) * ln[:-1] * ln[1:]
+    joint_ok = same_plane & bend_ok & seg_ok[:-1] & seg_ok[1:]  # joint_ok[k]: at point k + 1
+    cands, i = [], 0
+    while i < n - 1:
+        if not seg_ok[i]:
+            i += 1
+            continue
+        j = i + 1
+        while j < n - 1 and joint_ok[j - 1]:
+            j += 1
+        cands.append((i, j))
+        i = j
+    out = []
+    while cands:
+        i, j = cands.pop(0)
+        if j - i < TUBE_MIN_SEGMENTS:
+            continue
+        k = _first_crossing(pts[i:j + 1], r, z_top)
+        if k is None:
+            out.append((i, j))
+        else:  # hull the segment whose mitre lines cross; tube the rest
+            cands[:0] = [(i, i + k), (i + k + 1, j)]
+    return out
+
+
+def _frames(pts: np.ndarray, e: np.ndarray):
+    """In-plane (t, z) unit directions of the segments, the bisectors at the stations and the mitre
+    scale 1 / cos(theta/2) at each station."""
+    tz = np.column_stack([pts[:, :2] @ e, pts[:, 2]])
+    a = np.diff(tz, axis=0)
+    a /= np.linalg.norm(a, axis=1)[:, None]
+    b = np.vstack([a[:1], a[:-1] + a[1:], a[-1:]])
+    b /= np.linalg.norm(b, axis=1)[:, None]
+    scale = 1.0 / np.einsum("ij,ij->i", b, np.vstack([a, a[-1:]]))
+    return a, b, scale
+
+
+def _mitre_ends(pts: np.ndarray, e: np.ndarray, r: float, z_top: float):
+    """In-plane (t, z) of the lowest and the top point of every station's mitre line."""
+    _, b, scale = _frames(pts, e)
+    n = np.column_stack([b[:, 1], -b[:, 0]])  # in-plane normal pointing down (b_t > 0)
+    c = np.column_stack([pts[:, :2] @ e, pts[:, 2] + r])
+    low = c + (r * scale)[:, None] * n
+    lam = (z_top - c[:, 1]) / b[:, 0]
+    top = c - lam[:, None] * n
+    return low, top
+
+
+def _first_crossing(pts: np.ndarray, r: float, z_top: float) -> int | None:
+    """The first segment of the stretch ``pts`` along which the mitre lines of its two stations
+    (lowest point to top) do not keep their order, or None."""
+    d = pts[-1, :2] - pts[0, :2]
+    e = d / math.hypot(d[0], d[1])
+    low, top = _mitre_ends(pts, e, r, z_top)
+    a, _, _ = _frames(pts, e)
+    bad = (np.einsum("ij,ij->i", np.diff(low, axis=0), a) <= 0) | (np.einsum("ij,ij->i", np.diff(top, axis=0), a) <= 0)
+    return int(np.argmax(bad)) if bad.any() else None
+
+
+def profile(r: float, tol: float) -> tuple[m3d.CrossSection, int]:
+    """The tube's cross-section: the ball's lower half-disc and two top vertices. The arc's
+    vertices stand a little outside the circle so each chord's triangle has the sector's area:
+    the swept volume is unbiased (chords within -tol/3 .. +2 tol/3 of the ball)."""
+    k = max(2, math.ceil(math.pi / segment_angle(r, tol)))
+    delta = math.pi / k
+    f = math.sqrt(delta / math.sin(delta))
+    beta = np.linspace(-math.pi / 2, math.pi / 2, k + 1)
+    arc = np.column_stack([r * np.sin(beta), -r * np.cos(beta)])
+    arc[1:-1] *= f
+    poly = np.vstack([arc, [[r, TOP_MARK], [-r, TOP_MARK]]])
+    return m3d.CrossSection([poly], m3d.FillRule.Positive), k
+
+
+def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manifold:
+    """The lower ball plus the cylinder up to ``z_top`` swept along the planar stretch ``pts``
+    (between the first and the last mitre plane; the end bodies are the caller's)."""
+    r = tool.diameter / 2.0
+    d = pts[-1, :2] - pts[0, :2]
+    e = d / math.hypot(d[0], d[1])
+    lat3 = np.array([-e[1], e[0], 0.0])
+    _, b, scale = _frames(pts, e)
+    n3 = b[:, 1:2] * np.append(e, 0.0) - b[:, 0:1] * np.array([0.0, 0.0, 1.0])  # down normal, world
+    centre = pts + np.array([0.0, 0.0, r])
+    lam = (z_top - centre[:, 2]) / b[:, 0]
+    m = len(pts) - 1
+    prof, _ = profile(r, tol)
+    solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=m - 1)
+    a3 = pts[1] - pts[0]
+    # orientation of (u, v, s) -> world: u along lat3, v along -n3, s along the path
+    flip = np.linalg.det(np.column_stack([lat3, -n3[0], a3])) < 0
+
+    def warp(p):
+        k = np.clip(np.rint(p[:, 2] * m).astype(int), 0, m)
+        u = -p[:, 0] if flip else p[:, 0]
+        v = p[:, 1]
+        top = v > 0.5 * TOP_MARK
+        along = np.where(top, -lam[k], -v * scale[k])
+        return centre[k] + u[:, None] * lat3 + along[:, None] * n3[k]
+
+    return solid.warp_batch(warp)

@@ -1,0 +1,115 @@
+"""3D milling with a ball-end mill: CAM-style lines of many short moves (swept as mitred tubes,
+stock/tube.py) and everything around them (end bodies, connecting moves, sharp bends) against
+geometry computed here: the groove's circular section and a dense depth map of the ball's lowest
+point. Nothing here calls cutsim's sweep code for an expected value."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+import cutsim
+from cutsim.stock import tube
+from cutsim.stock.specs import ToolSpec
+
+PLATE = str(Path(__file__).resolve().parent / "mill" / "plate.toml")  # top Z0, T2: ball r = 3
+R = 3.0
+BALL = ToolSpec(2, "ballmill", diameter=6.0, length=20.0, corner_radius=3.0)
+
+
+def _run(tmp_path, lines, tol):
+    prog = tmp_path / "p.nc"
+    prog.write_text("\n".join(lines) + "\n")
+    return cutsim.simulate(str(prog), PLATE, tolerance=tol)
+
+
+def test_groove_in_many_pieces_is_the_ball_circle(tmp_path):
+    """A straight groove written as 24 moves of 5 mm: one tube. Its section is the ball circle and
+    its volume the circular segment times the plate length."""
+    tol = 0.002
+    lines = ["N10 T2 G00 X-10 Y50 Z-2", "N20 G01 X-5 F300"] + [f"X{x}" for x in range(0, 115, 5)] + ["G00 Z30"]
+    res = _run(tmp_path, lines, tol)
+    mesh = res.mesh()
+    segs = np.asarray(trimesh.intersections.mesh_plane(mesh, [1.0, 0, 0], [37.3, 0, 0]))[..., 1:]
+    p = segs.reshape(-1, 2)
+    groove = p[(p[:, 1] < -1e-6) & (p[:, 1] > -19.0) & (np.abs(p[:, 0] - 50.0) < 3.5)]
+    assert len(groove) > 20
+    d = np.hypot(groove[:, 0] - 50.0, groove[:, 1] - 1.0)  # ball centre 3 above the tip
+    assert np.all(np.abs(d - R) <= tol + 1e-6)
+    h = 2.0  # depth below the top: circular segment of the r = 3 circle, height 2
+    area = R * R * math.acos((R - h) / R) - (R - h) * math.sqrt(2 * R * h - h * h)
+    arc = 2 * R * math.acos((R - h) / R)
+    removed = res.report["removed_volume"]
+    assert abs(removed - area * 100.0) <= tol * arc * 100.0  # within the tolerance over the cut surface
+
+
+def _depth_map_volume(polylines, step: float = 0.02, dx: float = 0.05) -> float:
+    """Volume below the plate top Z0 and above the lowest point of a ball of radius R whose tip
+    runs along the 3D ``polylines``, over the plate (x, y in [0, 100]): the polylines are sampled
+    every ``step`` and each sample lowers the floor of the grid cells under its ball."""
+    g = np.arange(dx / 2, 100.0, dx)
+    floor = np.zeros((len(g), len(g)))  # [iy, ix]; the top is Z0
+    w = int(math.ceil(R / dx)) + 1
+    for pl in polylines:
+        pl = np.asarray(pl, dtype=float)
+        for a, b in zip(pl[:-1], pl[1:]):
+            n = max(1, int(math.ceil(np.linalg.norm(b - a) / step)))
+            for t in np.arange(n + 1) / n:
+                px, py, pz = a + t * (b - a)
+                ix, iy = int(px / dx), int(py / dx)
+                xs, ys = slice(max(ix - w, 0), ix + w + 1), slice(max(iy - w, 0), iy + w + 1)
+                d2 = (g[xs][None, :] - px) ** 2 + (g[ys][:, None] - py) ** 2
+                low = np.where(d2 < R * R, pz + R - np.sqrt(np.clip(R * R - d2, 0, None)), np.inf)
+                np.minimum(floor[ys, xs], low, out=floor[ys, xs])
+    return float(np.sum(-np.clip(floor, None, 0.0)) * dx * dx)
+
+
+def test_wavy_raster_matches_the_depth_map(tmp_path):
+    """Four raster lines over a wave (hills and valleys, 1 mm moves, 1 mm stepover) linked by
+    moves at their ends, and a V groove whose 11 degree bend is too sharp for one tube: the
+    removed volume agrees with the depth map within the tolerance over the cut area."""
+    tol = 0.005
+    xs = np.arange(10.0, 91.0, 1.0)
+    wave = lambda x: -2.0 + 0.8 * np.sin(x / 7.0)  # noqa: E731
+    lines = ["N10 T2 G00 X10 Y40 Z5", f"G01 Z{wave(10.0):.6f} F300"]
+    raster = [(10.0, 40.0, 5.0)]
+    for j in range(4):
+        y = 40.0 + j
+        seq = xs if j % 2 == 0 else xs[::-1]
+        if j:
+            lines.append(f"Y{y:.1f}")
+        lines += [f"X{x:.1f} Z{wave(x):.6f}" for x in seq[1:]]
+        raster += [(x, y, wave(x)) for x in seq]
+    vx = np.arange(20.0, 81.0, 1.0)
+    vz = -1.0 - 3.0 * (1.0 - np.abs(vx - 50.0) / 30.0)  # slopes -0.1 and +0.1: bend 2 atan 0.1
+    lines += ["G00 Z5", "Y70", "X20", f"G01 Z{vz[0]:.6f}"] + [f"X{x:.1f} Z{z:.6f}" for x, z in zip(vx[1:], vz[1:])]
+    lines += ["G00 Z30"]
+    res = _run(tmp_path, lines, tol)
+    assert not res.warnings
+    expected = _depth_map_volume([raster, [(20.0, 70.0, 5.0)] + [(x, 70.0, z) for x, z in zip(vx, vz)]])
+    cut_area = 86.0 * 9.0 + 66.0 * 6.0
+    assert res.report["removed_volume"] == pytest.approx(expected, abs=tol * cut_area)
+
+
+def test_stretches_follow_the_plane_and_the_bends():
+    tol = 0.002
+    x = np.arange(0.0, 11.0)
+    flat = np.column_stack([x, np.zeros_like(x), np.full_like(x, -1.0)])
+    assert tube.stretches(flat, BALL, tol, 5.0) == [(0, 10)]
+    jog = flat.copy()
+    jog[6:, 1] += 0.01  # leaves the vertical plane at point 6
+    assert tube.stretches(jog, BALL, tol, 5.0) == [(0, 5), (6, 10)]
+    bend = flat.copy()
+    bend[5:, 2] -= (x[5:] - 5) * math.tan(math.radians(10))  # a 10 degree bend at point 5
+    assert tube.stretches(bend, BALL, tol, 5.0) == [(0, 5), (5, 10)]
+    plunge = np.vstack([flat[:4], flat[3] - [0, 0, 3], flat[4:] - [0, 0, 3]])
+    assert all(not (i < 3 < j) for i, j in tube.stretches(plunge, BALL, tol, 5.0))
+    short = replace_length(BALL, 2.0)  # flutes do not reach the top: no tube
+    assert tube.stretches(flat, short, tol, 5.0) == []
+
+
+def replace_length(tool: ToolSpec, length: float) -> ToolSpec:
+    from dataclasses import replace
+
+    return replace(tool, length=length)
