@@ -113,3 +113,24 @@ def replace_length(tool: ToolSpec, length: float) -> ToolSpec:
     from dataclasses import replace
 
     return replace(tool, length=length)
+
+
+def test_ramp_in_pieces_is_one_exact_hull(tmp_path):
+    """A flat end mill ramping down 2 mm over 20 mm, written as 10 moves: the pieces are collinear,
+    so one hull of the poses sweeps them exactly. For |y| <= r the floor at x is the depth of the
+    furthest disc centre that still covers x, so per y the removed area is k (L^2/2 + 2 w L), w =
+    sqrt(r^2 - y^2), and the volume k L (L r + pi r^2)."""
+    from cutsim.stock import mill
+
+    tol = 0.002
+    k, length, r = 0.1, 20.0, 5.0
+    lines = ["N10 T1 G00 X20 Y50 Z5", "G01 Z0 F300"] + [f"X{20 + 2 * i} Z{-0.2 * i:.1f}" for i in range(1, 11)]
+    res = _run(tmp_path, lines + ["G00 Z30"], tol)
+    expected = k * length * (length * r + math.pi * r * r)
+    floor_area = (length + 2 * r) * 2 * r
+    assert res.report["removed_volume"] == pytest.approx(expected, abs=tol * floor_area)
+    pts = np.column_stack([20 + 2 * np.arange(11), np.full(11, 50.0), -0.2 * np.arange(11)])
+    assert mill.runs(pts, tol, True) == [(0, 10)]
+    hill = pts.copy()
+    hill[5, 2] += 0.01  # the middle pose 10 um above the chord: the hull would cut below it
+    assert len(mill.runs(hill, tol, True)) > 1
