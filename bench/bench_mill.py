@@ -8,7 +8,8 @@ Cases (each run in its own process, so the peak memory is its own):
 - pocket N: a zig-zag pocket at one Z, a 6 mm flat end mill, passes 0.5 mm apart, every pass
   written as 2 mm pieces (as CAM posts a polyline): N constant-Z moves, square side ~ sqrt(N) mm.
 - raster N: a 3D ball-end raster (6 mm ball) over a wavy surface, 1 mm moves, 1 mm stepover, at
-  tolerance 0.01 (CUTSIM_BENCH_RASTER_TOL to change; at 0.002 it takes ~20 ms/move and ~6 GB at 5k).
+  the default tolerance 0.002 (CUTSIM_BENCH_RASTER_TOL to change). Each raster line is one mitred
+  tube (stock/tube.py); before that it cost ~20 ms/move and ~6 GB at 5k moves.
 - baseline: the pocket with the fast path switched off (a hull per move, all unioned in the batch).
 
 Targets (issue 4): pocket <= 0.2 ms/move at 10k and >= 10x faster than the baseline; raster
@@ -27,7 +28,7 @@ import tempfile
 import time
 
 POCKET_TOL = 0.002  # the default chordal tolerance
-RASTER_TOL = float(os.environ.get("CUTSIM_BENCH_RASTER_TOL", "0.01"))  # 0.002 needs ~6 GB at 5k moves
+RASTER_TOL = float(os.environ.get("CUTSIM_BENCH_RASTER_TOL", "0.002"))
 SETUP = """[machine]
 kind = "mill"
 dialect = "cnc8x6"
