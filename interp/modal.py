@@ -16,6 +16,7 @@ AXES = ("X", "Y", "Z")
 PLANES = {17: "XY", 18: "ZX", 19: "YZ"}
 # Plane -> (first axis, second axis, normal axis) as indices into (X, Y, Z).
 PLANE_AXES = {"XY": (0, 1, 2), "ZX": (2, 0, 1), "YZ": (1, 2, 0)}
+MAX_BLOCKS = 5_000_000  # executed blocks before a program is treated as one that does not end
 
 
 @dataclass
@@ -28,7 +29,7 @@ class InterpConfig:
     start: Vec3 = (0.0, 0.0, 0.0)  # program values
     parameters: dict[int, float] = field(default_factory=dict)
     constants: dict[int, float] = field(default_factory=dict)
-    max_blocks: int = 5_000_000  # executed blocks before a program is declared endless
+    max_blocks: int = MAX_BLOCKS  # [simulation] max_blocks
     tool_radii: dict[int, float] = field(default_factory=dict)  # tool number -> radius (mills; first = active at start)
 
 

@@ -18,6 +18,7 @@ RULES = {  # every rule of the issue has its file
     "lead-over-99.99", "e-without-point", "missing-empty-block", "missing-axis", "assign-r00",
     "assign-r80", "angle-over-60", "unknown-g", "unknown-m", "malformed-number", "lead-zero",
     "start-angle-over-360", "start-angle-negative",
+    "g73-missing-q", "g73-forward", "g73-nested-over-limit", "g73-overlapping-over-limit",
 }
 
 

@@ -1,0 +1,3 @@
+"EXPECT 3:5 G73 needs Q<repeats>
+N10 G01 X28. Z-1. F100
+N20 G73 L10
