@@ -133,6 +133,14 @@ def default_start(setup: Setup, stock) -> tuple[float, float, float]:
     return ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 10.0)
 
 
+def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConfig:
+    """What the interpreter needs from the setup (``start``: the tool's position before the first block)."""
+    m = setup.machine
+    return InterpConfig(dialect=m.dialect, machine_kind=m.kind, diameter_programming=m.diameter_programming,
+                        start=start, parameters=dict(setup.parameters), constants=dict(setup.constants),
+                        max_blocks=setup.max_blocks, tool_radii={t.number: t.diameter / 2.0 for t in setup.tools})
+
+
 def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,
              progress: Callable[[str, int, int], None] | None = None, checks: bool = True) -> Result:
     """Simulate ``program`` (a file path; or a name with ``text``) on ``setup`` (a path or a Setup).
@@ -150,11 +158,7 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
         text = read_program(program)
     stock = build_stock(setup.stock, tol, setup.path)
     start = setup.machine.start if setup.machine.start is not None else default_start(setup, stock)
-    cfg = InterpConfig(dialect=setup.machine.dialect, machine_kind=setup.machine.kind,
-                       diameter_programming=setup.machine.diameter_programming, start=start,
-                       parameters=dict(setup.parameters), constants=dict(setup.constants),
-                       tool_radii={t.number: t.diameter / 2.0 for t in setup.tools})
-    prog = interpret(program, text, cfg)
+    prog = interpret(program, text, interp_config(setup, start))
     pl = make_plan(prog, setup.machine, setup.tools, tol)
     removal = remove(stock, setup.stock, pl.paths, tol, progress)
     part = removal.part

@@ -121,17 +121,14 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
 def moves(program, setup_path):
     """Print the canonical moves of PROGRAM (the interpreter's transcript)."""
     import cutsim
-    from cutsim.interp import InterpConfig, interpret, transcript
+    from cutsim.interp import interpret, transcript
 
     try:
         setup = cutsim.load_setup(setup_path)
         text = cutsim.read_program(program)
         m = setup.machine
         start = m.start if m.start is not None else cutsim.default_start(setup, _stock(setup))
-        cfg = InterpConfig(dialect=m.dialect, machine_kind=m.kind, diameter_programming=m.diameter_programming,
-                           start=start, parameters=dict(setup.parameters), constants=dict(setup.constants),
-                           tool_radii={t.number: t.diameter / 2.0 for t in setup.tools})
-        click.echo(transcript(interpret(program, text, cfg)), nl=False)
+        click.echo(transcript(interpret(program, text, cutsim.interp_config(setup, start))), nl=False)
     except CutsimError as e:
         click.echo(str(e), err=True)
         sys.exit(2)

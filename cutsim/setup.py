@@ -12,6 +12,7 @@ import tomllib
 from dataclasses import dataclass, field
 
 from cutsim.interp.errors import CutsimError
+from cutsim.interp.modal import MAX_BLOCKS
 from cutsim.kinematics.machine import MachineSpec
 from cutsim.stock.specs import StockSpec, ToolSpec
 
@@ -55,6 +56,7 @@ class Setup:
     tolerance: float = 0.002
     fail_on_warning: bool = False
     checks: list[dict] = field(default_factory=list)
+    max_blocks: int = MAX_BLOCKS
 
 
 class _Reader:
@@ -199,11 +201,12 @@ class _Loader:
                 i = tools.index(t)
                 raise _Reader(self, raw_tools[i], "tool", i).fail("kind", f"a {t.kind} tool does not fit a {kind}")
 
-        tol, fow = 0.002, False
+        tol, fow, max_blocks = 0.002, False, MAX_BLOCKS
         if "simulation" in data:
             s = _Reader(self, data["simulation"], "simulation")
             tol = s.get("tolerance", float, 0.002, check=lambda v: 1e-5 <= v <= 1.0, why="must be between 0.00001 and 1 mm")
             fow = s.get("fail_on_warning", bool, False)
+            max_blocks = s.get("max_blocks", int, MAX_BLOCKS, check=lambda v: v >= 1, why="must be at least 1")
             s.done()
         raw_checks = data.get("check", [])
         if not isinstance(raw_checks, list):
@@ -213,7 +216,7 @@ class _Loader:
         for i, c in enumerate(checks):
             if names.index(c["name"]) != i:
                 raise _Reader(self, raw_checks[i], "check", i).fail("name", f"{c['name']!r} names two checks")
-        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks)
+        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks, max_blocks)
 
     def check(self, c: _Reader, i: int, machine_kind: str) -> dict:
         """One [[check]] table as a plain dict (see docs/checks.md); keys by kind in CHECK_KEYS."""

@@ -96,3 +96,13 @@ def test_structure_errors(tmp_path):
     assert e.line == 5 and "not valid TOML" in e.message
     e = error(tmp_path, BASE + "\n[parameters]\nP4 = 1.0\n")
     assert "[parameters] P4" in e.message
+
+
+def test_max_blocks(tmp_path):
+    s, _ = load(tmp_path, BASE)
+    assert s.max_blocks == 5_000_000
+    s, _ = load(tmp_path, BASE + "\n[simulation]\nmax_blocks = 1000\n")
+    assert s.max_blocks == 1000
+    for bad, why in (("0", "at least 1"), ("1e6", "whole number"), ('"many"', "whole number")):
+        e = error(tmp_path, BASE + f"\n[simulation]\nmax_blocks = {bad}\n")
+        assert "[simulation] max_blocks" in e.message and why in e.message and e.line == 15
