@@ -166,7 +166,8 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
     report = build_report(program=os.path.basename(program), dialect=setup.machine.dialect, machine=setup.machine,
                           blocks=prog.blocks, moves=len(prog.moves), stock_volume=stock.volume(),
                           part_volume=part.volume(), cycle_time=pl.cycle_time, warnings=warnings,
-                          final_position=pl.final_position, tolerance=tol, triangles=part.num_tri())
+                          final_position=pl.final_position, last_cut_position=prog.last_cut_position,
+                          tolerance=tol, triangles=part.num_tri())
     result = Result(setup, prog, pl, stock, part, report)
     if checks and setup.checks:  # evaluated on the finished part; records in report.json
         report["checks"] = run_checks(setup, result)

@@ -90,6 +90,17 @@ class SyncedFeed(Motion):
     leadin: Ramp | None = None
     runout: Ramp | None = None
 
+    @property
+    def tool_end(self) -> Vec3:
+        """Where the tool stops: ``end`` moved by the ramps' displacements (X twice that in
+        diameter mode)."""
+        final = list(self.end)
+        for r in (self.leadin, self.runout):
+            if r is not None:
+                i = "XYZ".index(r.axis)
+                final[i] += r.displacement * (2.0 if (i == 0 and self.diameter) else 1.0)
+        return (final[0], final[1], final[2])
+
 
 @dataclass(frozen=True)
 class Spindle:
@@ -128,6 +139,17 @@ class Program:
     @property
     def moves(self) -> list:
         return [r for r in self.records if isinstance(r, MOTIONS)]
+
+    @property
+    def last_cut_position(self) -> Vec3 | None:
+        """Where the last cutting (non-rapid) motion leaves the tool, in program values (X a
+        diameter when that motion was programmed in diameter mode); None without any."""
+        for r in reversed(self.records):
+            if isinstance(r, SyncedFeed):
+                return r.tool_end
+            if isinstance(r, (Feed, Arc)):
+                return r.end
+        return None
 
 
 def _fmt(v: float) -> str:

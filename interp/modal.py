@@ -129,14 +129,9 @@ class ModalMachine:
     def synced(self, src: Src, end: Vec3, lead: float, lead_axis: str | None, start_angle: float,
                leadin: canon.Ramp | None = None, runout: canon.Ramp | None = None) -> None:
         """G33. The tool ends at the programmed end point moved by the ramps' displacements."""
-        self.emit(canon.SyncedFeed(src, tuple(self.pos), end, self.diameter, lead, lead_axis,
-                                   start_angle, leadin, runout))
-        final = list(end)
-        for r in (leadin, runout):
-            if r is not None:
-                i = AXES.index(r.axis)
-                final[i] += r.displacement * (2.0 if (i == 0 and self.diameter) else 1.0)
-        self.pos = final
+        rec = canon.SyncedFeed(src, tuple(self.pos), end, self.diameter, lead, lead_axis, start_angle, leadin, runout)
+        self.emit(rec)
+        self.pos = list(rec.tool_end)
 
     def spindle(self, src: Src, direction: int | None, speed: float | None) -> None:
         if direction is not None:

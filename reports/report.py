@@ -16,7 +16,8 @@ def _round(v: float, nd: int = 6) -> float:
 
 def build_report(*, program: str, dialect: str, machine, blocks: int, moves: int, stock_volume: float,
                  part_volume: float, cycle_time: float, warnings: list, final_position, tolerance: float,
-                 triangles: int, checks: list | None = None) -> dict:
+                 triangles: int, checks: list | None = None, last_cut_position=None) -> dict:
+    """The report.json dict (fields documented in docs/setup.md, "report.json")."""
     return {
         "program": program,
         "dialect": dialect,
@@ -29,6 +30,7 @@ def build_report(*, program: str, dialect: str, machine, blocks: int, moves: int
         "removed_volume": _round(stock_volume - part_volume),
         "cycle_time_s": _round(cycle_time, 3),
         "final_position": [_round(v) for v in final_position],
+        "last_cut_position": None if last_cut_position is None else [_round(v) for v in last_cut_position],
         "triangles": triangles,
         "warnings": [{"line": src.line, "column": src.col, "program": src.program, "message": msg}
                      for src, msg in warnings],

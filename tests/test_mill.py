@@ -147,6 +147,8 @@ def test_helix_positions(helix):
     assert arcs[-1].end[:2] == pytest.approx((200.0, 0.0), abs=1e-9)
     # N80 then rapids to X100 Y0 Z40: the final position in the report
     assert helix.report["final_position"] == pytest.approx([100.0, 0.0, 40.0])
+    # ... while the helix itself ends at X200 Y0 after 21.5 turns: the last cut
+    assert helix.report["last_cut_position"] == pytest.approx([200.0, 0.0, 21.5 * 1.05])
 
 
 def test_helix_trench_volume(helix):
