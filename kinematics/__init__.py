@@ -11,9 +11,9 @@ from cutsim.interp.errors import CutsimError
 from cutsim.stock.specs import ToolSpec
 
 from .machine import MachineSpec
-from .paths import PlanarPath, RampGeom, ScrewPath, SpatialPath, arc_points
+from .paths import ArcGeom, PlanarPath, RampGeom, ScrewPath, SpatialPath, arc_geom, arc_points
 
-__all__ = ["MachineSpec", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
+__all__ = ["ArcGeom", "MachineSpec", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
 
 
 @dataclass
@@ -89,9 +89,12 @@ class _Planner:
         if isinstance(rec, canon.SyncedFeed):
             self.synced(rec, p0, p1)
             return
+        arc = None
         if isinstance(rec, canon.Arc):
             c = self.phys(rec.center, rec.diameter)
             pts = arc_points(p0, p1, c, rec.plane, rec.clockwise, rec.full_turn, self.tol)
+            if not self.lathe:
+                arc = arc_geom(p0, p1, c, rec.plane, rec.clockwise, rec.full_turn)
         else:
             pts = np.vstack([p0, p1])
         length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
@@ -104,7 +107,7 @@ class _Planner:
             else:
                 self.out.paths.append(SpatialPath(rec.src, self.tool, pts * [1, 0, 1], rapid))
         else:
-            self.out.paths.append(SpatialPath(rec.src, self.tool, pts, rapid))
+            self.out.paths.append(SpatialPath(rec.src, self.tool, pts, rapid, arc=arc))
 
     def synced(self, rec: canon.SyncedFeed, p0, p1) -> None:
         if not self.lathe:

@@ -6,6 +6,8 @@
   solid of revolution of the tool profile swept along it.
 - SpatialPath: a tool moving through space without spindle rotation (a mill, or a lathe with the
   spindle stopped), as a 3D polyline of the control point; ``angle`` turns the tool body about +Z.
+  A circular or helical move in the XY plane on a mill also carries its exact description
+  (``ArcGeom``), so the sweep can be built directly instead of from the chords.
 """
 from __future__ import annotations
 
@@ -78,12 +80,81 @@ class PlanarPath:
 
 
 @dataclass(frozen=True)
+class ArcGeom:
+    """A circle or helix about an axis parallel to +Z: the control point is at
+    (cx + radius cos psi, cy + radius sin psi, z) with psi = psi0 + t * sweep and
+    z = z0 + t * (z1 - z0), t in [0, 1]."""
+
+    cx: float
+    cy: float
+    radius: float
+    psi0: float  # polar angle of the start about (cx, cy), radians
+    sweep: float  # signed swept angle, radians (> 0 counter-clockwise seen from +Z)
+    z0: float
+    z1: float
+
+    def pose(self, t) -> np.ndarray:
+        """Control points (k, 3) at parameters ``t``."""
+        t = np.asarray(t, dtype=float)
+        psi = self.psi0 + self.sweep * t
+        return np.column_stack([self.cx + self.radius * np.cos(psi), self.cy + self.radius * np.sin(psi),
+                                self.z0 + (self.z1 - self.z0) * t])
+
+    def joined(self, nxt: ArcGeom, eps: float = 1e-9) -> ArcGeom | None:
+        """One helix made of this arc and ``nxt`` when ``nxt`` continues it (same axis, radius,
+        sense, height per radian, and it starts where this one ends); else None."""
+        scale = max(1.0, self.radius)
+        if (abs(nxt.cx - self.cx) > eps * scale or abs(nxt.cy - self.cy) > eps * scale
+                or abs(nxt.radius - self.radius) > eps * scale or self.sweep * nxt.sweep <= 0
+                or abs(nxt.z0 - self.z1) > eps * scale):
+            return None
+        turn = (nxt.psi0 - (self.psi0 + self.sweep)) / (2 * math.pi)
+        if abs(turn - round(turn)) > eps:
+            return None
+        k0, k1 = (self.z1 - self.z0) / self.sweep, (nxt.z1 - nxt.z0) / nxt.sweep
+        if abs(k1 - k0) > eps * max(1.0, abs(k0)):
+            return None
+        return ArcGeom(self.cx, self.cy, self.radius, self.psi0, self.sweep + nxt.sweep, self.z0, nxt.z1)
+
+
+@dataclass(frozen=True)
 class SpatialPath:
     src: Src
     tool: ToolSpec
     points: np.ndarray  # (k, 3)
     rapid: bool
     angle: float = 0.0  # degrees about +Z applied to the tool body
+    arc: ArcGeom | None = None  # the exact circle/helix ``points`` are chords of (XY plane only)
+
+
+# Start and end radius of an arc agree when they differ by at most this fraction of the radius
+# (then the arc is a circle or helix, not a spiral).
+ARC_RADIUS_RTOL = 1e-9
+
+
+def arc_geom(start, end, center, plane: str, clockwise: bool, full: bool) -> ArcGeom | None:
+    """The exact description of an arc in the XY plane whose start and end radius agree (physical
+    coordinates), the same angles as ``arc_points``; None for other planes and spirals."""
+    if plane != "XY":
+        return None
+    p0, p1, c = (np.asarray(v, dtype=float) for v in (start, end, center))
+    r = math.hypot(p0[0] - c[0], p0[1] - c[1])
+    r1 = math.hypot(p1[0] - c[0], p1[1] - c[1])
+    if r <= 0 or abs(r1 - r) > ARC_RADIUS_RTOL * max(1.0, r):
+        return None
+    t0, sweep = _arc_angles(p0, p1, c, 0, 1, clockwise, full)
+    return ArcGeom(float(c[0]), float(c[1]), r, t0, -sweep if clockwise else sweep, float(p0[2]), float(p1[2]))
+
+
+def _arc_angles(p0, p1, c, a: int, b: int, clockwise: bool, full: bool) -> tuple[float, float]:
+    """Start angle and unsigned swept angle of an arc in the plane of axes ``a``, ``b``."""
+    t0 = math.atan2(p0[b] - c[b], p0[a] - c[a])
+    t1 = math.atan2(p1[b] - c[b], p1[a] - c[a])
+    sweep = (t0 - t1) if clockwise else (t1 - t0)
+    sweep %= 2 * math.pi
+    if full or sweep < 1e-12:
+        sweep = 2 * math.pi if full else sweep
+    return t0, sweep
 
 
 def arc_points(start, end, center, plane: str, clockwise: bool, full: bool, tol: float) -> np.ndarray:
@@ -93,12 +164,7 @@ def arc_points(start, end, center, plane: str, clockwise: bool, full: bool, tol:
     a, b, n = PLANE_AXES[plane]
     p0, p1, c = (np.asarray(v, dtype=float) for v in (start, end, center))
     r = math.hypot(p0[a] - c[a], p0[b] - c[b])
-    t0 = math.atan2(p0[b] - c[b], p0[a] - c[a])
-    t1 = math.atan2(p1[b] - c[b], p1[a] - c[a])
-    sweep = (t0 - t1) if clockwise else (t1 - t0)
-    sweep %= 2 * math.pi
-    if full or sweep < 1e-12:
-        sweep = 2 * math.pi if full else sweep
+    t0, sweep = _arc_angles(p0, p1, c, a, b, clockwise, full)
     step = segment_angle(r, tol)
     k = max(1, math.ceil(sweep / step))
     t = np.linspace(0.0, 1.0, k + 1)
