@@ -1,0 +1,400 @@
+"""The exact sweep of a vertical-axis milling tool along a circle or helix (G17 arcs).
+
+A rotationally symmetric tool (axis +Z: flat, ball or bull-nose end mill; radius r, corner radius
+rc, flute length L, control point = tip centre) whose tip moves on a helix about (cx, cy) with
+radius R is invariant under the screw motion of the helix. Measure the travel by u >= 0 (radians
+along the arc, polar angle psi = psi0 + s u, s = +-1) and the tip height by z(u) = z0 + k u. In
+the unrolled frame (u, rho, v = z - z(u)) the sweep, away from the two ends of the move, is one
+profile in (rho, v) extruded along u:
+
+- the tool at travel u + delta covers the radius rho iff |delta| <= a(rho), the half angle of its
+  footprint: a(rho) = acos((rho^2 + R^2 - r^2) / (2 rho R)), rho in [R - r, R + r];
+- there it covers v in [k delta + b(d), k delta + L], b(d) the height of the tool's lower surface
+  above the tip at distance d(rho, delta) from its axis (0 for a flat end mill);
+- these intervals vary continuously with delta, so their union is one interval:
+  lower(rho) = min over delta of (k delta + b(d)), upper(rho) = |k| a(rho) + L.
+  For a flat end mill lower = -|k| a(rho); at constant Z the profile is the tool's own section.
+
+The profile is only valid where every delta in [-a, a] lies on the move, i.e. for
+u in [a_max, U - a_max] (a_max = asin(r / R), the largest a). Those two ends are covered by the
+hulls of the tool's poses on chords over the first and last 2 a_max of travel: any point the tool
+covers at travel u* has its angle within a_max of u*, so it is either in the profile sweep or in
+one of the end hulls.
+
+The middle is extruded (``n_divisions``) and ``warp_batch``ed onto the helix, like the lathe's
+screw sweep. Stations are spaced by the chord angle at R + r and the radii scaled by
+sqrt(D / sin D) (D the station angle), so each annular sector between two stations has exactly
+the true area: the walls deviate both ways within the tolerance and volumes are unbiased.
+
+Turns: when the move spans more than one turn and the profile is taller than the pitch (a long
+tool on a steep cut), the turns overlap and one warped solid would intersect itself. Instead the
+union of all turns is built directly over one turn of travel: at each angle it reaches from the
+bottom of the lowest turn to the top of the highest one (the turn intervals overlap, so their union
+is one interval), in pieces narrower than a turn where the number of turns changes. Turns whose
+material above the stock top ``z_top`` is already covered by another turn are left out, and a top
+that is above ``z_top`` everywhere is flat (nothing above the stock top is stock). When the profile
+is shorter than the pitch, the turns are disjoint and one solid over the whole travel is valid.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import manifold3d as m3d
+import numpy as np
+
+from cutsim.kinematics.paths import ArcGeom, SpatialPath, segment_angle
+
+from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES
+
+MILL_KINDS = ("endmill", "ballmill", "bullnose")
+DELTA_SAMPLES = 257  # grid of polar offsets for the numeric lower profile (then refined)
+
+
+# -- the unrolled profile ------------------------------------------------------------------------
+def footprint(rho: np.ndarray, R: float, r: float) -> np.ndarray:
+    """Half angle a(rho) of the polar offsets a tool circle of radius ``r`` centred at radius ``R``
+    covers at radius ``rho`` (0 outside [R - r, R + r]); needs R > r."""
+    rho = np.asarray(rho, dtype=float)
+    c = (rho * rho + R * R - r * r) / (2.0 * rho * R)
+    return np.arccos(np.clip(c, -1.0, 1.0))
+
+
+def tip_lift(d: np.ndarray, r: float, rc: float) -> np.ndarray:
+    """Height of the tool's lower surface above its tip at distance ``d`` from the axis."""
+    d = np.asarray(d, dtype=float)
+    if rc <= 0:
+        return np.zeros_like(d)
+    e = np.clip(d - (r - rc), 0.0, rc)
+    return rc - np.sqrt(np.maximum(rc * rc - e * e, 0.0))
+
+
+def lower_profile(rho: np.ndarray, R: float, r: float, rc: float, k: float) -> np.ndarray:
+    """lower(rho) = min over |delta| <= a(rho) of (k delta + b(d(rho, delta))): the bottom of the
+    sweep below the tip's own height."""
+    rho = np.atleast_1d(np.asarray(rho, dtype=float))
+    a = footprint(rho, R, r)
+    if rc <= 0:
+        return -abs(k) * a
+    if k == 0:
+        return tip_lift(np.abs(rho - R), r, rc)
+
+    # b is even in delta, so the minimum lies on the side where k delta < 0: t = |delta| in [0, a]
+    def g(t):
+        d = np.sqrt(np.maximum(rho[:, None] ** 2 + R * R - 2 * rho[:, None] * R * np.cos(t), 0.0))
+        return -abs(k) * t + tip_lift(d, r, rc)
+
+    frac = np.linspace(0.0, 1.0, DELTA_SAMPLES)
+    vals = g(a[:, None] * frac[None, :])
+    i = np.argmin(vals, axis=1)
+    h = a / (DELTA_SAMPLES - 1)
+    lo = np.maximum(a * frac[i] - h, 0.0)
+    hi = np.minimum(a * frac[i] + h, a)
+    best = vals[np.arange(len(rho)), i]
+    phi = (math.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(40):  # golden-section refinement inside the bracket of the grid minimum
+        m1, m2 = hi - phi * (hi - lo), lo + phi * (hi - lo)
+        g1, g2 = g(m1[:, None])[:, 0], g(m2[:, None])[:, 0]
+        left = g1 < g2
+        hi = np.where(left, m2, hi)
+        lo = np.where(left, lo, m1)
+    mid = (lo + hi) / 2
+    return np.minimum(best, g(mid[:, None])[:, 0])
+
+
+def upper_profile(rho: np.ndarray, R: float, r: float, k: float, length: float) -> np.ndarray:
+    """upper(rho) = max over |delta| <= a(rho) of (k delta) + L: the top of the flutes."""
+    return abs(k) * footprint(rho, R, r) + length
+
+
+def sample_curve(f, nodes: list[float], tol: float, min_step: float = 1e-7) -> np.ndarray:
+    """Abscissae of a polyline following v = f(rho) within ``tol`` (distance from the curve's midpoint
+    to each chord), refined by bisection from the sorted ``nodes``."""
+    xs = np.array(sorted(set(nodes)), dtype=float)
+    while True:
+        x0, x1 = xs[:-1], xs[1:]
+        mid = (x0 + x1) / 2
+        y0, y1, ym = f(x0), f(x1), f(mid)
+        dx, dy = x1 - x0, y1 - y0
+        dist = np.abs(ym - (y0 + y1) / 2) * dx / np.hypot(dx, dy)
+        bad = (dist > tol) & (dx > 2 * min_step)
+        if not np.any(bad):
+            return xs
+        xs = np.sort(np.concatenate([xs, mid[bad]]))
+
+
+def unbiased(xs: np.ndarray, f) -> np.ndarray:
+    """Heights at ``xs`` for the polyline of v = f(rho) whose integral is the curve's (Simpson on each
+    segment): each vertex moves by the area its two segments miss over their half widths. The
+    region above or below the polyline then has the curve's area, its edges deviate both ways."""
+    y = f(xs)
+    dx = np.diff(xs)
+    e = (2.0 / 3.0) * (f((xs[:-1] + xs[1:]) / 2) - (y[:-1] + y[1:]) / 2) * dx  # area missed per segment
+    num = np.concatenate([[0.0], e]) + np.concatenate([e, [0.0]])
+    den = np.concatenate([[0.0], dx]) + np.concatenate([dx, [0.0]])
+    return y + num / den
+
+
+def subdivide_open(pts: np.ndarray, max_len: float) -> np.ndarray:
+    """The polyline with extra collinear vertices so no edge is longer than ``max_len`` (the
+    warped quads of a long edge on a helicoid are twisted; short edges keep them nearly flat)."""
+    out = [pts[:1]]
+    for p, q in zip(pts[:-1], pts[1:]):
+        n = max(1, math.ceil(float(np.hypot(*(q - p))) / max_len))
+        t = (np.arange(1, n + 1) / n)[:, None]
+        out.append(p + t * (q - p))
+    return np.vstack(out)
+
+
+@dataclass(frozen=True)
+class Profile:
+    """The sampled profile: ``rho`` nodes, ``lower`` and ``upper`` at them (v relative to the tip)."""
+    rho: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    length: float  # flute length: the minimum of ``upper`` (at the walls)
+
+    def heights(self) -> tuple[float, float]:
+        """The smallest and the largest height of the profile over rho."""
+        h = self.upper - self.lower
+        return float(h.min()), float(h.max())
+
+
+def build_profile(R: float, r: float, rc: float, k: float, length: float, tol: float) -> Profile:
+    """The profile of a tool (radius r, corner radius rc, flute length) on a helix of radius R
+    rising k per radian: both curves sampled within ``tol`` on common nodes (the corner's ends
+    are nodes), with unbiased heights."""
+    lo, hi = R - r, R + r
+    nodes = [lo, hi, R] + [x for x in (R - (r - rc), R + (r - rc)) if lo < x < hi]
+    nodes += list(np.linspace(lo, hi, 9))
+    low = sample_curve(lambda x: lower_profile(x, R, r, rc, k), nodes, tol)
+    rho = low
+    if k != 0:
+        up = sample_curve(lambda x: upper_profile(x, R, r, k, length), list(low), tol)
+        rho = up
+    return Profile(rho, unbiased(rho, lambda x: lower_profile(x, R, r, rc, k)),
+                   unbiased(rho, lambda x: upper_profile(x, R, r, k, length)), length)
+
+
+def profile_polygon(prof: Profile, bottom: float, top: float, flat_top: bool, max_len: float) -> np.ndarray:
+    """Closed polygon (rho, v): the lower curve shifted up by ``bottom``, the outer wall, the top
+    (the upper curve shifted by ``top``, or flat at L + ``top`` when ``flat_top``), the inner wall.
+    Sloped edges are cut to at most ``max_len``."""
+    low = subdivide_open(np.column_stack([prof.rho, prof.lower + bottom]), max_len)
+    if flat_top:
+        up = np.array([[prof.rho[-1], prof.length + top], [prof.rho[0], prof.length + top]])
+    else:
+        up = subdivide_open(np.column_stack([prof.rho, prof.upper + top])[::-1], max_len)
+    return np.vstack([low, up])
+
+
+# -- the move ------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Helix:
+    """The move by its travel u in [0, U] (radians): psi = psi0 + s u, z = z0 + k u."""
+    cx: float
+    cy: float
+    R: float
+    psi0: float
+    s: int
+    U: float
+    z0: float
+    k: float
+
+    @classmethod
+    def of(cls, arc: ArcGeom) -> Helix:
+        U = abs(arc.sweep)
+        return cls(arc.cx, arc.cy, arc.radius, arc.psi0, 1 if arc.sweep > 0 else -1, U, arc.z0,
+                   (arc.z1 - arc.z0) / U)
+
+    def z(self, u):
+        return self.z0 + self.k * np.asarray(u, dtype=float)
+
+    def points(self, u: np.ndarray) -> np.ndarray:
+        """Tip positions (k, 3) at the travels ``u``."""
+        psi = self.psi0 + self.s * u
+        return np.column_stack([self.cx + self.R * np.cos(psi), self.cy + self.R * np.sin(psi), self.z(u)])
+
+
+@dataclass(frozen=True)
+class Piece:
+    """Stations j0..j1 of the middle, each carrying the turns n in [n_lo, n_hi] (travel u + 2 pi n)."""
+    j0: int
+    j1: int
+    n_lo: int
+    n_hi: int
+
+
+# Neighbouring pieces overlap by one station: the same surfaces, exactly coincident (same vertices,
+# same orientation), unite cleanly, while two end caps meeting face to face leave zero-volume
+# shells behind in the union.
+OVERLAP = 1
+
+
+def stations(U: float, a_max: float, M: int) -> int:
+    """Number J of station steps (2 pi / M each) of the middle, which starts at travel a_max and ends
+    at most a_max before U; more than a turn ends at least 3 steps past a whole number of turns
+    (so the merged pieces below overlap their neighbours and stay narrower than a turn)."""
+    J = math.floor((U - 2 * a_max) / (2 * math.pi / M) + 1e-9)
+    if J >= M and J % M < 2 + OVERLAP:
+        J -= J % M + 1
+    return J
+
+
+def merged_pieces(J: int, M: int, k: float, H_ok: bool, z_at, reach_top) -> list[Piece] | None:
+    """Pieces covering the first turn of the stations 0..J (M per turn, J >= M), each the union of
+    the turns over it: turns n = 0..nmax exist at station j while j + n M <= J, so the count drops by
+    one after station jj = J mod M. ``z_at(j)`` is the tip height at station j, ``reach_top(z)``
+    whether a turn whose tip is at z reaches above the stock top. Turns whose part below the top is
+    inside another one's are left out; None when the kept turns must be merged but the profile is
+    lower than the pitch somewhere (the turn intervals would not overlap)."""
+    n0, jj = divmod(J, M)
+    raw = [(0, jj, n0), (jj - OVERLAP, M + OVERLAP, n0 - 1)]
+    out = []
+    for j0, j1, nmax in raw:
+        lo, hi = 0, nmax
+        if k > 0:  # the first turn is the lowest: keep turns up to the first one reaching the top
+            hi = next((n for n in range(nmax + 1) if reach_top(z_at(j0) + 2 * math.pi * k * n)), nmax)
+        elif k < 0:  # the last turn is the lowest: keep turns from the last one reaching the top
+            lo = next((n for n in range(nmax, -1, -1) if reach_top(z_at(j1) + 2 * math.pi * k * n)), 0)
+        else:
+            hi = 0
+        if hi > lo and not H_ok:
+            return None
+        out.append(Piece(j0, j1, lo, hi))
+    return out
+
+
+def single_range(J: int, k: float, z_at, above) -> tuple[int, int] | None:
+    """Stations of the middle, as one solid over all its turns (turns disjoint), without the
+    stretch whose whole profile is above the stock top (``above(z)`` for a tip at z)."""
+    j0, j1 = 0, J
+    if k > 0:
+        j1 = next((j for j in range(J + 1) if above(z_at(j))), J)
+    elif k < 0:
+        j0 = next((j for j in range(J, -1, -1) if above(z_at(j))), 0)
+    return (j0, j1) if j1 > j0 else None
+
+
+def chunks(j0: int, j1: int, M: int) -> list[Piece]:
+    """Stations j0..j1 in pieces narrower than a turn, each overlapping the one before."""
+    w = max(1, math.floor(M * MAX_CHUNK_DEGREES / 360.0))
+    return [Piece(max(j0, j - OVERLAP), min(j + w, j1), 0, 0) for j in range(j0, j1, w)]
+
+
+def plan(J: int, M: int, k: float, prof: Profile, z_at, top: float) -> list[Piece]:
+    """The pieces of the middle: below a turn one piece; over more turns the merged first turn when
+    the profile is taller than the pitch, one solid when it is shorter (the turns are disjoint),
+    else chunks narrower than a turn."""
+    if J < M:  # less than a turn: no angle is swept twice
+        return [Piece(0, J, 0, 0)]
+    pitch = 2 * math.pi * abs(k)
+    h_min, h_max = prof.heights()
+    pieces = merged_pieces(J, M, k, h_min > pitch * (1 + 1e-6) + 1e-9, z_at, lambda z: z + prof.length >= top)
+    if pieces is not None:
+        return pieces
+    rng = single_range(J, k, z_at, lambda z: z + float(prof.lower.min()) > top)
+    if rng is None:
+        return []
+    if h_max < pitch * (1 - 1e-6) - 1e-9:
+        return [Piece(*rng, 0, 0)]
+    return chunks(*rng, M)
+
+
+def warp_piece(h: Helix, poly: np.ndarray, u_a: float, M: int, scale: float, pc: Piece) -> m3d.Manifold:
+    """The polygon (rho, v) extruded over the stations j0..j1 (travel u_a + j 2 pi / M) and warped
+    onto the helix: x = cx + scale rho cos psi, y = cy + scale rho sin psi, z = z(u) + v. The angle
+    is taken from j mod M so stations a whole turn apart lie in exactly the same vertical plane."""
+    flip = h.s > 0  # psi growing with the extrusion axis turns the solid inside out: mirror v
+    cs = m3d.CrossSection([(poly * [1.0, -1.0])[::-1] if flip else poly], m3d.FillRule.Positive)
+    n = pc.j1 - pc.j0
+    solid = m3d.Manifold.extrude(cs, 1.0, n_divisions=n - 1)
+    step = 2 * math.pi / M
+
+    def warp(p):
+        j = pc.j0 + np.rint(np.clip(p[:, 2], 0.0, 1.0) * n)
+        psi = h.psi0 + h.s * (u_a + np.mod(j, M) * step)
+        rho = p[:, 0] * scale
+        v = -p[:, 1] if flip else p[:, 1]
+        return np.column_stack([h.cx + rho * np.cos(psi), h.cy + rho * np.sin(psi), h.z(u_a + j * step) + v])
+
+    return solid.warp_batch(warp)
+
+
+def end_hulls(tool, h: Helix, u0: float, u1: float, step: float, tol: float, cap: float) -> list[m3d.Manifold]:
+    """The mill's hull sweep (``mill.hull_sweep``) along chords of the travel u0..u1, below ``cap``."""
+    from .mill import hull_sweep
+
+    n = max(1, math.ceil((u1 - u0) / step))
+    return hull_sweep(h.points(np.linspace(u0, u1, n + 1)), tool, tol, cap)
+
+
+def applicable(path: SpatialPath, tol: float) -> bool:
+    """A milling tool on an exact circle/helix that does not reach over the axis of the arc."""
+    t, arc = path.tool, path.arc
+    if arc is None or t.kind not in MILL_KINDS or abs(arc.sweep) < 1e-9:
+        return False
+    if arc.radius - t.diameter / 2.0 <= tol:  # the footprint would contain the axis: hulls
+        return False
+    # the chords must be those of this arc (a caller that moved the points must drop the arc)
+    ends = arc.pose(np.array([0.0, 1.0]))
+    return bool(np.allclose(ends, path.points[[0, -1]], rtol=0.0, atol=1e-6))
+
+
+def merge_arcs(paths: list[SpatialPath]) -> list[SpatialPath]:
+    """The paths with each run of consecutive arcs of one tool on one helix (a helix programmed as
+    a circle per turn) joined into one path: swept as one, its turns are merged directly instead
+    of overlapping as separate solids. The joined path has the first one's source line."""
+    out: list[SpatialPath] = []
+    for p in paths:
+        q = out[-1] if out else None
+        if (q is not None and q.arc is not None and p.arc is not None and q.tool == p.tool
+                and q.rapid == p.rapid and np.allclose(q.points[-1], p.points[0], rtol=0.0, atol=1e-9)):
+            arc = q.arc.joined(p.arc)
+            if arc is not None:
+                out[-1] = replace(q, points=np.vstack([q.points, p.points[1:]]), arc=arc)
+                continue
+        out.append(p)
+    return out
+
+
+def arc_sweep(path: SpatialPath, tol: float, z_top: float = math.inf) -> list[m3d.Manifold] | None:
+    """Solids whose union is what the tool sweeps along ``path.arc`` within ``tol``, except parts
+    above the stock top ``z_top`` (left out where that is cheaper); None when not applicable (no
+    arc, not a mill, footprint over the arc's axis, arc too short for a middle part): the caller
+    sweeps hulls."""
+    from .mill import cap_height
+
+    if not applicable(path, tol):
+        return None
+    t = path.tool
+    r = t.diameter / 2.0
+    h = Helix.of(path.arc)
+    a_max = math.asin(r / h.R)
+    M = max(8, math.ceil(2 * math.pi / segment_angle(h.R + r, tol)))
+    step = 2 * math.pi / M
+    J = stations(h.U, a_max, M)
+    if J < 1:
+        return None
+    u_a, u_b = a_max, a_max + J * step
+    prof = build_profile(h.R, r, min(max(t.corner_radius, 0.0), r), h.k, t.length, tol)
+    top = cap_height(z_top, tol)  # nothing above this height can meet the stock
+
+    def z_at(j):
+        return float(h.z(u_a + j * step))
+
+    max_len = EDGE_STEPS * math.sqrt(tol * (h.R + r))
+    scale = math.sqrt(step / math.sin(step))  # sectors between stations get the true area
+    out = []
+    for pc in plan(J, M, h.k, prof, z_at, top):
+        shifts = [2 * math.pi * h.k * n for n in (pc.n_lo, pc.n_hi)]
+        bottom, up = min(shifts), max(shifts)
+        zmin = min(z_at(pc.j0), z_at(pc.j1))
+        if zmin + bottom + float(prof.lower.min()) > top:
+            continue
+        poly = profile_polygon(prof, bottom, up, zmin + up + prof.length >= top, max_len)
+        out.append(warp_piece(h, poly, u_a, M, scale, pc))
+    chord = segment_angle(h.R + r, tol)
+    out += end_hulls(t, h, 0.0, u_a + a_max, chord, tol, top)
+    out += end_hulls(t, h, u_b - a_max, h.U, chord, tol, top)
+    return out
