@@ -100,8 +100,10 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
         return 3
     progress.close()
     rep = result.report
+    from cutsim.reports.report import warning_text
+
     for w in rep["warnings"]:
-        click.echo(f"{w['program']}:{w['line']}:{w['column']}: warning: {w['message']}", err=True)
+        click.echo(warning_text(w), err=True)
     failed = [c for c in rep.get("checks", []) if not c.get("passed", True)]
     if failed:
         from cutsim.reports.checks import format_failures

@@ -371,20 +371,21 @@ class Unit:
     name: str
     lines: list[Line]
     labels: dict[str, int] = field(default_factory=dict)
+    program: str = ""  # the file its lines are in
 
 
 def split_units(prog: str, text: str) -> tuple[Unit, dict[str, Unit]]:
     lines = [scan_line(prog, k, raw) for k, raw in enumerate(split_lines(text), start=1)]
-    main = Unit("MAIN", [])
+    main = Unit("MAIN", [], program=prog)
     subs: dict[str, Unit] = {}
     cur = main
     for ln in lines:
         hdr = re.match(r"\s*%_N_([A-Za-z0-9_]+?)_(SPF|MPF)", ln.text)
         if hdr and hdr.group(2) == "SPF":
-            cur = subs.setdefault(hdr.group(1).upper(), Unit(hdr.group(1).upper(), []))
+            cur = subs.setdefault(hdr.group(1).upper(), Unit(hdr.group(1).upper(), [], program=prog))
             continue
         if ln.stmts and ln.stmts[0].kind == "proc":
-            cur = subs.setdefault(ln.stmts[0].a, Unit(ln.stmts[0].a, []))
+            cur = subs.setdefault(ln.stmts[0].a, Unit(ln.stmts[0].a, [], program=prog))
             continue
         cur.lines.append(ln)
     for u in [main, *subs.values()]:
@@ -421,6 +422,7 @@ class Sinumerik(ModalMachine):
         self.comp_buf: list | None = None
         self.comp_src: Src | None = None
         self.executed = 0
+        self.unit_program = name  # the file of the line being executed (subprograms from NAME.spf)
         self.main: Unit | None = None
         self.subs: dict[str, Unit] = {}
 
@@ -545,6 +547,7 @@ class Sinumerik(ModalMachine):
                 continue
             ln = fr.unit.lines[fr.pc]
             last_line = ln.line
+            self.unit_program = fr.unit.program  # errors name the file of the line running
             fr.pc += 1
             if not ln.stmts:
                 continue
@@ -557,6 +560,9 @@ class Sinumerik(ModalMachine):
         self.program.blocks = self.executed
         self.program.final_position = tuple(self.pos)
         return self.program
+
+    def error(self, line: int, col: int, message: str) -> CutsimError:
+        return CutsimError(self.unit_program, line, col, message)
 
     def find_label(self, unit: Unit, label: str, line: int, col: int) -> int:
         if label not in unit.labels:
@@ -586,7 +592,7 @@ class Sinumerik(ModalMachine):
 
     # -- one block -------------------------------------------------------------------------------
     def block(self, ln: Line, fr: Frame, stack: list[Frame]) -> bool:
-        src = Src(self.name, ln.line, 1, ln.nlabel or ln.label, fr.calls)
+        src = Src(fr.unit.program, ln.line, 1, ln.nlabel or ln.label, fr.calls)
         line = ln.line
         words: dict[str, tuple] = {}
         gs: list[tuple[int, int]] = []
@@ -798,7 +804,7 @@ class Sinumerik(ModalMachine):
             n = int(p[0])
         if len(stack) > 16:
             raise self.error(src.line, col, "subprograms nested deeper than 16 levels (recursion?)")
-        calls = stack[-1].calls + ((self.name, src.line),)
+        calls = stack[-1].calls + ((src.program, src.line),)
         stack.append(Frame(unit, 0, len(unit.lines), 0, stack[-1].pc, n, "unit", calls))
 
     # -- motion ----------------------------------------------------------------------------------

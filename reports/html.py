@@ -5,6 +5,8 @@ from __future__ import annotations
 import base64
 import html
 
+from .report import called_from
+
 
 def _fmt(v) -> str:
     if v is None:
@@ -46,7 +48,7 @@ def report_html(report: dict, images: dict[str, bytes] | None = None) -> bytes:
         out.append("<p>The setup has no [[check]] tables.</p>")
     warnings = report.get("warnings", [])
     out.append(f"<h2>Warnings ({len(warnings)})</h2><ul>")
-    out += [f"<li>{e(w['program'])}:{w['line']}:{w['column']}: {e(w['message'])}</li>" for w in warnings]
+    out += [f"<li>{e(w['program'])}:{w['line']}:{w['column']}: {e(w['message'] + called_from(w))}</li>" for w in warnings]
     out.append("</ul>")
     if images:
         out.append("<h2>Images</h2>")

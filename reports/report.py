@@ -32,10 +32,36 @@ def build_report(*, program: str, dialect: str, machine, blocks: int, moves: int
         "final_position": [_round(v) for v in final_position],
         "last_cut_position": None if last_cut_position is None else [_round(v) for v in last_cut_position],
         "triangles": triangles,
-        "warnings": [{"line": src.line, "column": src.col, "program": src.program, "message": msg}
-                     for src, msg in warnings],
+        "warnings": [_warning(src, msg) for src, msg in warnings],
         "checks": checks or [],
     }
+
+
+def _warning(src, message: str) -> dict:
+    """One warning record. For a line of a subprogram body ``called_from`` lists the call sites'
+    lines, the direct caller first, and ``called_from_programs`` their files when one is not the
+    warning's own file (a Sinumerik NAME.spf called from the main program)."""
+    w = {"line": src.line, "column": src.col, "program": src.program, "message": message}
+    if src.calls:
+        sites = list(reversed(src.calls))
+        w["called_from"] = [line for _program, line in sites]
+        if any(program != src.program for program, _line in sites):
+            w["called_from_programs"] = [program for program, _line in sites]
+    return w
+
+
+def called_from(w: dict) -> str:
+    """' (called from P:40, from P:12)' for a warning record from a subprogram body, else ''."""
+    lines = w.get("called_from") or []
+    if not lines:
+        return ""
+    programs = w.get("called_from_programs") or [w["program"]] * len(lines)
+    return " (called from " + ", from ".join(f"{p}:{line}" for p, line in zip(programs, lines)) + ")"
+
+
+def warning_text(w: dict) -> str:
+    """A warning record as the CLI prints it: ``PROGRAM:LINE:COL: warning: TEXT (called from ...)``."""
+    return f"{w['program']}:{w['line']}:{w['column']}: warning: {w['message']}{called_from(w)}"
 
 
 def mesh_arrays(part):
