@@ -242,7 +242,8 @@ class Isg(ModalMachine):
         for b in sec.blocks:
             self.executed += 1
             if self.executed > self.cfg.max_blocks:
-                raise self.error(b.line, 1, f"more than {self.cfg.max_blocks} blocks executed")
+                raise self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed "
+                                 "(the limit is [simulation] max_blocks)")
             self.last_block = b
             try:
                 ret = self.block(b, calls, stack)

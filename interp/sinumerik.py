@@ -553,7 +553,8 @@ class Sinumerik(ModalMachine):
                 continue
             self.executed += 1
             if self.executed > self.cfg.max_blocks:
-                raise self.error(ln.line, 1, f"the program does not end: more than {self.cfg.max_blocks} blocks executed (jump loop)")
+                raise self.error(ln.line, 1, f"the program does not end: more than {self.cfg.max_blocks:,} blocks executed "
+                                 "(a jump loop; the limit is [simulation] max_blocks)")
             ended = self.block(ln, fr, stack)
         if self.comp_buf is not None:
             self.flush_comp(None, last_line)
