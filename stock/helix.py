@@ -330,11 +330,14 @@ def end_hulls(tool, h: Helix, u0: float, u1: float, step: float, tol: float, cap
 
 
 def applicable(path: SpatialPath, tol: float) -> bool:
-    """A milling tool on an exact circle/helix that does not reach over the axis of the arc."""
+    """A milling tool (flutes above its corner) on an exact circle/helix that does not reach over
+    the axis of the arc."""
     t, arc = path.tool, path.arc
     if arc is None or t.kind not in MILL_KINDS or abs(arc.sweep) < 1e-9:
         return False
     if arc.radius - t.diameter / 2.0 <= tol:  # the footprint would contain the axis: hulls
+        return False
+    if t.length <= min(t.corner_radius, t.diameter / 2.0):  # flutes end on the corner: narrower top
         return False
     # the chords must be those of this arc (a caller that moved the points must drop the arc)
     ends = arc.pose(np.array([0.0, 1.0]))

@@ -208,6 +208,7 @@ def test_not_applicable_returns_none():
     assert arc_sweep(path, tol, 0.0) is not None
     assert arc_sweep(replace(path, arc=None), tol, 0.0) is None
     assert arc_sweep(replace(path, tool=ToolSpec(1, "turning")), tol, 0.0) is None
+    assert arc_sweep(replace(path, tool=replace(BALL, length=2.0)), tol, 0.0) is None  # flutes end on the ball
     # points moved without the arc (e.g. a shifted copy for a check): the chords are the truth
     assert arc_sweep(replace(path, points=path.points + [0, 0, 0.01]), tol, 0.0) is None
     # the tool reaches over the axis of the arc
