@@ -30,10 +30,16 @@ Turns: when the move spans more than one turn and the profile is taller than the
 tool on a steep cut), the turns overlap and one warped solid would intersect itself. Instead the
 union of all turns is built directly over one turn of travel: at each angle it reaches from the
 bottom of the lowest turn to the top of the highest one (the turn intervals overlap, so their union
-is one interval), in pieces narrower than a turn where the number of turns changes. Turns whose
-material above the stock top ``z_top`` is already covered by another turn are left out, and a top
-that is above ``z_top`` everywhere is flat (nothing above the stock top is stock). When the profile
-is shorter than the pitch, the turns are disjoint and one solid over the whole travel is valid.
+is one interval), in two pieces narrower than a turn (the number of turns drops by one where the
+last turn ends). Turns whose material below the stock top ``z_top`` lies inside another turn are
+left out, and a top that is above ``z_top`` everywhere is flat (nothing above the stock top is
+stock). When the profile is shorter than the pitch, the turns are disjoint and one solid over the
+whole travel is valid; in between (taller than the pitch in the middle, shorter at the walls: a
+ball deeper than its flutes) the travel is cut into chunks narrower than a turn. Pieces overlap
+their neighbours by one station (see OVERLAP).
+
+Not applicable (None, the caller sweeps hulls): no arc, not a mill, a footprint reaching over
+the arc's axis (R - r <= tol), flutes ending on the corner, or an arc too short for a middle part.
 """
 from __future__ import annotations
 
