@@ -15,7 +15,7 @@ import numpy as np
 
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments
 
-from . import mill
+from . import helix, mill
 from .build import stock_outline
 from .specs import StockSpec, ToolSpec
 from .sweeps import clipped_profile, planar_region, screw_sweep, spatial_hulls
@@ -92,15 +92,22 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     checks: list[tuple[_Cut, object]] = []
     cap = mill.cap_height(float(shi[2]), tol)
     chain = mill.Chain()
+    arcs: list = []  # [index, path]: consecutive arcs on one helix, joined (stock/helix.py)
+
+    def add_cut(index: int, solids: list) -> None:
+        if solids:
+            lo, hi = _bbox(solids)
+            if _overlap(lo, hi, slo, shi):
+                cuts.append(_Cut(index, solids, None, lo, hi))
 
     def flush() -> None:
         if chain.parts:
-            src_index = chain.index
-            solids = chain.take(tol, cap)
-            if solids:
-                lo, hi = _bbox(solids)
-                if _overlap(lo, hi, slo, shi):
-                    cuts.append(_Cut(src_index, solids, None, lo, hi))
+            index = chain.index
+            add_cut(index, chain.take(tol, cap))
+        if arcs:
+            index, p = arcs.pop()
+            solids = helix.arc_sweep(p, tol, float(shi[2]))
+            add_cut(index, solids if solids is not None else mill.hull_sweep(p.points, p.tool, tol, cap))
 
     n = len(paths)
     for i, path in enumerate(paths):
@@ -108,7 +115,15 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
             progress("sweeping", i, n)
         if isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid \
                 and not mill.batchable(path) and not mill.plunges(path):
-            if not chain.continues(path):
+            if path.arc is not None:  # an arc or helix: swept directly, one turn after the other joined
+                joined = helix.merge_arcs([arcs[0][1], path]) if arcs else []
+                if len(joined) == 1:
+                    arcs[0][1] = joined[0]
+                else:
+                    flush()
+                    arcs.append([i, path])
+                continue
+            if arcs or not chain.continues(path):
                 flush()
             chain.add(i, path)  # 3D mill feed: joined with the moves it continues (stock/mill.py)
             continue
