@@ -73,11 +73,16 @@ def mill_body(tool: ToolSpec, tol: float, height: float | None = None) -> list[n
     layers = []
     if rc > 0:
         k = max(1, math.ceil((math.pi / 2) / segment_angle(rc, tol)))
-        for a in np.linspace(0, math.pi / 2, k + 1):
-            z = rc - rc * math.cos(a)
+        # the corner arc's inner vertices stand out so each chord's triangle has the sector's
+        # area (as the ring's vertices do around the axis): hull sweeps are unbiased in volume
+        delta = (math.pi / 2) / k
+        f = math.sqrt(delta / math.sin(delta))
+        for i, a in enumerate(np.linspace(0, math.pi / 2, k + 1)):
+            s = f if 0 < i < k else 1.0
+            z = rc - rc * s * math.cos(a)
             if z >= top:
                 break
-            layers.append(layer((r - rc) + rc * math.sin(a), z))
+            layers.append(layer((r - rc) + rc * s * math.sin(a), z))
     else:
         layers.append(layer(r, 0.0))
     if top < rc:  # the cut falls on the corner: its section circle
