@@ -10,7 +10,8 @@ Cases (each run in its own process, so the peak memory is its own):
 - raster N: a 3D ball-end raster (6 mm ball) over a wavy surface, 1 mm moves, 1 mm stepover, at
   the default tolerance 0.002 (CUTSIM_BENCH_RASTER_TOL to change). Each raster line is one mitred
   tube (stock/tube.py); before that it cost ~20 ms/move and ~6 GB at 5k moves.
-- baseline: the pocket with the fast path switched off (a hull per move, all unioned in the batch).
+- baseline: the pocket with the fast path and the merged hull runs switched off (a hull per move,
+  all unioned in the batch).
 
 Targets (issue 4): pocket <= 0.2 ms/move at 10k and >= 10x faster than the baseline; raster
 <= 2 ms/move; doubling the moves costs <= 2.2x the time; peak memory <= 2 GB at 50k.
@@ -108,6 +109,7 @@ def run_case(kind: str, n: int, baseline: bool) -> dict:
 
         mill.batchable = lambda path: False  # every move: one hull, all unioned in the batch
         mill.is_constant_z = lambda path: False
+        mill.MAX_RUN = 2  # no merged runs of poses either: a hull per segment
     text, setup_text = (pocket if kind != "raster" else raster)(n)
     with tempfile.TemporaryDirectory() as d:
         sp = os.path.join(d, "setup.toml")
