@@ -331,10 +331,18 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> li
     def body(p: np.ndarray, h: float | None) -> np.ndarray:
         return mill_body(tool, tol, h)[0] + p
 
+    rc = min(tool.corner_radius, tool.diameter / 2.0)
+
+    def plane(p: np.ndarray) -> float:
+        """Where the bodies of the poses ``p`` are cut off: above the stock and above every corner
+        (the tool's section there is its full circle), so the hull of the cut bodies is the cut
+        hull of the whole bodies."""
+        return max(cap, float(p[:, 2].max()) + rc)
+
     out = []
     for pts in below_cap(points, cap):
-        h = cap - pts[:, 2]  # the body height each pose needs
-        closed = bool(np.all(h <= tool.length))  # flutes reach above the cap at every pose
+        h = cap - pts[:, 2]  # a single body needs no more than this
+        closed = bool(np.all(pts[:, 2] + tool.length >= plane(pts)))  # flutes reach it at every pose
         pieces, ends = [], set()
         start = 0
         if closed and tube.is_ball(tool) and len(pts) > tube.TUBE_MIN_SEGMENTS:
@@ -357,8 +365,10 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> li
         for a, b in pieces:
             sub = pts[a:b + 1]
             for i, j in runs(sub, tol, closed):
-                cloud = [body(sub[k], h[a + k] if closed else None) for k in range(i, j + 1)]
-                out.append(m3d.Manifold.hull_points(np.vstack(cloud)))
+                run = sub[i:j + 1]
+                top = plane(run)
+                cut = bool(np.all(run[:, 2] + tool.length >= top))
+                out.append(m3d.Manifold.hull_points(np.vstack([body(p, top - p[2] if cut else None) for p in run])))
     return [s for s in out if not s.is_empty()]
 
 

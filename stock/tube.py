@@ -78,7 +78,7 @@ def stretches(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> list
         i, j = cands.pop(0)
         if j - i < TUBE_MIN_SEGMENTS:
             continue
-        k = _first_crossing(pts[i:j + 1], r, z_top)
+        k = _first_crossing(pts[i:j + 1], r)
         if k is None:
             out.append((i, j))
         else:  # hull the segment whose mitre lines cross; tube the rest
@@ -98,25 +98,23 @@ def _frames(pts: np.ndarray, e: np.ndarray):
     return a, b, scale
 
 
-def _mitre_ends(pts: np.ndarray, e: np.ndarray, r: float, z_top: float):
-    """In-plane (t, z) of the lowest and the top point of every station's mitre line."""
+def _mitre_lows(pts: np.ndarray, e: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+    """In-plane (t, z) of every station's ball centre and of the lowest point of its mitre ellipse."""
     _, b, scale = _frames(pts, e)
     n = np.column_stack([b[:, 1], -b[:, 0]])  # in-plane normal pointing down (b_t > 0)
     c = np.column_stack([pts[:, :2] @ e, pts[:, 2] + r])
-    low = c + (r * scale)[:, None] * n
-    lam = (z_top - c[:, 1]) / b[:, 0]
-    top = c - lam[:, None] * n
-    return low, top
+    return c, c + (r * scale)[:, None] * n
 
 
-def _first_crossing(pts: np.ndarray, r: float, z_top: float) -> int | None:
-    """The first segment of the stretch ``pts`` along which the mitre lines of its two stations
-    (lowest point to top) do not keep their order, or None."""
+def _first_crossing(pts: np.ndarray, r: float) -> int | None:
+    """The first segment of the stretch ``pts`` along which the mitre half-discs of its two
+    stations (centre to lowest point) do not keep their order, or None. (Above the centres the
+    sections are vertical and the centres progress, so they cannot cross.)"""
     d = pts[-1, :2] - pts[0, :2]
     e = d / math.hypot(d[0], d[1])
-    low, top = _mitre_ends(pts, e, r, z_top)
+    c, low = _mitre_lows(pts, e, r)
     a, _, _ = _frames(pts, e)
-    bad = (np.einsum("ij,ij->i", np.diff(low, axis=0), a) <= 0) | (np.einsum("ij,ij->i", np.diff(top, axis=0), a) <= 0)
+    bad = (np.einsum("ij,ij->i", np.diff(low, axis=0), a) <= 0) | (np.einsum("ij,ij->i", np.diff(c, axis=0), a) <= 0)
     return int(np.argmax(bad)) if bad.any() else None
 
 
@@ -136,7 +134,9 @@ def profile(r: float, tol: float) -> tuple[m3d.CrossSection, int]:
 
 def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manifold:
     """The lower ball plus the cylinder up to ``z_top`` swept along the planar stretch ``pts``
-    (between the first and the last mitre plane; the end bodies are the caller's)."""
+    (between the first and the last station; the end bodies are the caller's). Below the ball
+    centres each station's section is the half-disc in its mitre plane; above them it is vertical:
+    the tool's cylinder above the centre line, up to ``z_top``."""
     r = tool.diameter / 2.0
     d = pts[-1, :2] - pts[0, :2]
     e = d / math.hypot(d[0], d[1])
@@ -144,20 +144,21 @@ def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manif
     _, b, scale = _frames(pts, e)
     n3 = b[:, 1:2] * np.append(e, 0.0) - b[:, 0:1] * np.array([0.0, 0.0, 1.0])  # down normal, world
     centre = pts + np.array([0.0, 0.0, r])
-    lam = (z_top - centre[:, 2]) / b[:, 0]
+    rise = z_top - centre[:, 2]
     m = len(pts) - 1
     prof, _ = profile(r, tol)
     solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=m - 1)
-    a3 = pts[1] - pts[0]
     # orientation of (u, v, s) -> world: u along lat3, v along -n3, s along the path
-    flip = np.linalg.det(np.column_stack([lat3, -n3[0], a3])) < 0
+    flip = np.linalg.det(np.column_stack([lat3, -n3[0], pts[1] - pts[0]])) < 0
 
     def warp(p):
         k = np.clip(np.rint(p[:, 2] * m).astype(int), 0, m)
         u = -p[:, 0] if flip else p[:, 0]
         v = p[:, 1]
         top = v > 0.5 * TOP_MARK
-        along = np.where(top, -lam[k], -v * scale[k])
-        return centre[k] + u[:, None] * lat3 + along[:, None] * n3[k]
+        out = centre[k] + u[:, None] * lat3
+        out[~top] += (-v[~top] * scale[k[~top]])[:, None] * n3[k[~top]]
+        out[top, 2] += rise[k[top]]
+        return out
 
     return solid.warp_batch(warp)

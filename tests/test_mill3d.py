@@ -134,3 +134,52 @@ def test_ramp_in_pieces_is_one_exact_hull(tmp_path):
     hill = pts.copy()
     hill[5, 2] += 0.01  # the middle pose 10 um above the chord: the hull would cut below it
     assert len(mill.runs(hill, tol, True)) > 1
+
+
+def test_ball_climbing_out_of_the_stock_matches_the_depth_map(tmp_path):
+    """A ball-end mill ramping up and out through the top, in two moves (hulls, not a tube): the
+    ball centre is above the stock top along most of the way, where the tool's section at the
+    stock top is smaller than its circle. Against the depth map of the ball's lowest point."""
+    tol = 0.002
+    lines = ["N10 T2 G00 X20 Y50 Z5", "G01 Z-2 F300", "X30 Z-0.5", "X40 Z1", "G00 Z30"]
+    res = _run(tmp_path, lines, tol)
+    expected = _depth_map_volume([[(20.0, 50.0, 5.0), (20.0, 50.0, -2.0), (30.0, 50.0, -0.5), (40.0, 50.0, 1.0)]])
+    assert res.report["removed_volume"] == pytest.approx(expected, abs=tol * 30.0 * 6.0)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_planar_lines_tube_equals_hulls(seed, monkeypatch):
+    """Random lines in a vertical plane (steps 0.05-3 mm, slopes up to 1.2 rad, bends small and
+    large, in and out of the stock): the tubes and the tool's bodies give the volume of one convex
+    hull per segment (exact for a convex tool on a straight move) within the tolerance over the
+    cut surface, and the part is a valid solid."""
+    import manifold3d as m3d
+
+    from cutsim.stock import mill
+
+    rng = np.random.default_rng(seed)
+    box = m3d.Manifold.cube((200.0, 200.0, 20.0)).translate((-100.0, -100.0, -20.0))
+    tol = 0.01
+    for _ in range(5):
+        n = int(rng.integers(6, 30))
+        step = rng.uniform(0.05, 3.0, n)
+        ang = np.clip(np.cumsum(rng.normal(0, rng.choice([0.01, 0.05, 0.3]), n)) + rng.uniform(-0.5, 0.5), -1.2, 1.2)
+        x = np.concatenate([[0.0], np.cumsum(step * np.cos(ang))])
+        z = np.clip(np.concatenate([[-2.0], -2.0 + np.cumsum(step * np.sin(ang))]), -15.0, 3.0)
+        th = rng.uniform(0, 2 * math.pi)
+        pts = np.column_stack([x * math.cos(th), x * math.sin(th), z])
+        cap = mill.cap_height(0.0, tol)
+
+        def removed(solids):
+            part = m3d.Manifold.batch_boolean([box] + solids, m3d.OpType.Subtract)
+            assert part.status() == m3d.Error.NoError
+            return box.volume() - part.volume()
+
+        with_tubes = removed(mill.hull_sweep(pts, BALL, tol, cap))
+        monkeypatch.setattr(tube, "TUBE_MIN_SEGMENTS", 10 ** 9)
+        monkeypatch.setattr(mill, "MAX_RUN", 2)
+        per_segment = removed(mill.hull_sweep(pts, BALL, tol, cap))
+        monkeypatch.undo()
+        length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+        surface = (length + 2 * R) * (math.pi * R + 2 * 15.0)  # half cylinder + walls, generous
+        assert abs(with_tubes - per_segment) <= tol * surface
