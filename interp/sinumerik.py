@@ -422,6 +422,8 @@ class Sinumerik(ModalMachine):
         self.comp_buf: list | None = None
         self.comp_src: Src | None = None
         self.executed = 0
+        self.loop_hashes: set[int] = set()  # control states at backward jumps (check_loop)
+        self.loop_states: dict[int, tuple] = {}
         self.unit_program = name  # the file of the line being executed (subprograms from NAME.spf)
         self.main: Unit | None = None
         self.subs: dict[str, Unit] = {}
@@ -561,6 +563,22 @@ class Sinumerik(ModalMachine):
         self.program.blocks = self.executed
         self.program.final_position = tuple(self.pos)
         return self.program
+
+    def check_loop(self, stack: list[Frame], line: int, st) -> None:
+        """A backward jump that comes back with the same control state (every frame's place and
+        counters, every R parameter and variable) repeats forever: nothing else steers the
+        program. States are remembered by hash; a hash seen before keeps its full state, and only
+        the full state seen again is the proof (no false alarm from a hash collision)."""
+        key = (tuple((id(f.unit), f.pc, f.count, f.stop, f.restart, f.ret, f.kind) for f in stack),
+               tuple(sorted(self.params.items())), tuple(sorted((k, repr(v)) for k, v in self.vars.items())))
+        h = hash(key)
+        if h not in self.loop_hashes:
+            self.loop_hashes.add(h)
+            return
+        if self.loop_states.get(h) == key:
+            raise self.error(line, st.col, f"the program does not end: {st.a} {st.b} comes back with every R parameter "
+                             "and variable unchanged, so it loops forever")
+        self.loop_states[h] = key
 
     def error(self, line: int, col: int, message: str) -> CutsimError:
         return CutsimError(self.unit_program, line, col, message)
@@ -756,6 +774,8 @@ class Sinumerik(ModalMachine):
                 if st.a == "GOTOB" and idx > cur:
                     raise self.error(line, st.col, f"GOTOB jumps back, but {st.b} comes after this block")
                 fr2.pc = idx
+                if idx <= cur:
+                    self.check_loop(stack, line, st)
                 return end
             if st.kind == "repeat":
                 fr2 = stack[-1]

@@ -243,3 +243,17 @@ def test_slot1_oscillating_infeed_ramps():
 def test_dpr_wins_over_dp():
     p = moves("T1 D1 M6\nF100\nPOCKET2(10, 2, 1, -50, 3, 5, 0, 0, 100, 300, 0, 0, 0, 10)\nM30\n")
     assert min(m.end[2] for m in p.moves) == pytest.approx(-1.0)
+
+
+def test_endless_gotob_is_found_at_its_line_without_the_block_limit():
+    """A backward jump that comes back with every parameter unchanged loops forever: reported at
+    the GOTOB at once (the block limit is set far away), while a counted loop runs to its end."""
+    text = "R1=0\nLOOP:\nR1=R1+1\nG1 X=R1 F100\nIF R1<5 GOTOB LOOP\nAGAIN:\nG1 X0\n  GOTOB AGAIN\nM30\n"
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0, 0, 0), max_blocks=10**9)
+    with pytest.raises(CutsimError) as e:
+        interpret("t.mpf", text, cfg)
+    assert (e.value.line, e.value.col) == (8, 3)
+    assert "loops forever" in e.value.message
+    prog = interpret("t.mpf", text.replace("  GOTOB AGAIN\n", ""), cfg)
+    xs = [m.end[0] for m in prog.moves]
+    assert xs == [1.0, 2.0, 3.0, 4.0, 5.0, 0.0]  # the counted loop ran five times
