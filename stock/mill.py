@@ -394,11 +394,17 @@ class Chain:
         else:
             self.parts.append(path.points[1:])
 
-    def take(self, tol: float, cap: float) -> list[m3d.Manifold]:
-        """The chain's solids; the chain is empty afterwards."""
+    def take(self) -> list[np.ndarray]:
+        """The chain's tip polyline in pieces of at most CHAIN_POINTS points (each piece starts
+        where the last ended), to be swept by ``hull_sweep`` one after the other: a long CAM
+        program is then never all in memory as solids at once. The chain is empty afterwards."""
         pts = np.concatenate(self.parts)
         self.parts = []
-        return hull_sweep(pts, self.tool, tol, cap)
+        step = CHAIN_POINTS - 1
+        return [pts[i:i + CHAIN_POINTS] for i in range(0, max(1, len(pts) - 1), step)]
+
+
+CHAIN_POINTS = 2001  # poses per piece of a chain swept at once
 
 
 def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh) -> list:

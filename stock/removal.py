@@ -44,6 +44,10 @@ class _Cut:
     lo: np.ndarray
     hi: np.ndarray
     near: Callable[[float, float], list] | None = None  # the solids restricted to heights z0..z1
+    build: Callable[[], list] | None = None  # solids built when needed, not kept (long mill chains)
+
+    def get(self) -> list:
+        return self.build() if self.build is not None else self.solids
 
 
 def _bbox(solids: list[m3d.Manifold]):
@@ -102,8 +106,13 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
 
     def flush() -> None:
         if chain.parts:
-            index = chain.index
-            add_cut(index, chain.take(tol, cap))
+            index, tool = chain.index, chain.tool
+            reach = np.array([tool.diameter / 2.0, tool.diameter / 2.0, 0.0])
+            for pts in chain.take():
+                lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach + [0.0, 0.0, tool.length]
+                if _overlap(lo, hi, slo, shi):  # swept when subtracted (a bounding box suffices until then)
+                    cuts.append(_Cut(index, [], None, lo, hi,
+                                     build=lambda pts=pts, tool=tool: mill.hull_sweep(pts, tool, tol, cap)))
         if arcs:
             index, p = arcs.pop()
             solids = helix.arc_sweep(p, tol, float(shi[2]))
@@ -208,17 +217,34 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
             stock, _Cut(idx, sol, None, *_bbox(sol)), cuts, revolve))
         stock = mill.refined(stock)
 
-    if progress:
-        progress("subtracting", 0, 1)
-    solids = [s for c in cuts for s in c.solids]
+    # One batch subtract; a program whose solids exceed CHUNK_TRIANGLES is subtracted in
+    # consecutive batches of about that size (cut order), each built just before and released
+    # after, so memory stays bounded however long the program is.
     regions = [c.region for c in cuts if c.region is not None]
+    part, pending, tris, count = stock, [], 0, 0
     if regions:
-        solids.append(revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))
-    part = m3d.Manifold.batch_boolean([stock] + solids, m3d.OpType.Subtract) if solids else stock
+        pending.append(revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))
+    for k, c in enumerate(cuts):
+        if progress:
+            progress("subtracting", k, len(cuts))
+        for sol in c.get():
+            pending.append(sol)
+            tris += sol.num_tri()
+        if tris > CHUNK_TRIANGLES:
+            part = m3d.Manifold.batch_boolean([part] + pending, m3d.OpType.Subtract)
+            part.num_tri()  # evaluate now so the batch's solids can be freed
+            count += len(pending)
+            pending, tris = [], 0
+    if pending:
+        part = m3d.Manifold.batch_boolean([part] + pending, m3d.OpType.Subtract)
+        count += len(pending)
     part = drop_debris(part)
     if progress:
-        progress("subtracting", 1, 1)
-    return Removal(part, warnings, len(solids))
+        progress("subtracting", len(cuts), len(cuts))
+    return Removal(part, warnings, count)
+
+
+CHUNK_TRIANGLES = 1_000_000
 
 
 def _stock_rmax(outline: np.ndarray | None, zlo: float, zhi: float, default: float) -> float:
@@ -296,7 +322,7 @@ def drop_debris(part: m3d.Manifold) -> m3d.Manifold:
 
 def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
     """Volume ``cut`` removes from the stock as it is when the cut happens."""
-    mine = cut.solids if cut.region is None else [revolve(cut.region)]
+    mine = cut.get() if cut.region is None else [revolve(cut.region)]
     hit = m3d.Manifold.batch_boolean([stock, m3d.Manifold.batch_boolean(mine, m3d.OpType.Add)], m3d.OpType.Intersect)
     if hit.volume() <= MIN_COLLISION_VOLUME:
         return 0.0
@@ -307,7 +333,7 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
     # (a long thread is many turns: rebuild it only near the heights this cut reaches)
     prior = []
     for c in earlier:
-        cand = c.near(float(hlo[2]), float(hhi[2])) if c.near is not None else c.solids
+        cand = c.near(float(hlo[2]), float(hhi[2])) if c.near is not None else c.get()
         prior.extend(s for s in cand if _overlap(*_bbox([s]), hlo, hhi))
     regions = [c.region for c in earlier if c.region is not None]
     if regions:
