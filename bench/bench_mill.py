@@ -1,7 +1,7 @@
 """Milling speed benchmark: generated CAM-like programs through the whole pipeline.
 
     python bench/bench_mill.py                 # the full table (several minutes on 2 cores)
-    python bench/bench_mill.py --quick         # 5k/10k only
+    python bench/bench_mill.py --quick         # 5k/10k only (pocket and raster)
     python bench/bench_mill.py --baseline 5000 # also the slow path (one hull per move, no 2.5D fast path)
 
 Cases (each run in its own process, so the peak memory is its own):
@@ -151,7 +151,7 @@ def main() -> None:
         return
     sizes = [5000, 10000] if a.quick else [5000, 10000, 20000, 50000]
     rows = [sub("pocket", n) for n in sizes]
-    rows += [sub("raster", n) for n in (5000, 10000)]
+    rows += [sub("raster", n) for n in ([5000, 10000] if a.quick else [5000, 10000, 20000, 50000])]
     rows += [sub("pocket", n, baseline=True) for n in a.baseline]
     print(f"{'case':9} {'moves':>6} {'interp s':>9} {'plan s':>7} {'remove s':>9} {'total s':>8} {'ms/move':>8} "
           f"{'x prev':>7} {'peak MB':>8}")

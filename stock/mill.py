@@ -394,17 +394,23 @@ class Chain:
         else:
             self.parts.append(path.points[1:])
 
-    def take(self) -> list[np.ndarray]:
-        """The chain's tip polyline in pieces of at most CHAIN_POINTS points (each piece starts
-        where the last ended), to be swept by ``hull_sweep`` one after the other: a long CAM
-        program is then never all in memory as solids at once. The chain is empty afterwards."""
+    def take(self, tol: float) -> list[np.ndarray]:
+        """The chain's tip polyline in pieces (each starts where the last ended), to be swept by
+        ``hull_sweep`` one after the other: a long CAM program is then never all in memory as
+        solids at once. A piece has at most CHAIN_POINTS poses, fewer for tools whose hulls are
+        big (about PIECE_VERTICES body vertices per piece). The chain is empty afterwards."""
+        from .tools import mill_body
+
         pts = np.concatenate(self.parts)
         self.parts = []
-        step = CHAIN_POINTS - 1
-        return [pts[i:i + CHAIN_POINTS] for i in range(0, max(1, len(pts) - 1), step)]
+        size = CHAIN_POINTS
+        if not (self.tool.corner_radius >= self.tool.diameter / 2.0 - 1e-12):  # not a ball (tubes)
+            size = int(min(CHAIN_POINTS, max(50, PIECE_VERTICES // len(mill_body(self.tool, tol)[0]))))
+        return [pts[i:i + size] for i in range(0, max(1, len(pts) - 1), size - 1)]
 
 
 CHAIN_POINTS = 2001  # poses per piece of a chain swept at once
+PIECE_VERTICES = 500_000  # tool-body vertices per piece (hulls of ~2 triangles per vertex)
 
 
 def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh) -> list:

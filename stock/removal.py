@@ -108,7 +108,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         if chain.parts:
             index, tool = chain.index, chain.tool
             reach = np.array([tool.diameter / 2.0, tool.diameter / 2.0, 0.0])
-            for pts in chain.take():
+            for pts in chain.take(tol):
                 lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach + [0.0, 0.0, tool.length]
                 if _overlap(lo, hi, slo, shi):  # swept when subtracted (a bounding box suffices until then)
                     cuts.append(_Cut(index, [], None, lo, hi,
