@@ -10,6 +10,7 @@ Cases (each run in its own process, so the peak memory is its own):
 - raster N: a 3D ball-end raster (6 mm ball) over a wavy surface, 1 mm moves, 1 mm stepover, at
   the default tolerance 0.002 (CUTSIM_BENCH_RASTER_TOL to change). Each raster line is one mitred
   tube (stock/tube.py); before that it cost ~20 ms/move and ~6 GB at 5k moves.
+- waterline N: a ball-end Z-level finish, level loops of 0.5 mm G01 moves (one tube per half loop).
 - baseline: the pocket with the fast path and the merged hull runs switched off (a hull per move,
   all unioned in the batch).
 
@@ -98,6 +99,26 @@ def raster(n: int) -> tuple[str, str]:
     return "\n".join(lines) + "\n", setup
 
 
+def waterline(n: int) -> tuple[str, str]:
+    """Ball-end Z-level finish: level loops of radius 20-30 mm as 0.5 mm G01 moves, 0.1 mm apart
+    in Z, ~n moves."""
+    lines = ["N1 G00 X55 Y0 Z5", "N2 G01 Z-0.1 F1000"]
+    moves, level = 0, 0
+    while moves < n:
+        rad = 25.0 + 5.0 * math.sin(level / 3.0)
+        z = -0.1 - 0.1 * level
+        k = max(8, round(2 * math.pi * rad / 0.5))
+        lines.append(f"X{30 + rad:.4f} Y0 Z{z:.3f}")
+        for i in range(1, k + 1):
+            a = 2 * math.pi * i / k
+            lines.append(f"X{30 + rad * math.cos(a):.4f} Y{rad * math.sin(a):.4f}")
+        moves += k + 1
+        level += 1
+    lines.append("G00 Z20")
+    setup = SETUP.format(x0=-5.0, x1=65.0, y0=-40.0, y1=40.0, kind="ballmill", tol=RASTER_TOL)
+    return "\n".join(lines) + "\n", setup
+
+
 def run_case(kind: str, n: int, baseline: bool) -> dict:
     import cutsim
     from cutsim.interp import InterpConfig, interpret
@@ -110,7 +131,7 @@ def run_case(kind: str, n: int, baseline: bool) -> dict:
         mill.batchable = lambda path: False  # every move: one hull, all unioned in the batch
         mill.is_constant_z = lambda path: False
         mill.MAX_RUN = 2  # no merged runs of poses either: a hull per segment
-    text, setup_text = (pocket if kind != "raster" else raster)(n)
+    text, setup_text = {"pocket": pocket, "raster": raster, "waterline": waterline}[kind](n)
     with tempfile.TemporaryDirectory() as d:
         sp = os.path.join(d, "setup.toml")
         with open(sp, "w") as f:
@@ -152,6 +173,7 @@ def main() -> None:
     sizes = [5000, 10000] if a.quick else [5000, 10000, 20000, 50000]
     rows = [sub("pocket", n) for n in sizes]
     rows += [sub("raster", n) for n in ([5000, 10000] if a.quick else [5000, 10000, 20000, 50000])]
+    rows += [sub("waterline", n) for n in (5000, 10000)]
     rows += [sub("pocket", n, baseline=True) for n in a.baseline]
     print(f"{'case':9} {'moves':>6} {'interp s':>9} {'plan s':>7} {'remove s':>9} {'total s':>8} {'ms/move':>8} "
           f"{'x prev':>7} {'peak MB':>8}")

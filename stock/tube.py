@@ -33,6 +33,7 @@ TUBE_MIN_SEGMENTS = 3  # shorter stretches are cheaper as hulls
 MAX_SLOPE = 0.95  # |sin| of a segment's slope; steeper segments (plunges) are hulled
 MITRE_FRACTION = 0.5  # the mitre corner may stand out of the round joint by this many tolerances
 PLANAR_EPS = 1e-7  # mm: points this close to the vertical plane lie in it
+LEVEL_EPS = 1e-9  # mm: segments rising less than this are level
 TOP_MARK = 1.0  # profile v of the two top vertices (the arc has v <= 0)
 
 
@@ -46,9 +47,11 @@ def max_turn(r: float, tol: float) -> float:
 
 
 def stretches(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> list[tuple[int, int]]:
-    """Index ranges (i, j) of the tip polyline that one tube sweeps exactly: segments in one
-    vertical plane, progressing along it, not steeper than MAX_SLOPE, bends within ``max_turn``,
-    the tool long enough to reach ``z_top`` and neighbouring mitre lines not crossing."""
+    """Index ranges (i, j) of the tip polyline that one tube sweeps exactly: either segments in
+    one vertical plane, progressing along it, not steeper than MAX_SLOPE, bending up and down
+    (a raster line), or level segments at one height turning left and right (a waterline); bends
+    within ``max_turn``, the tool long enough to reach ``z_top`` and neighbouring mitre sections
+    not crossing."""
     r = tool.diameter / 2.0
     n = len(pts)
     if n < TUBE_MIN_SEGMENTS + 1:
@@ -60,16 +63,21 @@ def stretches(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> list
     seg_ok = (hl > 1e-9) & (np.abs(d[:, 2]) <= MAX_SLOPE * ln) & reach[:-1] & reach[1:]
     h = d[:, :2] / np.maximum(hl, 1e-300)[:, None]
     cross = h[:-1, 0] * h[1:, 1] - h[:-1, 1] * h[1:, 0]
-    same_plane = (np.abs(cross) <= 1e-9) & (np.einsum("ij,ij->i", h[:-1], h[1:]) > 0)
     bend_ok = np.einsum("ij,ij->i", d[:-1], d[1:]) >= math.cos(max_turn(r, tol)) * ln[:-1] * ln[1:]
-    joint_ok = same_plane & bend_ok & seg_ok[:-1] & seg_ok[1:]  # joint_ok[k]: at point k + 1
+    forward = np.einsum("ij,ij->i", h[:-1], h[1:]) > 0
+    both = bend_ok & seg_ok[:-1] & seg_ok[1:] & forward
+    vert = both & (np.abs(cross) <= 1e-9)  # joint_ok[k]: at point k + 1, in one vertical plane
+    level = both & (np.abs(d[:-1, 2]) <= LEVEL_EPS) & (np.abs(d[1:, 2]) <= LEVEL_EPS)  # at one height
     cands, i = [], 0
     while i < n - 1:
         if not seg_ok[i]:
             i += 1
             continue
-        j = i + 1
-        while j < n - 1 and joint_ok[j - 1]:
+        j, v_ok, l_ok = i + 1, True, abs(float(d[i, 2])) <= LEVEL_EPS
+        while j < n - 1:
+            v_ok, l_ok = v_ok and bool(vert[j - 1]), l_ok and bool(level[j - 1])
+            if not (v_ok or l_ok):
+                break
             j += 1
         cands.append((i, j))
         i = j
@@ -79,11 +87,51 @@ def stretches(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> list
         if j - i < TUBE_MIN_SEGMENTS:
             continue
         k = _first_crossing(pts[i:j + 1], r)
-        if k is None:
-            out.append((i, j))
-        else:  # hull the segment whose mitre lines cross; tube the rest
+        if k is not None:  # hull the segment whose mitre sections cross; tube the rest
             cands[:0] = [(i, i + k), (i + k + 1, j)]
+        elif is_level(pts[i:j + 1]) and not _footprint_simple(pts[i:j + 1], r):
+            mid = (i + j) // 2  # a loop that comes back over itself: tube it in halves
+            cands[:0] = [(i, mid), (mid, j)]
+        else:
+            out.append((i, j))
     return out
+
+
+def _footprint_simple(pts: np.ndarray, r: float) -> bool:
+    """The waterline tube does not overlap itself: the quads its stations bound in the plane
+    cover as much area together as one by one (a closed loop, a hairpin narrower than the tool
+    would overlap; the tube would not be a valid solid)."""
+    _, left, scale = _level_frames(pts)
+    off = (r * scale)[:, None] * left
+    lft, rgt = pts[:, :2] + off, pts[:, :2] - off
+    quads = [np.array([rgt[k], rgt[k + 1], lft[k + 1], lft[k]]) for k in range(len(pts) - 1)]
+    area = sum(abs(m3d.CrossSection([q], m3d.FillRule.NonZero).area()) for q in quads)
+    union = m3d.CrossSection(quads, m3d.FillRule.NonZero).area()
+    return union >= area * (1.0 - 1e-9) - 1e-9
+
+
+def is_level(pts: np.ndarray) -> bool:
+    """All points at one height and not all in one vertical plane: a waterline stretch."""
+    if float(np.ptp(pts[:, 2])) > LEVEL_EPS * len(pts):
+        return False
+    d = pts[-1, :2] - pts[0, :2]
+    ln = math.hypot(d[0], d[1])
+    if ln < 1e-9:
+        return True
+    lat = np.array([-d[1], d[0]]) / ln
+    return bool(np.max(np.abs((pts[:, :2] - pts[0, :2]) @ lat)) > PLANAR_EPS)
+
+
+def _level_frames(pts: np.ndarray):
+    """Unit XY directions of the segments, the horizontal unit normal (left) of the bisector at
+    each station and the mitre scale 1 / cos(theta/2)."""
+    a = np.diff(pts[:, :2], axis=0)
+    a /= np.linalg.norm(a, axis=1)[:, None]
+    b = np.vstack([a[:1], a[:-1] + a[1:], a[-1:]])
+    b /= np.linalg.norm(b, axis=1)[:, None]
+    scale = 1.0 / np.einsum("ij,ij->i", b, np.vstack([a, a[-1:]]))
+    left = np.column_stack([-b[:, 1], b[:, 0]])
+    return a, left, scale
 
 
 def _frames(pts: np.ndarray, e: np.ndarray):
@@ -108,8 +156,15 @@ def _mitre_lows(pts: np.ndarray, e: np.ndarray, r: float) -> tuple[np.ndarray, n
 
 def _first_crossing(pts: np.ndarray, r: float) -> int | None:
     """The first segment of the stretch ``pts`` along which the mitre half-discs of its two
-    stations (centre to lowest point) do not keep their order, or None. (Above the centres the
-    sections are vertical and the centres progress, so they cannot cross.)"""
+    stations (centre to lowest point; on a waterline: both sides) do not keep their order, or
+    None. (Above the centres the sections are vertical and the centres progress.)"""
+    if is_level(pts):
+        a, left, scale = _level_frames(pts)
+        bad = np.zeros(len(a), dtype=bool)
+        for side in (-1.0, 1.0):
+            q = pts[:, :2] + side * (r * scale)[:, None] * left
+            bad |= np.einsum("ij,ij->i", np.diff(q, axis=0), a) <= 0
+        return int(np.argmax(bad)) if bad.any() else None
     d = pts[-1, :2] - pts[0, :2]
     e = d / math.hypot(d[0], d[1])
     c, low = _mitre_lows(pts, e, r)
@@ -138,6 +193,8 @@ def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manif
     centres each station's section is the half-disc in its mitre plane; above them it is vertical:
     the tool's cylinder above the centre line, up to ``z_top``."""
     r = tool.diameter / 2.0
+    if is_level(pts):
+        return _level_tube(pts, r, tol, z_top)
     d = pts[-1, :2] - pts[0, :2]
     e = d / math.hypot(d[0], d[1])
     lat3 = np.array([-e[1], e[0], 0.0])
@@ -159,6 +216,31 @@ def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manif
         out = centre[k] + u[:, None] * lat3
         out[~top] += (-v[~top] * scale[k[~top]])[:, None] * n3[k[~top]]
         out[top, 2] += rise[k[top]]
+        return out
+
+    return solid.warp_batch(warp)
+
+
+def _level_tube(pts: np.ndarray, r: float, tol: float, z_top: float) -> m3d.Manifold:
+    """The tube of a waterline stretch: level segments turning in the plane. Consecutive level
+    cylinders meet in the vertical mitre plane; the half-disc stretches sideways there by the
+    mitre scale and keeps its depth; the walls above the centre line are vertical."""
+    a, left, scale = _level_frames(pts)
+    side = np.column_stack([left * scale[:, None], np.zeros(len(pts))])
+    centre = pts + np.array([0.0, 0.0, r])
+    rise = z_top - centre[:, 2]
+    m = len(pts) - 1
+    prof, _ = profile(r, tol)
+    solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=m - 1)
+    a3 = np.append(a[0], 0.0)
+    flip = np.linalg.det(np.column_stack([side[0], [0.0, 0.0, 1.0], a3])) < 0
+
+    def warp(p):
+        k = np.clip(np.rint(p[:, 2] * m).astype(int), 0, m)
+        u = -p[:, 0] if flip else p[:, 0]
+        v = np.where(p[:, 1] > 0.5 * TOP_MARK, rise[k], p[:, 1])
+        out = centre[k] + u[:, None] * side[k]
+        out[:, 2] += v
         return out
 
     return solid.warp_batch(warp)

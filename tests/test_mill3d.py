@@ -98,8 +98,12 @@ def test_stretches_follow_the_plane_and_the_bends():
     flat = np.column_stack([x, np.zeros_like(x), np.full_like(x, -1.0)])
     assert tube.stretches(flat, BALL, tol, 5.0) == [(0, 10)]
     jog = flat.copy()
-    jog[6:, 1] += 0.01  # leaves the vertical plane at point 6
+    jog[:, 2] -= 0.1 * x  # a ramp ...
+    jog[6:, 1] += 0.01  # ... that leaves its vertical plane at point 6
     assert tube.stretches(jog, BALL, tol, 5.0) == [(0, 5), (6, 10)]
+    level_jog = flat.copy()
+    level_jog[6:, 1] += 0.01  # level: a 0.6 degree turn left and back is a waterline stretch
+    assert tube.stretches(level_jog, BALL, tol, 5.0) == [(0, 10)]
     bend = flat.copy()
     bend[5:, 2] -= (x[5:] - 5) * math.tan(math.radians(10))  # a 10 degree bend at point 5
     assert tube.stretches(bend, BALL, tol, 5.0) == [(0, 5), (5, 10)]
@@ -193,3 +197,39 @@ def test_long_programs_are_swept_and_subtracted_in_pieces(tmp_path, monkeypatch)
     monkeypatch.setattr(mill, "CHAIN_POINTS", 7)
     monkeypatch.setattr(removal, "CHUNK_TRIANGLES", 1)
     test_wavy_raster_matches_the_depth_map(tmp_path)
+
+
+def test_waterline_polygon_matches_the_depth_map(tmp_path):
+    """A ball-end mill on two level loops of 0.5 mm moves (a waterline finish, turning 1.9 degrees
+    at every move, and a 90 degree corner too sharp for one tube): swept as level tubes, the
+    removed volume agrees with the depth map."""
+    tol = 0.005
+    k = 200
+    loop = [(50 + 15 * math.cos(2 * math.pi * i / k), 50 + 15 * math.sin(2 * math.pi * i / k)) for i in range(k + 1)]
+    lines, path = ["N10 T2 G00 X65 Y50 Z5", "G01 Z-1 F300"], [(65.0, 50.0, 5.0)]
+    for z in (-1.0, -1.6):
+        lines.append(f"Z{z}")
+        lines += [f"X{x:.6f} Y{y:.6f}" for x, y in loop[1:]]
+        path += [(x, y, z) for x, y in loop]
+    corner = [(65.0, 50.0), (65.0, 75.0), (90.0, 75.0)]  # then a corner
+    lines += [f"X{x} Y{y}" for x, y in corner[1:]] + ["G00 Z30"]
+    path += [(x, y, -1.6) for x, y in corner]
+    res = _run(tmp_path, lines, tol)
+    assert not res.warnings
+    expected = _depth_map_volume([path])
+    cut_area = 2 * math.pi * 15 * 6 + 50 * 6
+    assert res.report["removed_volume"] == pytest.approx(expected, abs=tol * cut_area)
+
+
+def test_level_stretches_turn_until_the_mitre_is_too_far_out():
+    tol = 0.002
+    k = 100
+    ang = 2 * math.pi * np.arange(k + 1) / k  # 3.6 degree turns on a radius 20 loop: 0.063 rad
+    loop = np.column_stack([20 * np.cos(ang), 20 * np.sin(ang), np.full(k + 1, -1.0)])
+    limit = tube.max_turn(R, tol)
+    assert limit < 2 * math.pi / k  # 3.6 degrees is too sharp at 2 um: every joint splits
+    assert tube.stretches(loop, BALL, tol, 5.0) == []
+    # at 10 um every turn fits, but one tube round the closed loop would overlap itself: halves
+    assert tube.stretches(loop, BALL, 0.01, 5.0) == [(0, k // 2), (k // 2, k)]
+    assert tube.stretches(loop[: k // 2 + 1], BALL, 0.01, 5.0) == [(0, k // 2)]
+    assert tube.is_level(loop)
