@@ -188,59 +188,48 @@ def profile(r: float, tol: float) -> tuple[m3d.CrossSection, int]:
 
 
 def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manifold:
-    """The lower ball plus the cylinder up to ``z_top`` swept along the planar stretch ``pts``
-    (between the first and the last station; the end bodies are the caller's). Below the ball
-    centres each station's section is the half-disc in its mitre plane; above them it is vertical:
-    the tool's cylinder above the centre line, up to ``z_top``."""
+    """The lower ball plus the cylinder up to ``z_top`` swept along the stretch ``pts`` (between
+    the first and the last station; the end bodies are the caller's). Below the ball centres each
+    station's section is the half-disc in its mitre plane; above them it is vertical: the tool's
+    cylinder above the centre line, up to ``z_top``."""
     r = tool.diameter / 2.0
+    m = len(pts)
     if is_level(pts):
-        return _level_tube(pts, r, tol, z_top)
-    d = pts[-1, :2] - pts[0, :2]
-    e = d / math.hypot(d[0], d[1])
-    lat3 = np.array([-e[1], e[0], 0.0])
-    _, b, scale = _frames(pts, e)
-    n3 = b[:, 1:2] * np.append(e, 0.0) - b[:, 0:1] * np.array([0.0, 0.0, 1.0])  # down normal, world
-    centre = pts + np.array([0.0, 0.0, r])
+        # level cylinders meet in the vertical mitre plane: the half-disc stretches sideways
+        # by the mitre scale and keeps its depth
+        _, left, scale = _level_frames(pts)
+        side = np.column_stack([left * scale[:, None], np.zeros(m)])
+        down = np.tile([0.0, 0.0, -1.0], (m, 1))
+    else:
+        # cylinders in one vertical plane meet in the tilted mitre plane: the half-disc keeps its
+        # width and stretches along the plane's fall line
+        d = pts[-1, :2] - pts[0, :2]
+        e = d / math.hypot(d[0], d[1])
+        _, b, scale = _frames(pts, e)
+        side = np.tile([-e[1], e[0], 0.0], (m, 1))
+        down = (b[:, 1:2] * np.append(e, 0.0) - b[:, 0:1] * np.array([0.0, 0.0, 1.0])) * scale[:, None]
+    return _warped(pts + np.array([0.0, 0.0, r]), side, down, r, tol, z_top)
+
+
+def _warped(centre: np.ndarray, side: np.ndarray, down: np.ndarray, r: float, tol: float,
+            z_top: float) -> m3d.Manifold:
+    """The profile extruded over the stations and warped: at station k an arc vertex (u, v) lands
+    on centre + u side + (-v) down, a top vertex straight above centre + u side at ``z_top``."""
     rise = z_top - centre[:, 2]
-    m = len(pts) - 1
+    m = len(centre) - 1
     prof, _ = profile(r, tol)
     solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=m - 1)
-    # orientation of (u, v, s) -> world: u along lat3, v along -n3, s along the path
-    flip = np.linalg.det(np.column_stack([lat3, -n3[0], pts[1] - pts[0]])) < 0
+    # (u, v, s) -> world keeps its orientation unless (side, -down, path) is left-handed
+    flip = np.linalg.det(np.column_stack([side[0], -down[0], centre[1] - centre[0]])) < 0
 
     def warp(p):
         k = np.clip(np.rint(p[:, 2] * m).astype(int), 0, m)
         u = -p[:, 0] if flip else p[:, 0]
-        v = p[:, 1]
-        top = v > 0.5 * TOP_MARK
-        out = centre[k] + u[:, None] * lat3
-        out[~top] += (-v[~top] * scale[k[~top]])[:, None] * n3[k[~top]]
-        out[top, 2] += rise[k[top]]
-        return out
-
-    return solid.warp_batch(warp)
-
-
-def _level_tube(pts: np.ndarray, r: float, tol: float, z_top: float) -> m3d.Manifold:
-    """The tube of a waterline stretch: level segments turning in the plane. Consecutive level
-    cylinders meet in the vertical mitre plane; the half-disc stretches sideways there by the
-    mitre scale and keeps its depth; the walls above the centre line are vertical."""
-    a, left, scale = _level_frames(pts)
-    side = np.column_stack([left * scale[:, None], np.zeros(len(pts))])
-    centre = pts + np.array([0.0, 0.0, r])
-    rise = z_top - centre[:, 2]
-    m = len(pts) - 1
-    prof, _ = profile(r, tol)
-    solid = m3d.Manifold.extrude(prof, 1.0, n_divisions=m - 1)
-    a3 = np.append(a[0], 0.0)
-    flip = np.linalg.det(np.column_stack([side[0], [0.0, 0.0, 1.0], a3])) < 0
-
-    def warp(p):
-        k = np.clip(np.rint(p[:, 2] * m).astype(int), 0, m)
-        u = -p[:, 0] if flip else p[:, 0]
-        v = np.where(p[:, 1] > 0.5 * TOP_MARK, rise[k], p[:, 1])
+        top = p[:, 1] > 0.5 * TOP_MARK
         out = centre[k] + u[:, None] * side[k]
-        out[:, 2] += v
+        arc = ~top
+        out[arc] -= p[arc, 1][:, None] * down[k[arc]]
+        out[top, 2] += rise[k[top]]
         return out
 
     return solid.warp_batch(warp)
