@@ -272,19 +272,9 @@ class Cnc8x6(ModalMachine):
             return None, False
 
         # spindle, tool and the other non-motion words take effect before the motion
-        direction = None
-        ended = False
-        for m in ms:
-            code = m.value
-            if code != int(code) or int(code) not in KNOWN_M:
-                raise self.error(b.line, m.col, f"unknown M code M{m.raw}")
-            code = int(code)
-            if code in (3, 4, 5):
-                if direction is not None:
-                    raise self.error(b.line, m.col, "two spindle M codes in one block")
-                direction = {3: 1, 4: -1, 5: 0}[code]
-            elif code in (2, 30):
-                ended = True
+        codes = self.m_codes(b.line, ms, KNOWN_M)
+        direction = self.spindle_code(b.line, [(c, m.col) for c, m in codes])
+        ended = any(c in (2, 30) for c, _ in codes)
         speed = words.pop("S").value if "S" in words else None
         if speed is not None and speed < 0:
             raise self.error(b.line, 1, "spindle speed S must not be negative")

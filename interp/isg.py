@@ -310,18 +310,11 @@ class Isg(ModalMachine):
                     raise self.error(b.line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
                 self.set_diameter(code == 51)
 
-        direction = None
+        codes = self.m_codes(b.line, ms, KNOWN_M)
+        direction = self.spindle_code(b.line, [(c, m.col) for c, m in codes])
         end_prog = end_sub = None
-        for m in ms:
-            code = m.value
-            if code != int(code) or int(code) not in KNOWN_M:
-                raise self.error(b.line, m.col, f"unknown M code M{m.raw}")
-            code = int(code)
-            if code in (3, 4, 5):
-                if direction is not None:
-                    raise self.error(b.line, m.col, "two spindle M codes in one block")
-                direction = {3: 1, 4: -1, 5: 0}[code]
-            elif code in (2, 30, 17, 29):
+        for code, m in codes:
+            if code in (2, 30, 17, 29):
                 if end_prog or end_sub:
                     raise self.error(b.line, m.col, "two program-end M codes in one block")
                 if code in (2, 30):

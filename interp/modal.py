@@ -72,6 +72,27 @@ class ModalMachine:
             end[i] = v if ab else self.pos[i] + v
         return (end[0], end[1], end[2])
 
+    def m_codes(self, line: int, ms: list, known) -> list[tuple[int, object]]:
+        """The block's M words as (code, word), each a whole number among ``known`` (else an error
+        at its column)."""
+        out = []
+        for m in ms:
+            if m.value != int(m.value) or int(m.value) not in known:
+                raise self.error(line, m.col, f"unknown M code M{m.raw}")
+            out.append((int(m.value), m))
+        return out
+
+    def spindle_code(self, line: int, codes: list[tuple[int, int]]) -> int | None:
+        """The spindle direction the block's M3/M4/M5 set (+1, -1, 0; None without one) from
+        (code, column) pairs; two of them in one block are an error at the second."""
+        direction = None
+        for code, col in codes:
+            if code in (3, 4, 5):
+                if direction is not None:
+                    raise self.error(line, col, "two spindle M codes in one block")
+                direction = {3: 1, 4: -1, 5: 0}[code]
+        return direction
+
     def common_g(self, code: int) -> bool:
         """Apply a G code every dialect means the same way: G90/G91 distance mode, G94/G95 feed
         mode, G17/G18/G19 plane. False when ``code`` is none of them."""

@@ -673,15 +673,11 @@ class Sinumerik(ModalMachine):
             elif code in (40, 41, 42):
                 new_comp = (code, col)
         # spindle, tool, feed
-        direction = None
+        direction = self.spindle_code(line, ms)
         end = False
         change = False
         for code, col in ms:
-            if code in (3, 4, 5):
-                if direction is not None:
-                    raise self.error(line, col, "two spindle M codes in one block")
-                direction = {3: 1, 4: -1, 5: 0}[code]
-            elif code in (2, 30):
+            if code in (2, 30):
                 end = True
             elif code == 6:
                 change = True
