@@ -30,3 +30,15 @@ def test_cnc8x6_transcript(name):
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
         golden.write_text(res.output)
     assert res.output == golden.read_text()
+
+
+def test_cnc8x6_helix_transcript():
+    """Seed 002: 21 full clockwise circles about (100, 0), each rising 1.05 (N50 run 21 times by
+    G73 L50 Q20), the half circle N60 to (200, 0, 22.575), then the N80 rapid to (100, 0, 40)."""
+    prog = EXAMPLES / "cnc8x6-mill" / "helix.nc"
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(prog.with_suffix(".toml"))])
+    assert res.exit_code == 0, res.output
+    golden = GOLDEN / "cnc8x6_helix.txt"
+    if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
+        golden.write_text(res.output)
+    assert res.output == golden.read_text()
