@@ -328,56 +328,53 @@ def _point_triangle_distance(pts: np.ndarray, tri: np.ndarray, max_only: bool = 
     if n == 0 or m == 0:
         return best, near, idx
     if n * m > 500_000:
-        try:
-            from scipy.spatial import cKDTree
-        except ImportError:  # pragma: no cover - scipy ships with trimesh's usual installs
-            cKDTree = None
-        if cKDTree is not None:
-            # exact pruning: the distance to the triangles of the nearest centroids is an upper
-            # bound; a triangle within it has its centroid within the bound plus its own radius.
-            # Large triangles (radius above the 90th percentile) are always tested.
-            cen = tri.mean(axis=1)
-            rad = np.linalg.norm(tri - cen[:, None, :], axis=2).max(axis=1)
-            rsmall = float(np.percentile(rad, 90))
-            big = np.flatnonzero(rad > rsmall)
-            tree = cKDTree(cen)
-            ub, near_c = tree.query(pts, k=1)
-            best[:], idx[:] = ub, near_c
-            near[:] = cen[near_c]
-            kk = min(8, m)  # exact distances to the triangles of the kk nearest centroids: a tight bound
-            _, cnear = tree.query(pts, k=kk)
-            cnear = cnear.reshape(n, kk)
-            for i in range(0, n, 8192):
-                c = cnear[i:i + 8192]
-                t = tri[c]
-                p = pts[i:i + 8192, None, :]
-                q = _closest_on_triangles(p, t[..., 0, :], t[..., 1, :], t[..., 2, :],
-                                          t[..., 1, :] - t[..., 0, :], t[..., 2, :] - t[..., 0, :])
-                d = np.linalg.norm(q - p, axis=2)
-                j = np.argmin(d, axis=1)
-                rows = np.arange(len(j))
-                better = d[rows, j] < best[i:i + 8192]
-                sl = np.arange(i, i + len(j))[better]
-                best[sl], near[sl], idx[sl] = d[rows, j][better], q[rows, j][better], c[rows, j][better]
-            ub = best.copy()
-            small = rad <= rsmall
-            top = 0.0
-            order = np.argsort(-ub, kind="stable") if max_only else range(n)
-            for i in order:
-                if max_only and ub[i] <= top:
-                    break
-                cand = np.asarray(tree.query_ball_point(pts[i], ub[i] + rsmall + 1e-9), dtype=np.int64)
-                cand = np.concatenate([cand[small[cand]], big]) if len(cand) else big
-                if len(cand):
-                    t = tri[cand]
-                    p = pts[i][None, :]
-                    q = _closest_on_triangles(p, t[:, 0], t[:, 1], t[:, 2], t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
-                    d = np.linalg.norm(q - p, axis=1)
-                    j = int(np.argmin(d))
-                    if d[j] < best[i]:
-                        best[i], near[i], idx[i] = d[j], q[j], cand[j]
-                top = max(top, best[i])
-            return best, near, idx
+        from scipy.spatial import cKDTree
+
+        # exact pruning: the distance to the triangles of the nearest centroids is an upper
+        # bound; a triangle within it has its centroid within the bound plus its own radius.
+        # Large triangles (radius above the 90th percentile) are always tested.
+        cen = tri.mean(axis=1)
+        rad = np.linalg.norm(tri - cen[:, None, :], axis=2).max(axis=1)
+        rsmall = float(np.percentile(rad, 90))
+        big = np.flatnonzero(rad > rsmall)
+        tree = cKDTree(cen)
+        ub, near_c = tree.query(pts, k=1)
+        best[:], idx[:] = ub, near_c
+        near[:] = cen[near_c]
+        kk = min(8, m)  # exact distances to the triangles of the kk nearest centroids: a tight bound
+        _, cnear = tree.query(pts, k=kk)
+        cnear = cnear.reshape(n, kk)
+        for i in range(0, n, 8192):
+            c = cnear[i:i + 8192]
+            t = tri[c]
+            p = pts[i:i + 8192, None, :]
+            q = _closest_on_triangles(p, t[..., 0, :], t[..., 1, :], t[..., 2, :],
+                                      t[..., 1, :] - t[..., 0, :], t[..., 2, :] - t[..., 0, :])
+            d = np.linalg.norm(q - p, axis=2)
+            j = np.argmin(d, axis=1)
+            rows = np.arange(len(j))
+            better = d[rows, j] < best[i:i + 8192]
+            sl = np.arange(i, i + len(j))[better]
+            best[sl], near[sl], idx[sl] = d[rows, j][better], q[rows, j][better], c[rows, j][better]
+        ub = best.copy()
+        small = rad <= rsmall
+        top = 0.0
+        order = np.argsort(-ub, kind="stable") if max_only else range(n)
+        for i in order:
+            if max_only and ub[i] <= top:
+                break
+            cand = np.asarray(tree.query_ball_point(pts[i], ub[i] + rsmall + 1e-9), dtype=np.int64)
+            cand = np.concatenate([cand[small[cand]], big]) if len(cand) else big
+            if len(cand):
+                t = tri[cand]
+                p = pts[i][None, :]
+                q = _closest_on_triangles(p, t[:, 0], t[:, 1], t[:, 2], t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+                d = np.linalg.norm(q - p, axis=1)
+                j = int(np.argmin(d))
+                if d[j] < best[i]:
+                    best[i], near[i], idx[i] = d[j], q[j], cand[j]
+            top = max(top, best[i])
+        return best, near, idx
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     ab, ac = b - a, c - a
     chunk = max(1, 2_000_000 // m)
