@@ -26,6 +26,12 @@ def _pv():
     import pyvista as pv
 
     pv.OFF_SCREEN = True
+    try:  # VTK's own log says "bad X server connection" on a machine without a display: not ours to show
+        from vtkmodules.vtkCommonCore import vtkLogger
+
+        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    except ImportError:  # pragma: no cover - older VTK without the logger
+        pass
     return pv
 
 
