@@ -12,7 +12,7 @@ from . import canon
 from .canon import Ramp, Src
 from .errors import CutsimError
 from .lexer import Block, Word, block_number, parse_number, split_lines
-from .modal import AXES, PLANE_AXES, PLANES, InterpConfig, ModalMachine
+from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
 COMMENT_CHARS = '"\u201c\u201d\u201e\u00cd\u0148'
@@ -219,9 +219,7 @@ class Cnc8x6(ModalMachine):
             if num in RESERVED_PARAMS:
                 raise self.error(b.line, col, f"R{num:02d} is reserved and cannot be assigned")
             self.params[num] = value
-        words: dict[str, Word] = {}
-        gs: list[Word] = []
-        ms: list[Word] = []
+        values = []
         for w in b.words:
             if w.param is not None:
                 if w.letter in "GM":
@@ -231,29 +229,16 @@ class Cnc8x6(ModalMachine):
                 if w.param not in self.params:
                     raise self.error(b.line, w.col, f"parameter R{w.param:02d} is used before it is set")
                 w = Word(w.letter, self.params[w.param], w.raw, w.col, w.param)
-            if w.letter == "G":
-                gs.append(w)
-            elif w.letter == "M":
-                ms.append(w)
-            else:
-                words[w.letter] = w
+            values.append(w)
+        gs, ms, words = self.split_words(values)
 
         # G words by modal group
         motion = None
         jump = None
         g10 = g98 = g09 = False
-        groups: dict[str, Word] = {}
-        for g in gs:
-            code = g.value
-            if code != int(code) or int(code) not in KNOWN_G:
-                raise self.error(b.line, g.col, f"unknown G code G{g.raw}")
-            code = int(code)
-            group = ("motion" if code in (0, 1, 2, 3, 33) else "dist" if code in (90, 91)
-                     else "feed" if code in (94, 95) else "plane" if code in PLANES else str(code))
-            if group in groups:
-                raise self.error(b.line, g.col, f"G{g.raw} conflicts with G{groups[group].raw} in the same block")
-            groups[group] = g
-            if group == "motion":
+        codes, groups = self.g_codes(b.line, gs, KNOWN_G, str)
+        for code, g in codes:
+            if code in (0, 1, 2, 3, 33):
                 motion = code
             elif self.common_g(code):
                 pass

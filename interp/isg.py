@@ -14,7 +14,7 @@ from . import canon
 from .canon import Src
 from .errors import CutsimError
 from .lexer import Block, Word, block_number, parse_number, split_lines
-from .modal import AXES, PLANE_AXES, PLANES, InterpConfig, ModalMachine
+from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 LETTERS = set("NGMXYZIJKFSTDL")
 KNOWN_G = {0, 1, 2, 3, 17, 18, 19, 33, 51, 52, 90, 91, 94, 95}
@@ -278,30 +278,11 @@ class Isg(ModalMachine):
     def block(self, b: IsgBlock, calls: tuple, stack: tuple) -> bool:
         """Execute one block; True when it returns from a subprogram."""
         src = Src(self.name, b.line, 1, b.label, calls)
-        words: dict[str, Word] = {}
-        gs: list[Word] = []
-        ms: list[Word] = []
-        for w in b.words:
-            if w.letter == "G":
-                gs.append(w)
-            elif w.letter == "M":
-                ms.append(w)
-            else:
-                words[w.letter] = w
-
+        gs, ms, words = self.split_words(b.words)
         motion = None
-        groups: dict[str, Word] = {}
-        for g in gs:
-            code = g.value
-            if code != int(code) or int(code) not in KNOWN_G:
-                raise self.error(b.line, g.col, f"unknown G code G{g.raw}")
-            code = int(code)
-            group = ("motion" if code in (0, 1, 2, 3, 33) else "dist" if code in (90, 91)
-                     else "feed" if code in (94, 95) else "plane" if code in PLANES else "diameter")
-            if group in groups:
-                raise self.error(b.line, g.col, f"G{g.raw} conflicts with G{groups[group].raw} in the same block")
-            groups[group] = g
-            if group == "motion":
+        codes, _ = self.g_codes(b.line, gs, KNOWN_G, lambda code: "diameter")
+        for code, g in codes:
+            if code in (0, 1, 2, 3, 33):
                 motion = code
             elif self.common_g(code):
                 pass

@@ -74,16 +74,21 @@ def _axes(p, bounds):
                   ytitle="Y mm", ztitle="Z mm", fmt="%.0f")
 
 
-def iso_view(result) -> bytes:
-    p = _plotter()
-    part = _mesh(result.part)
-    p.add_mesh(part, color="#b8c4cc", smooth_shading=False, specular=0.2)
+def _iso_png(p, result) -> bytes:
+    """The plotter's PNG from the isometric view, with the stock's outline and axes."""
     p.add_mesh(_stock_outline(result), color="#555555", line_width=1.0, opacity=0.6)
     b = result.stock.bounding_box()
     _axes(p, (b[0], b[3], b[1], b[4], b[2], b[5]))
     p.view_isometric()
     p.reset_camera()
     return _png(p)
+
+
+def iso_view(result) -> bytes:
+    p = _plotter()
+    part = _mesh(result.part)
+    p.add_mesh(part, color="#b8c4cc", smooth_shading=False, specular=0.2)
+    return _iso_png(p, result)
 
 
 def section_view(result) -> bytes:
@@ -148,12 +153,7 @@ def deviation_view(result, design) -> bytes:
     lim = max(float(np.max(np.abs(d))) if len(d) else 0.0, 1e-3)
     p.add_mesh(part, scalars="deviation mm", cmap="coolwarm", clim=(-lim, lim), smooth_shading=False,
                scalar_bar_args={"color": "black", "vertical": True, "fmt": "%.3f"})
-    p.add_mesh(_stock_outline(result), color="#555555", line_width=1.0, opacity=0.6)
-    b = result.stock.bounding_box()
-    _axes(p, (b[0], b[3], b[1], b[4], b[2], b[5]))
-    p.view_isometric()
-    p.reset_camera()
-    return _png(p)
+    return _iso_png(p, result)
 
 
 def render_images(result) -> dict[str, bytes]:
