@@ -622,21 +622,31 @@ def _seg_dist(p1, p2, q1, q2):
     return min(pd(p1, q1, q2), pd(p2, q1, q2), pd(q1, p1, p2), pd(q2, p1, p2))
 
 
+def _slot_count(cy: Cycle) -> int:
+    """NUM: how many slots (default 1), a whole number."""
+    num = cy["NUM"] if "NUM" in cy.given else 1
+    if num < 1 or num != int(num):
+        raise cy.err("NUM must be a whole number of slots, at least 1")
+    return int(num)
+
+
+def _tool_fits_slot(cy: Cycle, wid: float, fal: float) -> None:
+    """The tool, with the finishing allowance on both sides, fits the slot width."""
+    if 2 * cy.rt > wid + 1e-9:
+        raise cy.err(f"the tool (diameter {2 * cy.rt:g}) is wider than the slot (WID {wid:g})")
+    if 2 * (cy.rt + fal) > wid + 1e-9:
+        raise cy.err(f"the finishing allowance FAL {fal:g} leaves no room for the tool in the slot")
+
+
 def slot1(cy: Cycle):
     cy.need_radius()
     cy.unsigned("SDIS", "NUM", "LENG", "WID", "RAD", "MID", "FAL", "MIDF")
     rt = cy.rt
-    num = cy["NUM"] if "NUM" in cy.given else 1
-    if num < 1 or num != int(num):
-        raise cy.err("NUM must be a whole number of slots, at least 1")
-    num = int(num)
+    num = _slot_count(cy)
     leng, wid, fal = cy["LENG"], cy["WID"], cy["FAL"]
-    if 2 * rt > wid + 1e-9:
-        raise cy.err(f"the tool (diameter {2 * rt:g}) is wider than the slot (WID {wid:g})")
+    _tool_fits_slot(cy, wid, fal)
     if leng < wid - 1e-9:
         raise cy.err(f"the slot length LENG {leng:g} is shorter than its width WID {wid:g}")
-    if 2 * (rt + fal) > wid + 1e-9:
-        raise cy.err(f"the finishing allowance FAL {fal:g} leaves no room for the tool in the slot")
     units, tens = _vari(cy)
     mode = _plunge_mode(cy, tens, {0, 1, 3})
     inda = cy["INDA"] if cy["INDA"] != 0 else 360.0 / num
@@ -670,15 +680,9 @@ def slot2(cy: Cycle):
     cy.need_radius()
     cy.unsigned("SDIS", "NUM", "AFSL", "WID", "RAD", "MID", "FAL", "MIDF")
     rt = cy.rt
-    num = cy["NUM"] if "NUM" in cy.given else 1
-    if num < 1 or num != int(num):
-        raise cy.err("NUM must be a whole number of slots, at least 1")
-    num = int(num)
+    num = _slot_count(cy)
     afsl, wid, rad, fal = cy["AFSL"], cy["WID"], cy["RAD"], cy["FAL"]
-    if 2 * rt > wid + 1e-9:
-        raise cy.err(f"the tool (diameter {2 * rt:g}) is wider than the slot (WID {wid:g})")
-    if 2 * (rt + fal) > wid + 1e-9:
-        raise cy.err(f"the finishing allowance FAL {fal:g} leaves no room for the tool in the slot")
+    _tool_fits_slot(cy, wid, fal)
     if rad - wid / 2 <= 1e-9:
         raise cy.err(f"the slot (width {wid:g}) does not fit on the radius RAD {rad:g}")
     if afsl <= 0 or afsl >= 360:
