@@ -350,37 +350,34 @@ class _Loader:
         for k in t.table:
             if k not in allowed | {"number", "kind"}:
                 raise t.fail(k, f"unknown key for a {kind} tool (known: {', '.join(sorted(allowed))})")
-        pos = dict(check=lambda v: v > 0, why="must be positive")
-        nonneg = dict(check=lambda v: v >= 0, why="must not be negative")
+        # types here; ranges (docs/setup.md) in stock/tools.py, shared with tools built in Python
+        from cutsim.stock.tools import SIZE_MAX, tool_problem
+
         kw: dict = {}
         if kind in ("thread", "turning"):
-            kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0,
-                                check=lambda v: 0 < v < 180, why="must be between 0 and 180 degrees")
-            kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4, **nonneg)
-            kw["height"] = t.get("height", float, 10.0, **pos)
+            kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0)
+            kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4)
+            kw["height"] = t.get("height", float, 10.0)
         if kind == "profile":
-            pts = t.points("points")
-            if _area(pts) == 0:
-                raise t.fail("points", "the polygon encloses no area")
-            kw["points"] = pts
+            kw["points"] = t.points("points")
         if kind in ("thread", "turning", "profile"):
-            kw["thickness"] = t.get("thickness", float, 5.0, **pos)
+            kw["thickness"] = t.get("thickness", float, 5.0)
         if kind in ("endmill", "ballmill"):
-            kw["diameter"] = t.get("diameter", float, **pos)
-            kw["length"] = t.get("length", float, 4.0 * kw["diameter"], **pos)
+            kw["diameter"] = t.get("diameter", float)
+            kw["length"] = t.get("length", float, min(4.0 * kw["diameter"], SIZE_MAX))
             if kind == "endmill":
-                kw["corner_radius"] = t.get("corner_radius", float, 0.0, check=lambda v: 0 <= v <= kw["diameter"] / 2,
-                                            why="must be between 0 and half the diameter")
+                kw["corner_radius"] = t.get("corner_radius", float, 0.0)
                 kw["center_cutting"] = t.get("center_cutting", bool, True)
             else:
                 kw["corner_radius"] = kw["diameter"] / 2
-        if kind in ("thread", "turning") and kw["tip_radius"] > 0:
-            half = math.radians(kw["angle"]) / 2
-            # the nose arc must fit inside the V up to its height
-            if kw["tip_radius"] * (1 / math.sin(half) - 1) >= kw["height"]:
-                raise t.fail("tip_radius", "is too large for the tool's height")
         t.done()
-        return ToolSpec(number, kind, **kw)
+        line, col = self.locate("tool", None, i)
+        spec = ToolSpec(number, kind, **kw, source=self.path, line=line, col=col)
+        bad = tool_problem(spec)
+        if bad is not None:
+            key, why = bad
+            raise t.fail(key, why)  # at the key's line, or the table's when the key is a default
+        return spec
 
 
 def _area(pts) -> float:

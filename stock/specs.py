@@ -1,7 +1,7 @@
 """What the setup says about the stock and the tools (plain data; shapes are built in stock/)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 @dataclass(frozen=True)
@@ -39,6 +39,11 @@ class ToolSpec:
     length: float = 0.0  # mills: flute length
     corner_radius: float = 0.0  # mills: bull-nose corner radius (ballmill: diameter / 2)
     center_cutting: bool = True  # mills: can plunge (an end mill without centre cutting edges cannot)
+    # where the tool is defined: the setup file and the line/column of its [[tool]] header, for
+    # errors about the tool's shape found when it is built (not part of the tool's identity)
+    source: str = field(default="", compare=False)
+    line: int = field(default=0, compare=False)
+    col: int = field(default=0, compare=False)
 
     @property
     def is_lathe_tool(self) -> bool:

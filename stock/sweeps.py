@@ -16,14 +16,26 @@ import numpy as np
 
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, segment_angle
 
-from .tools import convex_pieces
+from .tools import convex_pieces, counter_clockwise, positive, signed_area
 
 MAX_CHUNK_DEGREES = 300.0  # a chunk narrower than one turn never overlaps itself
 
 
+def profile_region(profile: np.ndarray) -> m3d.CrossSection:
+    """The region of a tool profile polygon, whatever its orientation: it is made counter-clockwise
+    before the Positive fill rule sees it (a clockwise polygon would be an empty region), and the
+    region must have the polygon's area (a self-crossing outline would not)."""
+    poly = counter_clockwise(profile)
+    cs = m3d.CrossSection([poly], m3d.FillRule.Positive)
+    a = signed_area(poly)
+    if not abs(cs.area() - a) <= 1e-6 * a + 1e-12:
+        raise RuntimeError(f"internal: a tool profile of area {a:.6g} mm^2 gives a region of {cs.area():.6g} mm^2")
+    return cs
+
+
 def clipped_profile(profile: np.ndarray, height: float) -> m3d.CrossSection:
     """The profile cut off at u = ``height``: the part of the tool that can reach the stock."""
-    cs = m3d.CrossSection([profile], m3d.FillRule.Positive)
+    cs = profile_region(profile)
     lo, hi = profile[:, 1].min() - 1.0, profile[:, 1].max() + 1.0
     box = m3d.CrossSection([np.array([[-1.0, lo], [height, lo], [height, hi], [-1.0, hi]])])
     return cs ^ box
@@ -102,12 +114,12 @@ def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
             rr = r + u
             return np.column_stack([rr * np.cos(phi), rr * np.sin(phi), z + v])
 
-        out.append(solid.warp_batch(warp))
+        out.append(positive(solid.warp_batch(warp), "a screw motion"))
     return out
 
 
 def sweep_polygon_2d(poly: np.ndarray, pts: np.ndarray) -> list[m3d.CrossSection]:
-    """Regions whose union is ``poly`` translated along the polyline ``pts``."""
+    """Regions whose union is ``poly`` (either orientation) translated along the polyline ``pts``."""
     pieces = convex_pieces(poly)
     regions = []
     for piece in pieces:

@@ -1,46 +1,196 @@
-"""Tool shapes. Lathe tools are profiles in the (u, v) plane of the tool: u radial outwards from the
-tool point (+X), v axial (+Z); the control point is the origin, the lowest point of the nose."""
+"""Tool shapes, built so that orientation and degeneracy cannot silently lose them.
+
+Lathe tools are profiles in the (u, v) plane of the tool: u radial outwards from the tool point
+(+X), v axial (+Z); the control point is the origin, the lowest point of the nose. Every profile
+is returned as a simple counter-clockwise polygon of positive area (checked); mill bodies are
+convex vertex clouds whose hull has positive volume (checked once per tool and tolerance).
+
+The documented ranges of the tool keys (docs/setup.md, ``[[tool]]``) live here, in
+``tool_problem``: the setup loader reports a value out of range at its key, and a tool built
+in Python (a ``ToolSpec`` the loader never saw) is checked again before its shape is built. A shape
+that still comes out (nearly) empty is a CutsimError naming the tool's ``[[tool]]`` table.
+"""
 from __future__ import annotations
 
+import functools
 import math
 
 import manifold3d as m3d
 import numpy as np
 
+from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import segment_angle
 
 from .specs import ToolSpec
 
+# -- documented ranges (docs/setup.md) ---------------------------------------------------------
+SIZE_MIN = 0.001  # mm: every length of a tool (diameter, flute length, height, thickness, radii > 0)
+SIZE_MAX = 10_000.0  # mm
+ANGLE_MIN, ANGLE_MAX = 1.0, 179.0  # degrees: included angle of a thread or turning V
+COORD_MAX = SIZE_MAX  # mm: profile tool points lie within +-COORD_MAX of the control point
+# A region whose mean width (2 area / perimeter; a solid's 3 volume / surface) is below this is
+# degenerate: a line, a point, or a sliver no machine could hold. It is a thousandth of SIZE_MIN,
+# so every tool within the ranges stays far above it.
+MIN_WIDTH = 1e-6  # mm
+
+LATHE_KINDS = ("thread", "turning", "profile")
+MILL_KINDS = ("endmill", "ballmill")
+
+
+def _size(tool: ToolSpec, key: str, zero_ok: bool = False) -> tuple[str, str] | None:
+    v = getattr(tool, key)
+    if zero_ok and v == 0:
+        return None
+    if not (isinstance(v, (int, float)) and math.isfinite(v) and SIZE_MIN <= v <= SIZE_MAX):
+        what = "0 or " if zero_ok else ""
+        return key, f"must be {what}between {SIZE_MIN:g} and {SIZE_MAX:g} mm (got {v!r})"
+    return None
+
+
+def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
+    """The first key of ``tool`` outside its documented range and why, or None. (key None: the
+    tool as a whole.)"""
+    if tool.kind in ("thread", "turning"):
+        a = tool.angle
+        if not (math.isfinite(a) and ANGLE_MIN <= a <= ANGLE_MAX):
+            return "angle", f"must be between {ANGLE_MIN:g} and {ANGLE_MAX:g} degrees (got {a!r})"
+        for key, zero_ok in (("tip_radius", True), ("height", False), ("thickness", False)):
+            p = _size(tool, key, zero_ok)
+            if p:
+                return p
+        if tool.tip_radius > 0:
+            ut = nose_end(tool)
+            if ut >= tool.height:
+                return "tip_radius", (f"is too large for the tool's height: the nose arc of radius {tool.tip_radius:g} "
+                                      f"meets the flanks {ut:g} mm out, not below height = {tool.height:g}")
+        return None
+    if tool.kind == "profile":
+        p = _size(tool, "thickness")
+        if p:
+            return p
+        why = polygon_problem(np.array(tool.points, dtype=float).reshape(-1, 2))
+        return ("points", why) if why else None
+    if tool.kind in MILL_KINDS or tool.kind == "bullnose":
+        for key in ("diameter", "length"):
+            p = _size(tool, key)
+            if p:
+                return p
+        rc = tool.corner_radius
+        r = tool.diameter / 2.0
+        if not (math.isfinite(rc) and (rc == 0 or SIZE_MIN <= rc <= r * (1 + 1e-12))):
+            return "corner_radius", f"must be 0 or between {SIZE_MIN:g} mm and half the diameter ({r:g}) (got {rc!r})"
+        return None
+    return "kind", f"is not a tool kind cutsim knows (got {tool.kind!r})"
+
+
+def tool_error(tool: ToolSpec, message: str) -> CutsimError:
+    """An error about ``tool``'s shape, at the line of its [[tool]] table."""
+    return CutsimError(tool.source or "<setup>", tool.line, tool.col, f"[[tool]] T{tool.number}: {message}")
+
+
+def check_tool(tool: ToolSpec) -> None:
+    """Raise the CutsimError of ``tool_problem`` (for tools that did not come through the loader)."""
+    p = tool_problem(tool)
+    if p is not None:
+        key, why = p
+        raise tool_error(tool, f"{key + ' ' if key else ''}{why}")
+
+
+# -- polygons ------------------------------------------------------------------------------------
+def signed_area(poly: np.ndarray) -> float:
+    """Shoelace area: positive for a counter-clockwise polygon."""
+    x, y = poly[:, 0], poly[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def perimeter(poly: np.ndarray) -> float:
+    return float(np.sum(np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)))
+
+
+def polygon_problem(poly: np.ndarray) -> str | None:
+    """Why ``poly`` is not a usable tool region (None if it is): too few points, coordinates out of
+    range, a self-crossing outline (the region it encloses would depend on a fill rule), or (almost)
+    no area."""
+    if poly.ndim != 2 or poly.shape[1] != 2 or len(poly) < 3:
+        return "must be a polygon of at least 3 points"
+    if not np.all(np.isfinite(poly)) or np.max(np.abs(poly)) > COORD_MAX:
+        return f"coordinates must lie within +-{COORD_MAX:g} mm of the control point"
+    a = signed_area(poly)
+    per = perimeter(poly)
+    if per <= 0 or 2.0 * abs(a) / per < MIN_WIDTH:
+        return "the polygon encloses (almost) no area"
+    # a simple outline: the regions by the non-zero and even-odd rules are the shoelace area (a
+    # crossing outline has lobes of opposite sign or counted twice, and those differ)
+    ccw = poly if a > 0 else poly[::-1]
+    nz = m3d.CrossSection([ccw], m3d.FillRule.NonZero).area()
+    eo = m3d.CrossSection([ccw], m3d.FillRule.EvenOdd).area()
+    eps = 1e-6 * abs(a) + 1e-12
+    if abs(nz - abs(a)) > eps or abs(eo - abs(a)) > eps:
+        return "the polygon crosses itself"
+    return None
+
+
+def counter_clockwise(poly: np.ndarray) -> np.ndarray:
+    """``poly`` in counter-clockwise order (explicitly normalised, never assumed)."""
+    poly = np.asarray(poly, dtype=float)
+    return poly if signed_area(poly) > 0 else poly[::-1].copy()
+
+
+def nose_end(tool: ToolSpec) -> float:
+    """u where the nose arc of a thread/turning tool meets its flanks (0 without a nose)."""
+    half = math.radians(tool.angle) / 2.0
+    return tool.tip_radius * (1.0 - math.sin(half))
+
+
+def v_profile(angle: float, tip_radius: float, height: float, tol: float) -> np.ndarray:
+    """Counter-clockwise polygon of a V of included ``angle`` (degrees) pointing to -u, its flanks
+    tangent to a nose circle of ``tip_radius`` whose lowest point is the origin, cut off at u =
+    ``height``. The nose arc is chords within ``tol`` with vertices on the circle (one at the
+    origin: the control point is exact); the flanks are exact. The sharp V's apex lies
+    tip_radius (1 / sin(angle / 2) - 1) behind the origin, so at u >= the nose the profile is
+    2 (u + that) tan(angle / 2) wide."""
+    half = math.radians(angle) / 2.0
+    s, c, t = math.sin(half), math.cos(half), math.tan(half)
+    h, rho = height, tip_radius
+    if rho <= 0:
+        w = h * t
+        return np.array([[0.0, 0.0], [h, -w], [h, w]])
+    wh = h * t + rho * (1.0 - s) / c  # half-width at the height
+    span = math.pi / 2 - half  # nose arc: polar angle a from the origin's -u direction, |a| <= span
+    k = max(1, math.ceil(span / segment_angle(rho, tol)))
+    a = np.linspace(span, -span, 2 * k + 1)  # upper tangent point, down through the origin, lower one
+    arc = np.column_stack([rho - rho * np.cos(a), rho * np.sin(a)])
+    arc[k] = (0.0, 0.0)
+    return np.vstack([arc, [[h, -wh], [h, wh]]])
+
 
 def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
-    """Counter-clockwise polygon (k, 2) of a lathe tool's cutting profile."""
+    """Counter-clockwise simple polygon (k, 2) of a lathe tool's cutting profile, with positive
+    area (a CutsimError at the tool's [[tool]] table otherwise)."""
+    check_tool(tool)
     if tool.kind == "profile":
-        pts = np.array(tool.points, dtype=float)
-        area = 0.5 * np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1])
-        return pts if area > 0 else pts[::-1]
-    half = math.radians(tool.angle) / 2.0
-    h = tool.height
-    w = h * math.tan(half)
-    rho = tool.tip_radius
-    if rho <= 0:
-        return np.array([[0.0, 0.0], [h, -w], [h, w]])
-    # nose circle centred on the u axis at (rho, 0), tangent to both flanks; its lowest point is the origin
-    span = math.pi / 2 - half  # half the arc angle
-    k = max(1, math.ceil(span / segment_angle(rho, tol)))
-    t = np.linspace(-span, span, 2 * k + 1)  # symmetric, with a vertex at the origin
-    arc = np.column_stack([rho + rho * np.cos(math.pi + t), rho * np.sin(math.pi + t)])
-    arc = arc[::-1]  # from the upper flank (v > 0) down through the origin to the lower flank
-    return np.vstack([[[h, w]], arc, [[h, -w]]])[::-1]
+        poly = np.array(tool.points, dtype=float)
+    elif tool.kind in ("thread", "turning"):
+        poly = v_profile(tool.angle, tool.tip_radius, tool.height, tol)
+    else:
+        raise tool_error(tool, f"a {tool.kind} is not a lathe tool")
+    poly = counter_clockwise(poly)
+    why = polygon_problem(poly)
+    if why:
+        raise tool_error(tool, f"the tool's profile is unusable: {why}")
+    return poly
 
 
 def convex_pieces(poly: np.ndarray) -> list[np.ndarray]:
-    """The polygon itself if convex, else the triangles of a triangulation (each convex)."""
+    """The polygon itself if convex, else the triangles of a triangulation (each convex); all
+    counter-clockwise, whatever the orientation of ``poly``."""
+    poly = counter_clockwise(poly)
     d = np.diff(np.vstack([poly, poly[:2]]), axis=0)
     cross = d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]
     if np.all(cross >= -1e-12):
         return [poly]
     tris = m3d.triangulate([poly])
-    return [poly[list(t)] for t in np.asarray(tris)]
+    return [counter_clockwise(poly[list(t)]) for t in np.asarray(tris)]
 
 
 def lathe_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
@@ -53,11 +203,32 @@ def lathe_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
     return out
 
 
+# -- mills ---------------------------------------------------------------------------------------
 def mill_body(tool: ToolSpec, tol: float, height: float | None = None) -> list[np.ndarray]:
     """Convex vertex cloud of a milling cutter's fluted part, tip centre at the origin, axis +Z
     (flat, bull-nose: corner radius, ball: corner radius = radius). With ``height`` below the flute
     length the body is cut off at that height (a plane section of the true tool): the part of the
-    tool above the stock top never meets material and only costs triangles."""
+    tool above the stock top never meets material and only costs triangles. The whole body is
+    checked once per tool and tolerance (``checked_mill``): positive volume, in range."""
+    checked_mill(tool, tol)
+    return [_mill_cloud(tool, tol, height)]
+
+
+@functools.lru_cache(maxsize=256)
+def checked_mill(tool: ToolSpec, tol: float) -> float:
+    """Volume of the whole fluted body's hull; a CutsimError at the tool's table when the tool is
+    out of range or the body (nearly) empty. Cached: hull sweeps ask for every pose."""
+    check_tool(tool)
+    if tool.kind not in MILL_KINDS and tool.kind != "bullnose":
+        raise tool_error(tool, f"a {tool.kind} tool is not a mill")
+    hull = m3d.Manifold.hull_points(_mill_cloud(tool, tol, None))
+    vol, area = hull.volume(), hull.surface_area()
+    if not (vol > 0 and area > 0 and 3.0 * vol / area >= MIN_WIDTH):
+        raise tool_error(tool, f"the tool's body encloses (almost) no volume ({vol:.3g} mm^3)")
+    return vol
+
+
+def _mill_cloud(tool: ToolSpec, tol: float, height: float | None) -> np.ndarray:
     r = tool.diameter / 2.0
     rc = min(tool.corner_radius, r)
     top = tool.length if height is None else min(tool.length, max(0.0, height))
@@ -89,4 +260,16 @@ def mill_body(tool: ToolSpec, tol: float, height: float | None = None) -> list[n
         layers.append(layer((r - rc) + math.sqrt(max(0.0, rc * rc - (rc - top) ** 2)), top))
     elif top > 0.0 or rc > 0:
         layers.append(layer(r, top))
-    return [np.vstack(layers)]
+    return np.vstack(layers)
+
+
+# -- swept solids --------------------------------------------------------------------------------
+def positive(solid: m3d.Manifold, what: str) -> m3d.Manifold:
+    """``solid`` after checking it is a valid manifold that is not inside out (a warp that flipped
+    the orientation gives a negative volume, which the batch boolean would silently misuse). Such a
+    solid is a bug in cutsim, not in the input: a RuntimeError (exit status 3)."""
+    if solid.status() != m3d.Error.NoError:
+        raise RuntimeError(f"internal: the swept solid of {what} is not a valid manifold ({solid.status().name})")
+    if solid.volume() < 0:
+        raise RuntimeError(f"internal: the swept solid of {what} is inside out (volume {solid.volume():.6g} mm^3)")
+    return solid
