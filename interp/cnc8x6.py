@@ -11,7 +11,8 @@ from dataclasses import dataclass
 from . import canon
 from .canon import Ramp, Src
 from .errors import CutsimError
-from .lexer import Block, Word, block_number, parse_number, split_lines
+from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, check_range,
+                    digits_end, foreign_digit, iter_lines, parse_number, read_whole)
 from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
@@ -21,12 +22,18 @@ KNOWN_G = {0, 1, 2, 3, 9, 10, 17, 18, 19, 33, 73, 90, 91, 94, 95, 98}
 # M words: spindle, program end, stops, coolant and gear ranges (the last ones have no geometric effect).
 KNOWN_M = {0, 1, 2, 3, 4, 5, 8, 9, 30, 41, 42, 43, 44}
 MAX_DIRECT_LEAD = 99.99
+MIN_LEAD = 0.001  # mm/rev
 RESERVED_PARAMS = (0, 80)
+MAX_PARAM = 99  # R00..R99
+# The largest magnitude each address accepts (docs/dialects/cnc8x6.md, "Limits"); the words' own
+# rules (F of G33 at most 99.99, I of G33 0..360, signs, whole numbers) are checked where they act.
+LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKE"}, "F": (COORD_LIMIT, "mm/min or mm/rev"),
+          "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTDLQ"}}
 
 
 def scan(name: str, lineno: int, text: str) -> Block | None:
     """One CNC8x6 line -> Block (None for a blank line)."""
-    block = Block(line=lineno, col=1, text=text)
+    block = Block(line=lineno, col=1)
     i, n = 0, len(text)
     seen: dict[str, int] = {}
     while i < n:
@@ -35,16 +42,14 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
             i += 1
             continue
         if c in COMMENT_CHARS:
-            block.comment = text[i + 1:]
-            break
+            break  # the comment's text is not kept: a comment-only line is an (empty) block anyway
         col = i + 1
         if c == "&":
-            if not (i + 1 < n and text[i + 1].isdigit()):
+            if digits_end(text, i + 1) == i + 1:
+                foreign_digit(name, lineno, text, i + 1)
                 raise CutsimError(name, lineno, col, "'&' must be followed by a number")
-            j = i + 1
-            while j < n and text[j].isdigit():
-                j += 1
-            block.words.append(Word("&", float(text[i + 1:j]), text[i + 1:j], col))
+            value, j = read_whole(name, lineno, text, i + 1, "&")
+            block.words.append(Word("&", float(value), text[i + 1:j], col))
             i = j
             continue
         if not c.isalpha() or not c.isascii():
@@ -55,19 +60,18 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
             i = block_number(name, lineno, text, i, block, must_open=True)
             continue
         if letter == "R":  # parameter assignment R<nn>=<value>
-            j = i
-            while j < n and text[j].isdigit():
-                j += 1
+            j = digits_end(text, i)
+            foreign_digit(name, lineno, text, j)
             k = j
             while k < n and text[k] in " \t":
                 k += 1
             if j == i or k >= n or text[k] != "=":
                 raise CutsimError(name, lineno, col, "R must be written R<number>=<value> (a parameter assignment)")
-            num = int(text[i:j])
+            num = param_number(name, lineno, col, text[i:j])
             k += 1
             while k < n and text[k] in " \t":
                 k += 1
-            value, _raw, i = parse_number(name, lineno, text, k, f"R{text[i:j]}=")
+            value, _raw, i = parse_number(name, lineno, text, k, f"R{text[i:j]}=", COORD_LIMIT)
             block.assigns.append((num, value, col))
             continue
         if letter not in LETTERS:
@@ -75,23 +79,39 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
         if letter in seen and letter not in "GM":
             raise CutsimError(name, lineno, col, f"address {letter} appears twice in one block")
         seen[letter] = col
-        if i < n and text[i] in "rR" and i + 1 < n and text[i + 1].isdigit():  # FR10: value from a parameter
-            j = i + 1
-            while j < n and text[j].isdigit():
-                j += 1
-            block.words.append(Word(letter, None, text[i:j], col, param=int(text[i + 1:j])))
+        if i < n and text[i] in "rR" and digits_end(text, i + 1) > i + 1:  # FR10: value from a parameter
+            j = digits_end(text, i + 1)
+            foreign_digit(name, lineno, text, j)
+            block.words.append(Word(letter, None, text[i:j], col, param=param_number(name, lineno, col, text[i + 1:j])))
             i = j
             continue
-        value, raw, i = parse_number(name, lineno, text, i, letter)
+        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter])
         block.words.append(Word(letter, value, raw, col))
-    if not block.label and not block.words and not block.assigns and not block.comment.strip():
-        return None if not text.strip() else block
+    if not block.label and not block.words and not block.assigns and not text.strip():
+        return None
     return block
 
 
-def parse(name: str, text: str) -> list[Block]:
+def param_number(name: str, lineno: int, col: int, digits: str) -> int:
+    """``04`` of ``R04`` -> 4; parameters are R00..R99."""
+    if len(digits.lstrip("0")) > 2 or int(digits) > MAX_PARAM:
+        raise CutsimError(name, lineno, col, f"parameter number R{digits if len(digits) <= 12 else digits[:12] + '...'} "
+                          f"is outside R00..R{MAX_PARAM}")
+    return int(digits)
+
+
+def is_block(line: str) -> bool:
+    """Whether a line is a block (every line that is not blank, also a comment alone)."""
+    return bool(line.strip())
+
+
+def parse(name: str, text: str, max_blocks: int | None = None) -> list[Block]:
+    """The program's blocks. With ``max_blocks`` a program with more blocks than that is refused
+    before any line is scanned (lexer.check_length)."""
+    if max_blocks is not None:
+        check_length(name, text, max_blocks, is_block)
     blocks = []
-    for lineno, line in enumerate(split_lines(text), start=1):
+    for lineno, line in iter_lines(text):
         b = scan(name, lineno, line)
         if b is not None:
             blocks.append(b)
@@ -124,7 +144,7 @@ class Cnc8x6(ModalMachine):
 
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
-        blocks = parse(self.name, text)
+        blocks = parse(self.name, text, self.cfg.max_blocks)
         labels: dict[int, int] = {}
         for idx, b in enumerate(blocks):
             if b.label:
@@ -228,7 +248,10 @@ class Cnc8x6(ModalMachine):
                     raise self.error(b.line, w.col, f"R{w.param:02d} is reserved")
                 if w.param not in self.params:
                     raise self.error(b.line, w.col, f"parameter R{w.param:02d} is used before it is set")
-                w = Word(w.letter, self.params[w.param], w.raw, w.col, w.param)
+                value = self.params[w.param]
+                lim, unit = LIMITS[w.letter]
+                check_range(self.name, b.line, w.col, f"{w.letter}{w.raw} = {value:g}", value, -lim, lim, unit)
+                w = Word(w.letter, value, w.raw, w.col, w.param)
             values.append(w)
         gs, ms, words = self.split_words(values)
 
@@ -268,9 +291,9 @@ class Cnc8x6(ModalMachine):
         if "T" in words:
             t = words.pop("T")
             d = words.pop("D", None)
-            self.tool(src, int(t.value), None if d is None else int(d.value))
+            self.tool(src, self.whole(b.line, t, "tool number"), None if d is None else self.whole(b.line, d, "offset number"))
         elif "D" in words:
-            words.pop("D")  # offset selection without a tool change: no geometric effect
+            self.whole(b.line, words.pop("D"), "offset number")  # no tool change: no geometric effect
         words.pop("&", None)  # recorded, no effect (docs/dialects.md)
 
         if jump is not None:
@@ -307,6 +330,7 @@ class Cnc8x6(ModalMachine):
                     if a in words:
                         raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G0{self.motion} block")
                 end = self.target(values)
+                self.check_position(b.line, end, {i: w.col for i, w in axis_words.items()})
                 (self.rapid if self.motion == 0 else self.linear)(src, end)
             else:
                 self.circle(b, src, words, values)
@@ -360,6 +384,7 @@ class Cnc8x6(ModalMachine):
                                  f"with the helix on, {self.helix_axis} follows the pitch set by G10 and cannot be programmed")
             sweep = _sweep_degrees(self.pos, end, centre, (a, c), self.motion == 2, self.diameter)
             end[ax] = self.pos[ax] + self.helix_pitch * sweep / 360.0
+        self.check_position(b.line, end, {i: words[AXES[i]].col for i in values})
         self.arc(src, (end[0], end[1], end[2]), (centre[0], centre[1], centre[2]), self.motion == 2)
 
     # -- G33 -------------------------------------------------------------------------------------
@@ -371,6 +396,8 @@ class Cnc8x6(ModalMachine):
                                  "program a larger lead through a parameter (FR10)")
             if f.value <= 0:
                 raise self.error(b.line, f.col, "the lead F of G33 must be greater than zero")
+            if f.value < MIN_LEAD:
+                raise self.error(b.line, f.col, f"the lead F{f.raw} of G33 is below the smallest lead, {MIN_LEAD} mm/rev")
             self.lead = f.value
         if self.lead is None:
             raise self.error(b.line, 1, "G33 without a lead: program F (mm/rev)")
@@ -383,6 +410,7 @@ class Cnc8x6(ModalMachine):
                 raise self.error(b.line, iw.col, f"start angle I{iw.raw} is outside 0..360 degrees")
             angle = iw.value
         end = self.target({i: w.value for i, w in axis_words.items()})
+        self.check_position(b.line, end, {i: w.col for i, w in axis_words.items()})
         runout = leadin = None
         if "J" in words:
             jw = words.pop("J")
@@ -408,7 +436,39 @@ class Cnc8x6(ModalMachine):
             if total > travel + 1e-9:
                 raise self.error(b.line, 1, f"lead-in and runout ({total:g} mm) are longer than the thread ({travel:g} mm)")
             self.after_ramp = (src, 1)
+        if leadin is not None:
+            end = self.leadin_end(b, src, end, axis_words, ew, leadin)
         self.synced(src, end, self.lead, None, angle, leadin, runout)
+        self.check_position(b.line, self.pos)
+
+    def leadin_end(self, b: Block, src: Src, end, axis_words: dict[int, Word], ew: Word, leadin: Ramp):
+        """The record's end for a thread with a lead-in (canon.SyncedFeed: the tool follows the line
+        start -> end with the ramps added, so it stops at end + ramp displacements).
+
+        The lead-in ramps from the start point over the first E mm (seed 000, 5.3: the tool starts
+        outside, at the value from which the lead-in reaches the thread). The lead-in axis left
+        out of the block keeps that value: a straight thread at start + ramp (the manual's
+        example). Programmed, it is where the thread ends, like every G33 end point; the thread
+        then tapers from where the lead-in would have put a straight one, which is warned about
+        unless the value is that straight thread's.
+        """
+        i = "XYZ".index(leadin.axis)
+        scale = 2.0 if (i == 0 and self.diameter) else 1.0
+        shift = leadin.displacement * scale  # program units
+        if i not in axis_words:
+            return end
+        straight = self.pos[i] + shift
+        if abs(end[i] - straight) > 1e-6:
+            w = axis_words[i]
+            on = " on the diameter" if scale == 2.0 else ""
+            self.warn(src, f"G33 with lead-in E{ew.raw} and {leadin.axis}{w.raw} programmed: the thread ends at "
+                           f"{leadin.axis}{end[i]:g} and the lead-in comes in from the start {leadin.axis}{self.pos[i]:g} "
+                           f"by {abs(shift):.4g}{on} ({leadin.length:g}*tan {leadin.angle:g} deg) relative to the thread, "
+                           f"so the thread tapers; leave {leadin.axis} out (or program {leadin.axis}{straight:.4f}) "
+                           "for the manual's straight thread after the lead-in")
+        out = list(end)
+        out[i] -= shift
+        return (out[0], out[1], out[2])
 
     def thread_travel(self, end) -> float:
         dx = abs(end[0] - self.pos[0]) / (2.0 if self.diameter else 1.0)
@@ -419,6 +479,8 @@ class Cnc8x6(ModalMachine):
         const = self.cfg.constants.get(8)
         if const is None:
             raise self.error(b.line, w.col, f"{what} needs its angle: set machine constant 8 ([machine.constants] 8 = ...)")
+        if not (math.isfinite(const) and abs(const) < 1e8):
+            raise self.error(b.line, w.col, f"machine constant 8 = {const} has more than eight decades")
         code = f"{abs(int(const)):08d}"
         if len(code) > 8:
             raise self.error(b.line, w.col, f"machine constant 8 = {const} has more than eight decades")

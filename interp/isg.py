@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 from . import canon
 from .canon import Src
 from .errors import CutsimError
-from .lexer import Block, Word, block_number, parse_number, split_lines
+from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, iter_lines,
+                    parse_number)
 from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 LETTERS = set("NGMXYZIJKFSTDL")
@@ -22,6 +23,12 @@ KNOWN_G = {0, 1, 2, 3, 17, 18, 19, 33, 51, 52, 90, 91, 94, 95}
 # geometric effect).
 KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 29, 30}
 LEADS = {"I": "X", "J": "Y", "K": "Z"}
+MIN_LEAD = 0.0001  # mm/rev: the programming resolution
+MAX_CALL_DEPTH = 20  # local subprograms open at once (LL inside LL ...)
+# The largest magnitude each address accepts (docs/dialects/isg.md, "Limits"); the words' own
+# rules (signs, whole numbers, S.OFFSET below 360) are checked where they act.
+LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJK"}, "F": (COORD_LIMIT, "mm/min"),
+          "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTD"}}
 NAME = re.compile(r"(?:\w|[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f])+")
 # letters (any script, also written with combining marks), digits, underscore
 SPINDLE_ATTR = re.compile(r"\.([A-Za-z_]\w*)")
@@ -60,7 +67,7 @@ class Section:
 
 def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
     """One ISG line (not a header) -> block; None for a blank or comment-only line."""
-    block = IsgBlock(line=lineno, col=1, text=text)
+    block = IsgBlock(line=lineno, col=1)
     i, n = 0, len(text)
     seen: dict[str, int] = {}
     while i < n:
@@ -70,8 +77,7 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
             continue
         col = i + 1
         if c == ";":
-            block.comment = text[i + 1:]
-            break
+            break  # a comment (its text is not kept)
         if c == "(":
             j = text.find(")", i + 1)
             if j < 0:
@@ -114,7 +120,7 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
                 j += 1
                 while j < n and text[j] in " \t":
                     j += 1
-            value, raw, i = parse_number(name, lineno, text, j, "S.OFFSET")
+            value, raw, i = parse_number(name, lineno, text, j, "S.OFFSET=", COORD_LIMIT, "degrees")
             block.offsets.append(Word("S.OFFSET", value, raw, col))
             continue
         if letter not in LETTERS:
@@ -122,7 +128,7 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
         if letter in seen and letter not in "GM":
             raise CutsimError(name, lineno, col, f"address {letter} appears twice in one block")
         seen[letter] = col
-        value, raw, i = parse_number(name, lineno, text, i, letter)
+        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter])
         block.words.append(Word(letter, value, raw, col))
     if not block.label and not block.words and block.call is None and not block.offsets:
         return None
@@ -132,11 +138,21 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
 HEADER = re.compile(r"%(?:(?P<local>[Ll])[ \t]+(?P<lname>\S+)|(?P<mname>[^\s(;]+))")
 
 
-def parse(name: str, text: str) -> tuple[Section, dict[str, Section]]:
-    """The file -> (main program, local subprograms by name)."""
+def is_block(line: str) -> bool:
+    """Whether a line can be a block (a cheap test for lexer.check_length: never true for a line
+    that is not one; headers, comment lines and blank lines are not)."""
+    s = line.strip()
+    return bool(s) and s[0] not in ";%("
+
+
+def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section, dict[str, Section]]:
+    """The file -> (main program, local subprograms by name). With ``max_blocks`` a file with more
+    blocks than that is refused before any line is scanned (lexer.check_length)."""
+    if max_blocks is not None:
+        check_length(name, text, max_blocks, is_block)
     loose: list[IsgBlock] = []  # blocks before any header
     sections: list[Section] = []
-    for lineno, line in enumerate(split_lines(text), start=1):
+    for lineno, line in iter_lines(text):
         stripped = line.lstrip()
         indent = len(line) - len(stripped)
         if stripped.startswith("%"):
@@ -228,7 +244,7 @@ class Isg(ModalMachine):
 
     # -- program structure -----------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
-        self.main, self.local = parse(self.name, text)
+        self.main, self.local = parse(self.name, text, self.cfg.max_blocks)
         self.section(self.main, (), ())
         if not self.ended and self.last_block is not None:
             b = self.last_block
@@ -272,6 +288,10 @@ class Isg(ModalMachine):
         if target in stack:
             chain = " -> ".join(stack + (target,))
             raise self.error(b.line, col, f"recursive subprogram call: {chain}")
+        if len(stack) >= MAX_CALL_DEPTH:
+            chain = " -> ".join(stack[:3] + ("...",) + stack[-2:] if len(stack) > 6 else stack)
+            raise self.error(b.line, col, f"LL {target}: local subprograms nested more than {MAX_CALL_DEPTH} deep "
+                             f"({chain} -> {target}); the limit of open subprogram calls is {MAX_CALL_DEPTH}")
         self.section(sec, calls + ((self.name, b.line),), stack + (target,))
 
     # -- one block -------------------------------------------------------------------------------
@@ -314,9 +334,9 @@ class Isg(ModalMachine):
             if t.value != int(t.value) or t.value < 0:
                 raise self.error(b.line, t.col, f"tool number T{t.raw} must be a whole number")
             d = words.pop("D", None)
-            self.tool(src, int(t.value), None if d is None else int(d.value))
-        else:
-            words.pop("D", None)  # offset selection without a tool change: no geometric effect
+            self.tool(src, int(t.value), None if d is None else self.whole(b.line, d, "offset number"))
+        elif "D" in words:
+            self.whole(b.line, words.pop("D"), "offset number")  # no tool change: no geometric effect
 
         for w in b.offsets:
             if not 0.0 <= w.value < 360.0:
@@ -338,17 +358,19 @@ class Isg(ModalMachine):
 
         axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
         values = {i: w.value for i, w in axis_words.items()}
+        cols = {i: w.col for i, w in axis_words.items()}
         centre = {a: words.pop(a) for a in "IJK" if a in words}
         if threading:
-            self.thread_block(b, src, motion, centre, values)
+            self.thread_block(b, src, motion, centre, values, cols)
         elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
-            self.circle(b, src, centre, values)
+            self.circle(b, src, centre, values, cols)
         else:
             for a, w in centre.items():
                 what = f"a G0{self.motion} block" if axis_words or motion is not None else "a block without a motion"
                 raise self.error(b.line, w.col, f"address {a} has no meaning in {what}")
             if axis_words:
                 end = self.target(values)
+                self.check_position(b.line, end, cols)
                 (self.rapid if self.motion == 0 else self.linear)(src, end)
         if direction == 0:
             self.spindle(src, 0, None if speed is None else speed.value)
@@ -367,7 +389,8 @@ class Isg(ModalMachine):
         return False
 
     # -- G33 -------------------------------------------------------------------------------------
-    def thread_block(self, b: IsgBlock, src: Src, motion, leads: dict[str, Word], values: dict[int, float]) -> None:
+    def thread_block(self, b: IsgBlock, src: Src, motion, leads: dict[str, Word], values: dict[int, float],
+                     cols: dict[int, int]) -> None:
         if len(leads) > 1:
             a, w = list(leads.items())[1]
             raise self.error(b.line, w.col, f"two leads ({' and '.join(leads)}) in one G33 block: "
@@ -377,6 +400,9 @@ class Isg(ModalMachine):
                 raise self.error(b.line, w.col, f"the lead {a}{w.raw} is programmed without a sign")
             if w.value == 0:
                 raise self.error(b.line, w.col, f"the lead {a}{w.raw} must not be zero when G33 is selected")
+            if w.value < MIN_LEAD:
+                raise self.error(b.line, w.col, f"the lead {a}{w.raw} is below the programming resolution, "
+                                 f"{MIN_LEAD} mm per revolution")
             self.lead = (w.value, LEADS[a])
         if self.lead is None:
             col = b.words[0].col if b.words else 1
@@ -388,11 +414,13 @@ class Isg(ModalMachine):
         if not values:
             return  # G33 (and the lead) selected, no motion in this block
         end = self.target(values)
+        self.check_position(b.line, end, cols)
         lead, axis = self.lead
         self.synced(src, end, lead, axis, self.offset)
 
     # -- circles ---------------------------------------------------------------------------------
-    def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float]) -> None:
+    def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float],
+               cols: dict[int, int]) -> None:
         a, c, normal = PLANE_AXES[self.plane]
         names = {0: "I", 1: "J", 2: "K"}
         if not any(names[i] in words for i in (a, c)):
@@ -406,6 +434,7 @@ class Isg(ModalMachine):
                 # I/J/K are increments from the start; I is a radius even in diameter mode
                 centre[i] = self.pos[i] + w.value * (2.0 if (i == 0 and self.diameter) else 1.0)
         end = self.target(values)
+        self.check_position(b.line, end, cols)
         self.arc(src, end, (centre[0], centre[1], centre[2]), self.motion == 2)
 
     def error(self, line: int, col: int, message: str) -> CutsimError:

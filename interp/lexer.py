@@ -1,17 +1,91 @@
-"""Pieces every dialect's block scanner uses: numbers with their written form, words, blocks."""
+"""Pieces every dialect's block scanner uses: numbers with their written form, words, blocks, and
+the limits every number and every program must stay within (docs/dialects/*.md, "Limits").
+
+Numbers are read from ASCII digits only: Python's ``float()`` and ``int()`` also accept other
+scripts' digits (``'１32'`` is 132 to them), which no controller reads. Every number is checked
+where it is read: finite and within the range its address allows.
+"""
 from __future__ import annotations
 
+import math
 import re
+import unicodedata
 from dataclasses import dataclass, field
 
 from .errors import CutsimError
 
 # A number as controllers write it: sign, digits, optional point, optional digits (``3.``, ``.5``,
-# ``-00120.000``).  The Unicode minus sign appears in OCR'd manuals and is accepted.
-NUMBER = re.compile(r"[+\-\u2212]?(?:\d+\.?\d*|\.\d+)")
+# ``-00120.000``).  The Unicode minus sign appears in OCR'd manuals and is accepted.  ``[0-9]``,
+# not ``\d``: the latter matches every script's digits.
+NUMBER = re.compile(r"[+\-\u2212]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
+
+# -- limits (documented in docs/dialects/cnc8x6.md and isg.md) ---------------------------------------
+COORD_LIMIT = 99_999.9999  # |coordinate|, offsets, lengths, leads and feeds (mm, mm/rev, mm/min)
+SPEED_LIMIT = 99_999.0  # spindle speed S (rpm)
+CODE_LIMIT = 99_999_999  # whole-number words: block numbers, G/M codes, tools, offsets, repeat counts
+NUMBER_LIMIT = 99_999_999.9999  # any number at all (the widest range of any address)
 
 
-@dataclass(frozen=True)
+def is_digit(c: str) -> bool:
+    """An ASCII digit 0-9 (``str.isdigit`` is true for every script's digits)."""
+    return "0" <= c <= "9"
+
+
+def digits_end(text: str, i: int) -> int:
+    """The index after the run of ASCII digits starting at ``i``."""
+    n = len(text)
+    while i < n and "0" <= text[i] <= "9":
+        i += 1
+    return i
+
+
+def foreign_digit(program: str, line: int, text: str, i: int) -> None:
+    """Refuse a digit of another script (fullwidth ``１``, Arabic-Indic ``١``, superscript ``²``) at
+    ``text[i]``: it looks like a number but is not one to a controller."""
+    if i < len(text):
+        c = text[i]
+        if not is_digit(c) and (c.isdigit() or unicodedata.numeric(c, None) is not None):
+            name = unicodedata.name(c, f"U+{ord(c):04X}")
+            raise CutsimError(program, line, i + 1, f"'{c}' ({name}) is not a digit a controller reads: "
+                              "write numbers with the ASCII digits 0-9")
+
+
+def _show(raw: str) -> str:
+    """A number as written, shortened for a message when it is very long."""
+    return raw if len(raw) <= 24 else f"{raw[:12]}...{raw[-6:]} ({len(raw)} characters)"
+
+
+def fmt_limit(v: float) -> str:
+    """99999.9999 -> '99 999.9999' (thin groups as in the docs)."""
+    whole, _, frac = f"{v:.4f}".rstrip("0").rstrip(".").partition(".")
+    sign = "-" if whole.startswith("-") else ""
+    whole = whole.lstrip("-")
+    groups = []
+    while len(whole) > 3:
+        groups.insert(0, whole[-3:])
+        whole = whole[:-3]
+    groups.insert(0, whole)
+    return sign + " ".join(groups) + ("." + frac if frac else "")
+
+
+def out_of_range(program: str, line: int, col: int, word: str, lo: float, hi: float, unit: str = "") -> CutsimError:
+    """The one message for a value beyond its permitted range (the controllers' "value exceeds
+    permitted range")."""
+    u = f" {unit}" if unit else ""
+    return CutsimError(program, line, col, f"{_show(word)}: value exceeds the permitted range "
+                       f"{fmt_limit(lo)} to {fmt_limit(hi)}{u}")
+
+
+def check_range(program: str, line: int, col: int, word: str, value: float, lo: float, hi: float,
+                unit: str = "") -> float:
+    """``value`` (written as ``word``, e.g. ``X1e9`` or ``FR10``) if finite and within [lo, hi];
+    else an error at ``col``."""
+    if not (math.isfinite(value) and lo <= value <= hi):
+        raise out_of_range(program, line, col, word, lo, hi, unit)
+    return value
+
+
+@dataclass(frozen=True, slots=True)
 class Word:
     """One address word. ``value`` is the number, ``param`` the R parameter it reads (``FR10``),
     ``raw`` the text as written (needed for rules like "E needs a decimal point")."""
@@ -23,11 +97,11 @@ class Word:
     param: int | None = None
 
 
-@dataclass
+@dataclass(slots=True)
 class Block:
     line: int
     col: int
-    text: str
+    text: str = ""  # not kept by the scanners (a copy of every line costs memory and is never read)
     label: str = ""  # N word as written, e.g. "N330"
     words: list[Word] = field(default_factory=list)
     assigns: list[tuple[int, float, int]] = field(default_factory=list)  # (R number, value, col)
@@ -41,34 +115,54 @@ class Block:
         return [w for w in self.words if w.letter == letter]
 
 
-def parse_number(program: str, line: int, text: str, i: int, what: str) -> tuple[float, str, int]:
+def parse_number(program: str, line: int, text: str, i: int, what: str,
+                 limit: float = NUMBER_LIMIT, unit: str = "") -> tuple[float, str, int]:
     """Read a number at ``text[i:]``; return (value, raw, next index). A number glued to another
-    point or digit run (``1.2.3``) is malformed."""
+    point or digit run (``1.2.3``) is malformed; a digit of another script is refused; a value
+    beyond ``limit`` in magnitude (default: the widest any address allows) is an error naming
+    ``what`` and the number at its column."""
     m = NUMBER.match(text, i)
     if not m:
+        j = i + 1 if i < len(text) and text[i] in "+-\u2212" else i
+        foreign_digit(program, line, text, j)
         raise CutsimError(program, line, i + 1, f"malformed number after {what}")
     raw = m.group(0)
     j = m.end()
-    if j < len(text) and (text[j] == "." or text[j].isdigit()):
+    foreign_digit(program, line, text, j)
+    if j < len(text) and (text[j] == "." or is_digit(text[j])):
         bad = re.match(r"[\w.+\-]*", text[i:]).group(0)
-        raise CutsimError(program, line, i + 1, f"malformed number '{bad}' after {what}")
-    return float(raw.replace("\u2212", "-")), raw, j
+        raise CutsimError(program, line, i + 1, f"malformed number '{_show(bad)}' after {what}")
+    value = float(raw.replace("\u2212", "-"))
+    check_range(program, line, i + 1, what + raw, value, -limit, limit, unit)
+    return value, raw, j
+
+
+def read_whole(program: str, line: int, text: str, i: int, what: str, limit: int = CODE_LIMIT) -> tuple[int, int]:
+    """An unsigned whole number of ASCII digits at ``text[i:]`` (a parameter or block number):
+    (value, next index). Refuses foreign digits and values above ``limit`` (checked on the digit
+    count first, so no huge integer is ever built)."""
+    j = digits_end(text, i)
+    foreign_digit(program, line, text, j)
+    digits = text[i:j].lstrip("0")
+    if len(digits) > len(str(limit)) or (digits and int(digits) > limit):
+        raise out_of_range(program, line, i, what + text[i:j], 0, limit)
+    return (int(digits) if digits else 0), j
 
 
 def block_number(program: str, line: int, text: str, i: int, block: Block, must_open: bool) -> int:
     """Read the block number after the ``N`` at ``text[i - 1]`` into ``block.label`` (``"N330"``);
     return the index after its digits. ``must_open``: N must be the first word of the block
-    (CNC8x6); otherwise it may stand anywhere, once (ISG)."""
+    (CNC8x6); otherwise it may stand anywhere, once (ISG). Block numbers are 0..99 999 999."""
     col = i
-    j = i
-    while j < len(text) and text[j].isdigit():
-        j += 1
+    j = digits_end(text, i)
     if j == i:
+        foreign_digit(program, line, text, i)
         raise CutsimError(program, line, col, "N must be followed by a block number")
     if must_open and (block.label or block.words or block.assigns):
         raise CutsimError(program, line, col, "the block number N must open the block")
     if block.label:
         raise CutsimError(program, line, col, "two block numbers N in one block")
+    read_whole(program, line, text, i, "N")
     block.label = "N" + text[i:j]
     return j
 
@@ -76,3 +170,34 @@ def block_number(program: str, line: int, text: str, i: int, block: Block, must_
 def split_lines(text: str) -> list[str]:
     """Program lines without their line ends (CR LF, LF or CR)."""
     return text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+
+
+_EOL = re.compile(r"\r\n|\r|\n")
+
+
+def iter_lines(text: str):
+    """(line number, line) without building a list of all lines: memory stays flat in the length
+    of the program. The same lines as ``split_lines``."""
+    lineno, i = 0, 0
+    for m in _EOL.finditer(text):
+        lineno += 1
+        yield lineno, text[i:m.start()]
+        i = m.end()
+    yield lineno + 1, text[i:]
+
+
+def check_length(program: str, text: str, max_blocks: int, is_block) -> None:
+    """Refuse, before anything is scanned, a program with more than ``max_blocks`` blocks (a program
+    that is simply too long, not one that loops): the error names the line of the first block
+    over the limit. ``is_block(line)`` says whether a line is a block. A cheap count of line ends
+    decides first whether the lines need looking at."""
+    if text.count("\n") + text.count("\r") < max_blocks:
+        return
+    count = 0
+    for lineno, line in iter_lines(text):
+        if is_block(line):
+            count += 1
+            if count > max_blocks:
+                raise CutsimError(program, lineno, 1, f"the program is longer than the limit of {max_blocks:,} "
+                                  "blocks set by [simulation] max_blocks (refused before it runs; raise the "
+                                  "setting for a longer program)")

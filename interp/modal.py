@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from . import canon
 from .canon import Src, Vec3
 from .errors import CutsimError
+from .lexer import COORD_LIMIT, fmt_limit
 
 AXES = ("X", "Y", "Z")
 PLANES = {17: "XY", 18: "ZX", 19: "YZ"}
@@ -57,6 +58,23 @@ class ModalMachine:
 
     def warn(self, src: Src, message: str) -> None:
         self.program.warnings.append((src, message))
+
+    def whole(self, line: int, w, what: str) -> int:
+        """The value of word ``w`` as a whole number of 0 or more (a tool or offset number); an
+        error at its column otherwise. The value is finite (the lexer checked its range)."""
+        if w.value != int(w.value) or w.value < 0:
+            raise self.error(line, w.col, f"{what} {w.letter}{w.raw} must be a whole number, 0 or more")
+        return int(w.value)
+
+    def check_position(self, line: int, end, cols: dict[int, int] | None = None, limit: float = COORD_LIMIT) -> None:
+        """Every axis of ``end`` (program values) within +-``limit`` (docs/dialects/*.md, "Limits");
+        incremental moves, ramps and helices can pass it with words that are each in range. The
+        error is at the column of the axis word (``cols``: axis index -> column), else at 1."""
+        for i, v in enumerate(end):
+            if not (math.isfinite(v) and abs(v) <= limit):
+                col = (cols or {}).get(i, 1)
+                raise self.error(line, col, f"the {AXES[i]} position {v:.4f} exceeds the permitted range "
+                                 f"{fmt_limit(-limit)} to {fmt_limit(limit)} mm")
 
     def set_diameter(self, on: bool) -> None:
         """Switch X between diameter and radius values; the tool does not move."""

@@ -122,7 +122,7 @@ def test_limit_is_exact_and_refused_before_running():
 
 def test_program_end_inside_the_structure_stops_the_count():
     # M30 in the second block: the loop after it never runs, whatever its Q
-    text = "N10 G01 X1 F100\nN20 M30\nN30 G73 L10 Q999999999\n"
+    text = "N10 G01 X1 F100\nN20 M30\nN30 G73 L10 Q99999999\n"
     assert run(text, max_blocks=10).blocks == 2
 
 
