@@ -1,4 +1,5 @@
-"""Reports: report.json, mesh export, and (loaded only when asked) pyvista images."""
-from .report import build_report, write_outputs
+"""Reports: report.json, mesh export, the output transaction, and (loaded only when asked) pyvista images."""
+from .output import write_outputs
+from .report import build_report
 
 __all__ = ["build_report", "write_outputs"]

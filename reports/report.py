@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 
 import numpy as np
 
@@ -83,32 +82,6 @@ def stl_bytes(verts: np.ndarray, faces: np.ndarray) -> bytes:
     rec["v"] = tri
     header = b"cutsim binary STL".ljust(80, b"\0")
     return header + np.uint32(len(faces)).astype("<u4").tobytes() + rec.tobytes()
-
-
-def write_outputs(out_dir: str, files: dict[str, bytes]) -> None:
-    """Write ``files`` (name -> bytes) into ``out_dir`` atomically as a set."""
-    os.makedirs(out_dir, exist_ok=True)
-    tmp = []
-    try:
-        for name, data in files.items():
-            fd, path = tempfile.mkstemp(prefix=f".{name}.", dir=out_dir)
-            with os.fdopen(fd, "wb") as f:
-                f.write(data)
-            os.chmod(path, 0o666 & ~_umask())
-            tmp.append((path, os.path.join(out_dir, name)))
-        for path, final in tmp:
-            os.replace(path, final)
-    except BaseException:
-        for path, _ in tmp:
-            if os.path.exists(path):
-                os.unlink(path)
-        raise
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def report_bytes(report: dict) -> bytes:
