@@ -110,12 +110,41 @@ class Result:
         return evaluate(make_check_spec(self, spec), self)
 
 
+MAX_PROGRAM_BYTES = 64 * 1024 * 1024  # a program file over 64 MiB is refused (README "Using it")
+
+
 def read_program(path: str) -> str:
+    """The text of the program file ``path``: UTF-8 (with or without BOM), else Windows-1250.
+    Only regular files of at most MAX_PROGRAM_BYTES are read (a directory, a device such as
+    /dev/zero or a named pipe is refused); every failure is a CutsimError ``PATH:0:0``."""
+    import stat
+
+    def error(text):
+        return CutsimError(path, 0, 0, f"cannot read the program: {text}")
+
     try:
-        with open(path, "rb") as f:
-            raw = f.read()
+        # O_NONBLOCK: opening a named pipe must not wait for a writer (regular files ignore it)
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except OSError as e:
-        raise CutsimError(path, 0, 0, f"cannot read the program: {e.strerror}") from None
+        raise error(e.strerror) from None
+    except ValueError:  # a NUL byte in the name
+        raise error("the file name contains a NUL byte") from None
+    try:
+        st = os.fstat(fd)
+        if stat.S_ISDIR(st.st_mode):
+            raise error("it is a directory")
+        if not stat.S_ISREG(st.st_mode):
+            raise error("not a regular file (a device, pipe or socket)")
+        if st.st_size > MAX_PROGRAM_BYTES:
+            raise error(f"the file is larger than {MAX_PROGRAM_BYTES >> 20} MiB")
+        with os.fdopen(os.dup(fd), "rb") as f:
+            raw = f.read(MAX_PROGRAM_BYTES + 1)
+    except OSError as e:
+        raise error(e.strerror) from None
+    finally:
+        os.close(fd)
+    if len(raw) > MAX_PROGRAM_BYTES:  # grew while being read
+        raise error(f"the file is larger than {MAX_PROGRAM_BYTES >> 20} MiB")
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
