@@ -52,6 +52,7 @@ import numpy as np
 from cutsim.kinematics.paths import ArcGeom, SpatialPath, segment_angle
 
 from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES
+from .tools import positive
 
 MILL_KINDS = ("endmill", "ballmill", "bullnose")
 DELTA_SAMPLES = 257  # grid of polar offsets for the numeric lower profile (then refined)
@@ -324,7 +325,7 @@ def warp_piece(h: Helix, poly: np.ndarray, u_a: float, M: int, scale: float, pc:
         v = -p[:, 1] if flip else p[:, 1]
         return np.column_stack([h.cx + rho * np.cos(psi), h.cy + rho * np.sin(psi), h.z(u_a + j * step) + v])
 
-    return solid.warp_batch(warp)
+    return positive(solid.warp_batch(warp), "a mill on a circle or helix")
 
 
 def end_hulls(tool, h: Helix, u0: float, u1: float, step: float, tol: float, cap: float) -> list[m3d.Manifold]:

@@ -67,8 +67,12 @@ def stadiums(pts: np.ndarray, r: float, tol: float, p1: np.ndarray | None = None
 
 
 def region(polys: list[np.ndarray]) -> m3d.CrossSection:
-    """Union of counter-clockwise polygons in one Clipper call."""
-    return m3d.CrossSection(polys, m3d.FillRule.Positive)
+    """Union of counter-clockwise polygons in one Clipper call (a clockwise one would count as a
+    hole under the Positive rule: the union of stadiums must have positive area)."""
+    reg = m3d.CrossSection(polys, m3d.FillRule.Positive)
+    if len(polys) and not reg.area() > 0:
+        raise RuntimeError("internal: the stadiums of a flat end mill's moves enclose no area")
+    return reg
 
 
 def prism(reg: m3d.CrossSection, z0: float, z1: float) -> m3d.Manifold:

@@ -216,11 +216,16 @@ def mill_body(tool: ToolSpec, tol: float, height: float | None = None) -> list[n
 
 @functools.lru_cache(maxsize=256)
 def checked_mill(tool: ToolSpec, tol: float) -> float:
-    """Volume of the whole fluted body's hull; a CutsimError at the tool's table when the tool is
-    out of range or the body (nearly) empty. Cached: hull sweeps ask for every pose."""
-    check_tool(tool)
+    """Volume of the whole fluted body's hull; a CutsimError at the tool's table when a size is not
+    finite or too large, or the body is (nearly) empty. Cached: hull sweeps ask for every pose.
+    (Not the lower ends of the ranges: the collision checks sweep the tool shrunk by a few
+    tolerances, which may take a tool at the smallest size below it.)"""
     if tool.kind not in MILL_KINDS and tool.kind != "bullnose":
         raise tool_error(tool, f"a {tool.kind} tool is not a mill")
+    for key in ("diameter", "length", "corner_radius"):
+        v = getattr(tool, key)
+        if not (math.isfinite(v) and 0 <= v <= SIZE_MAX):
+            raise tool_error(tool, f"{key} must be between {SIZE_MIN:g} and {SIZE_MAX:g} mm (got {v!r})")
     hull = m3d.Manifold.hull_points(_mill_cloud(tool, tol, None))
     vol, area = hull.volume(), hull.surface_area()
     if not (vol > 0 and area > 0 and 3.0 * vol / area >= MIN_WIDTH):

@@ -28,6 +28,7 @@ import numpy as np
 from cutsim.kinematics.paths import segment_angle
 
 from .specs import ToolSpec
+from .tools import positive
 
 TUBE_MIN_SEGMENTS = 3  # shorter stretches are cheaper as hulls
 MAX_SLOPE = 0.95  # |sin| of a segment's slope; steeper segments (plunges) are hulled
@@ -208,7 +209,7 @@ def tube(pts: np.ndarray, tool: ToolSpec, tol: float, z_top: float) -> m3d.Manif
         _, b, scale = _frames(pts, e)
         side = np.tile([-e[1], e[0], 0.0], (m, 1))
         down = (b[:, 1:2] * np.append(e, 0.0) - b[:, 0:1] * np.array([0.0, 0.0, 1.0])) * scale[:, None]
-    return _warped(pts + np.array([0.0, 0.0, r]), side, down, r, tol, z_top)
+    return positive(_warped(pts + np.array([0.0, 0.0, r]), side, down, r, tol, z_top), "a ball-end mill")
 
 
 def _warped(centre: np.ndarray, side: np.ndarray, down: np.ndarray, r: float, tol: float,
