@@ -189,7 +189,7 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
     start = setup.machine.start if setup.machine.start is not None else default_start(setup, stock)
     prog = interpret(program, text, interp_config(setup, start))
     pl = make_plan(prog, setup.machine, setup.tools, tol)
-    removal = remove(stock, setup.stock, pl.paths, tol, progress)
+    removal = remove(stock, setup.stock, pl.paths, tol, progress, max_triangles=setup.max_triangles)
     part = removal.part
     warnings = sorted(prog.warnings + pl.warnings + removal.warnings, key=lambda w: (w[0].line, w[0].col))
     report = build_report(program=os.path.basename(program), dialect=setup.machine.dialect, machine=setup.machine,

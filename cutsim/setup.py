@@ -5,15 +5,18 @@ the key.
 """
 from __future__ import annotations
 
+import bisect
 import math
 import os
 import re
+import stat
 import tomllib
 from dataclasses import dataclass, field
 
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.modal import MAX_BLOCKS
 from cutsim.kinematics.machine import MachineSpec
+from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
 from cutsim.stock.specs import StockSpec, ToolSpec
 
 KINDS = ("lathe", "mill")
@@ -57,6 +60,32 @@ class Setup:
     fail_on_warning: bool = False
     checks: list[dict] = field(default_factory=list)
     max_blocks: int = MAX_BLOCKS
+    max_triangles: int = DEFAULT_MAX_TRIANGLES
+    stock_where: tuple[int, int] = (0, 0)  # line, column of the key that sizes the stock (errors of build_stock)
+
+
+# Ranges of the setup's numbers (docs/setup.md). Coordinates and sizes in mm.
+COORD_MAX = 100_000.0  # |coordinate| of the stock, the start position, profile points
+MIN_SIZE = 0.001  # smallest stock size (diameter, extent along an axis)
+RATE_MAX = 1_000_000.0  # mm/min: rapid and default feed
+VALUE_MAX = 1e12  # |R parameter| and |machine constant|
+MAX_BLOCKS_LIMIT = 1_000_000_000
+MAX_TRIANGLES_RANGE = (1_000, 2_000_000_000)
+MAX_SETUP_BYTES = 16 * 1024 * 1024
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _coord(v) -> bool:
+    return _number(v) and abs(v) <= COORD_MAX
+
+
+def _show(v) -> str:
+    """A value for a message, cut short (a hostile setup can hold huge arrays)."""
+    text = repr(v)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 class _Reader:
@@ -97,18 +126,27 @@ class _Reader:
         v = self.get(key, list, default)
         if v is default:
             return v
-        if len(v) != 2 or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v):
-            raise self.fail(key, f"must be two numbers [low, high], not {v!r}")
+        if len(v) != 2 or not all(_number(c) for c in v):
+            raise self.fail(key, f"must be two finite numbers [low, high], not {v!r}")
+        if not all(_coord(c) for c in v):
+            raise self.fail(key, f"must lie within -{COORD_MAX:g} to {COORD_MAX:g} mm, not {v!r}")
         if increasing and not v[0] < v[1]:
             raise self.fail(key, f"must be [low, high] with low < high, not {v!r}")
         return (float(v[0]), float(v[1]))
 
-    def points(self, key: str, minimum: int = 3):
+    def points(self, key: str, minimum: int = 3, maximum: int = 100_000):
         v = self.get(key, list)
-        if len(v) < minimum or not all(isinstance(p, list) and len(p) == 2 and
-                                       all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in p) for p in v):
-            raise self.fail(key, f"must be a list of at least {minimum} [a, b] number pairs")
+        if not minimum <= len(v) <= maximum or not all(isinstance(p, list) and len(p) == 2 and
+                                                       all(_number(c) for c in p) for p in v):
+            raise self.fail(key, f"must be a list of {minimum} to {maximum} [a, b] pairs of finite numbers")
+        if not all(_coord(c) for p in v for c in p):
+            raise self.fail(key, f"coordinates must lie within -{COORD_MAX:g} to {COORD_MAX:g} mm")
         return tuple((float(p[0]), float(p[1])) for p in v)
+
+    def size(self, key: str, lo: float, hi: float) -> None:
+        """A stock size from ``lo`` to ``hi`` must be at least MIN_SIZE."""
+        if hi - lo < MIN_SIZE:
+            raise self.fail(key, f"the stock must be at least {MIN_SIZE:g} mm thick (got {hi - lo:g})")
 
     def done(self) -> None:
         for key in self.table:
@@ -119,36 +157,44 @@ class _Reader:
 class _Loader:
     def __init__(self, path: str, text: str):
         self.path = path
+        self.text = text
         self.lines = text.splitlines()
 
+        self._positions: dict[tuple, tuple[int, int]] | None = None
+
     def locate(self, table: str, key: str | None, index: int | None) -> tuple[int, int]:
-        """Line and column of ``key`` in ``[table]`` (or its ``index``-th ``[[table]]``); the
-        table header when the key is absent; 1:1 when the table is absent."""
-        cur, count, header = None, -1, None
-        hdr = re.compile(r"^\s*(\[\[?)\s*([^\]]+?)\s*\]\]?")
-        keyre = re.compile(r"^\s*(\"?)([A-Za-z0-9_\-]+)\1\s*=")
-        for n, line in enumerate(self.lines, start=1):
-            m = hdr.match(line)
-            if m:
-                cur = m.group(2)
-                if cur == table:
-                    count += 1
-                    if index is None or count == index:
-                        header = header or n
-                continue
-            if cur == table and (index is None or count == index):
-                k = keyre.match(line)
-                if k and k.group(2) == key:
-                    return n, line.index(key) + 1
-        return (header, 1) if header else (1, 1)
+        """Line and column of ``key`` in ``[table]`` (or its ``index``-th ``[[table]]``), however
+        it is written (a table header, dotted keys, an inline table, an array of inline tables);
+        the table when the key is absent; 1:1 when the table is absent too."""
+        if self._positions is None:
+            self._positions = _key_positions(self.text)
+        path = tuple(table.split(".")) + ((index,) if index is not None else ())
+        if key is not None and path + (key,) in self._positions:
+            return self._positions[path + (key,)]
+        while path:
+            if path in self._positions:
+                return self._positions[path]
+            path = path[:-1]
+        return (1, 1)
 
     def load(self, data: dict) -> Setup:
         for top in data:
             if top not in ("machine", "parameters", "stock", "tool", "simulation", "check"):
                 line, col = self.locate(top, None, None)
                 raise CutsimError(self.path, line, col, f"unknown table [{top}]")
+        for top in ("machine", "parameters", "stock", "simulation"):
+            if top in data and not isinstance(data[top], dict):
+                raise CutsimError(self.path, *self.locate(top, None, None),
+                                  f"[{top}] must be a table, not {_show(data[top])}")
+        for top in ("tool", "check"):
+            if top in data and isinstance(data[top], list):
+                for i, t in enumerate(data[top]):
+                    if not isinstance(t, dict):
+                        raise CutsimError(self.path, *self.locate(top, None, i),
+                                          f"[[{top}]] #{i + 1} must be a table, not {_show(t)}")
         if "machine" not in data:
             raise CutsimError(self.path, 1, 1, "the setup needs a [machine] table")
+        sim = self.simulation(data.get("simulation"))
         m = _Reader(self, data["machine"], "machine")
         kind = m.get("kind", str, check=lambda v: v in KINDS, why=f"must be one of {', '.join(KINDS)}")
         dialect = m.get("dialect", str, check=lambda v: v in DIALECTS, why=f"must be one of {', '.join(DIALECTS)}")
@@ -156,18 +202,22 @@ class _Loader:
         m03 = m.get("m03", str, "positive", check=lambda v: v in ("positive", "negative"), why="must be positive or negative")
         start = m.get("start", list, None)
         if start is not None:
-            if len(start) != 3 or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in start):
-                raise m.fail("start", "must be three numbers [x, y, z]")
+            if len(start) != 3 or not all(_number(c) for c in start):
+                raise m.fail("start", f"must be three finite numbers [x, y, z], not {_show(start)}")
+            if not all(_coord(c) for c in start):
+                raise m.fail("start", f"must lie within -{COORD_MAX:g} to {COORD_MAX:g}, not {_show(start)}")
             start = tuple(float(c) for c in start)
-        rapid = m.get("rapid", float, 10000.0, check=lambda v: v > 0, why="must be positive (mm/min)")
-        feed = m.get("feed", float, 100.0, check=lambda v: v > 0, why="must be positive (mm/min)")
+        rate = dict(check=lambda v: 0 < v <= RATE_MAX, why=f"must be more than 0 and at most {RATE_MAX:g} mm/min")
+        rapid = m.get("rapid", float, 10000.0, **rate)
+        feed = m.get("feed", float, 100.0, **rate)
         constants = {}
         consts = m.get("constants", dict, {})
         for k, v in consts.items():
-            if not re.fullmatch(r"\d+", k):
-                raise _Reader(self, consts, "machine.constants").fail(k, "constant names are numbers")
+            if not re.fullmatch(r"\d{1,6}", k):
+                raise _Reader(self, consts, "machine.constants").fail(k, "constant names are numbers (0 to 999999)")
             c = _Reader(self, consts, "machine.constants")
-            constants[int(k)] = c.get(k, float)
+            constants[int(k)] = c.get(k, float, check=lambda v: abs(v) <= VALUE_MAX,
+                                      why=f"must lie within -{VALUE_MAX:g} to {VALUE_MAX:g}")
         m.done()
         machine = MachineSpec(kind, dialect, diam, m03, start, rapid, feed)
 
@@ -177,11 +227,12 @@ class _Loader:
             for k in data["parameters"]:
                 if not re.fullmatch(r"R\d{1,3}", k):
                     raise p.fail(k, "parameter names are R followed by a number (R04)")
-                params[int(k[1:])] = p.get(k, float)
+                params[int(k[1:])] = p.get(k, float, check=lambda v: abs(v) <= VALUE_MAX,
+                                           why=f"must lie within -{VALUE_MAX:g} to {VALUE_MAX:g}")
 
         if "stock" not in data:
             raise CutsimError(self.path, 1, 1, "the setup needs a [stock] table")
-        stock = self.stock(_Reader(self, data["stock"], "stock"))
+        stock, stock_where = self.stock(_Reader(self, data["stock"], "stock"), sim)
 
         tools = []
         raw_tools = data.get("tool", [])
@@ -201,13 +252,7 @@ class _Loader:
                 i = tools.index(t)
                 raise _Reader(self, raw_tools[i], "tool", i).fail("kind", f"a {t.kind} tool does not fit a {kind}")
 
-        tol, fow, max_blocks = 0.002, False, MAX_BLOCKS
-        if "simulation" in data:
-            s = _Reader(self, data["simulation"], "simulation")
-            tol = s.get("tolerance", float, 0.002, check=lambda v: 1e-5 <= v <= 1.0, why="must be between 0.00001 and 1 mm")
-            fow = s.get("fail_on_warning", bool, False)
-            max_blocks = s.get("max_blocks", int, MAX_BLOCKS, check=lambda v: v >= 1, why="must be at least 1")
-            s.done()
+        tol, fow, max_blocks, max_triangles = sim
         raw_checks = data.get("check", [])
         if not isinstance(raw_checks, list):
             raise CutsimError(self.path, *self.locate("check", None, None), "checks are written [[check]] (an array of tables)")
@@ -216,7 +261,24 @@ class _Loader:
         for i, c in enumerate(checks):
             if names.index(c["name"]) != i:
                 raise _Reader(self, raw_checks[i], "check", i).fail("name", f"{c['name']!r} names two checks")
-        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks, max_blocks)
+        return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks, max_blocks,
+                     max_triangles, stock_where)
+
+    def simulation(self, table: dict | None) -> tuple[float, bool, int, int]:
+        """[simulation]: tolerance, fail_on_warning, max_blocks, max_triangles (read first: the
+        stock is checked against the tolerance and the triangle limit)."""
+        if table is None:
+            return 0.002, False, MAX_BLOCKS, DEFAULT_MAX_TRIANGLES
+        s = _Reader(self, table, "simulation")
+        tol = s.get("tolerance", float, 0.002, check=lambda v: 1e-5 <= v <= 1.0, why="must be between 0.00001 and 1 mm")
+        fow = s.get("fail_on_warning", bool, False)
+        max_blocks = s.get("max_blocks", int, MAX_BLOCKS, check=lambda v: 1 <= v <= MAX_BLOCKS_LIMIT,
+                           why=f"must be at least 1 and at most {MAX_BLOCKS_LIMIT:,}")
+        lo, hi = MAX_TRIANGLES_RANGE
+        max_tri = s.get("max_triangles", int, DEFAULT_MAX_TRIANGLES, check=lambda v: lo <= v <= hi,
+                        why=f"must be a whole number from {lo:,} to {hi:,}")
+        s.done()
+        return tol, fow, max_blocks, max_tri
 
     def check(self, c: _Reader, i: int, machine_kind: str) -> dict:
         """One [[check]] table as a plain dict (see docs/checks.md); keys by kind in CHECK_KEYS."""
@@ -319,21 +381,37 @@ class _Loader:
         c.done()
         return spec
 
-    def stock(self, s: _Reader) -> StockSpec:
+    def stock(self, s: _Reader, sim: tuple) -> tuple[StockSpec, tuple[int, int]]:
+        """The [stock] table and where its size is written (the line build_stock's errors name).
+        Ranges: coordinates within COORD_MAX, sizes at least MIN_SIZE, and the solid at the
+        setup's tolerance within [simulation] max_triangles."""
+        from cutsim.kinematics.paths import circle_segments
+        from cutsim.stock.build import load_mesh_stock
+
+        tol, max_tri = sim[0], sim[3]
         shape = s.get("shape", str, check=lambda v: v in ("cylinder", "revolve", "box", "mesh"),
                       why="must be cylinder, revolve, box or mesh")
+        key = {"cylinder": "diameter", "revolve": "profile", "box": "x", "mesh": "path"}[shape]
         if shape == "cylinder":
-            d = s.get("diameter", float, check=lambda v: v > 0, why="must be positive")
-            spec = StockSpec(shape, diameter=d, z=s.pair("z"))
+            d = s.get("diameter", float, check=lambda v: MIN_SIZE <= v <= 2 * COORD_MAX,
+                      why=f"must be from {MIN_SIZE:g} to {2 * COORD_MAX:g} mm")
+            z = s.pair("z")
+            s.size("z", *z)
+            spec = StockSpec(shape, diameter=d, z=z)
         elif shape == "revolve":
             prof = s.points("profile")
             if any(r < 0 for r, _ in prof):
                 raise s.fail("profile", "radii must not be negative")
             if _area(prof) == 0:
                 raise s.fail("profile", "the outline encloses no area")
+            if max(r for r, _ in prof) < MIN_SIZE or max(z for _, z in prof) - min(z for _, z in prof) < MIN_SIZE:
+                raise s.fail("profile", f"the stock must be at least {MIN_SIZE:g} mm in radius and in height")
             spec = StockSpec(shape, profile=prof)
         elif shape == "box":
-            spec = StockSpec(shape, x=s.pair("x"), y=s.pair("y"), z=s.pair("z"))
+            box = {a: s.pair(a) for a in ("x", "y", "z")}
+            for a, (lo, hi) in box.items():
+                s.size(a, lo, hi)
+            spec = StockSpec(shape, **box)
         else:
             rel = s.get("path", str)
             path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(self.path)), rel))
@@ -341,7 +419,17 @@ class _Loader:
                 raise s.fail("path", f"no such file: {path}")
             spec = StockSpec(shape, path=path)
         s.done()
-        return spec
+        where = self.locate("stock", key, None)
+        if shape == "mesh":  # read and checked now, so its errors name the path key's line (cached)
+            load_mesh_stock(spec.path, self.path, where=where, max_triangles=max_tri, max_coord=COORD_MAX,
+                            min_size=MIN_SIZE)
+        elif shape in ("cylinder", "revolve"):
+            outline = 4 if shape == "cylinder" else len(spec.profile)
+            tris = 2 * outline * circle_segments(spec.bounds()[1][0], tol)
+            if tris > max_tri:
+                raise s.fail(key, f"at the tolerance {tol:g} mm the stock would have about {tris:,} triangles, "
+                                  f"more than [simulation] max_triangles = {max_tri:,}")
+        return spec, where
 
     def tool(self, t: _Reader, i: int) -> ToolSpec:
         number = t.get("number", int, i + 1, check=lambda v: v >= 0, why="must not be negative")
@@ -384,17 +472,173 @@ def _area(pts) -> float:
     return 0.5 * abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1])))
 
 
+_BARE_KEY = re.compile(r"[A-Za-z0-9_\-]+")
+_SCALAR = re.compile(r"[^,\]\}\r\n#]*")
+
+
+def _key_positions(text: str) -> dict[tuple, tuple[int, int]]:
+    """(line, column) of every key of a TOML text that tomllib accepted, by its full path: table
+    names and keys as strings, the n-th ``[[table]]`` or array element as the integer n. Header
+    tables map to their header line; dotted keys and inline tables to the key itself; array
+    elements to the element's first character."""
+    starts = [0] + [m.end() for m in re.finditer("\n", text)]
+    n = len(text)
+    pos: dict[tuple, tuple[int, int]] = {}
+
+    def lc(i: int) -> tuple[int, int]:
+        row = bisect.bisect_right(starts, i) - 1
+        return row + 1, i - starts[row] + 1
+
+    def ws(i: int, newlines: bool = False) -> int:
+        while i < n:
+            c = text[i]
+            if c in " \t\r" or newlines and c == "\n":
+                i += 1
+            elif newlines and c == "#":
+                while i < n and text[i] != "\n":
+                    i += 1
+            else:
+                break
+        return i
+
+    def string_end(i: int) -> int:
+        q = text[i]
+        if text.startswith(q * 3, i):
+            j = text.find(q * 3, i + 3)
+            if j < 0:
+                return n
+            while j + 3 < n and text[j + 3] == q:  # up to two quotes just before the closing ones
+                j += 1
+            return j + 3
+        j = i + 1
+        while j < n and text[j] != q and text[j] != "\n":
+            j += 2 if q == '"' and text[j] == "\\" else 1
+        return j + 1
+
+    def key(i: int):
+        parts, at = [], []
+        while i < n:
+            i = ws(i)
+            at.append(i)
+            if i < n and text[i] in "\"'":
+                j = string_end(i)
+                parts.append(tomllib.loads("k = " + text[i:j])["k"])
+                i = j
+            else:
+                m = _BARE_KEY.match(text, i)
+                if not m:
+                    break
+                parts.append(m.group())
+                i = m.end()
+            i = ws(i)
+            if i < n and text[i] == ".":
+                i += 1
+                continue
+            break
+        return parts, at, i
+
+    def value(i: int, path: tuple) -> int:
+        c = text[i] if i < n else ""
+        if c in ("\"", "'"):
+            return string_end(i)
+        if c in ("[", "{"):
+            close, k = ("]" if c == "[" else "}"), 0
+            i += 1
+            while True:
+                i = ws(i, True)
+                if i >= n or text[i] == close:
+                    return i + 1
+                if c == "[":
+                    pos.setdefault(path + (k,), lc(i))
+                    i = value(i, path + (k,))
+                    k += 1
+                else:
+                    i = keyval(i, path)
+                i = ws(i, True)
+                if i < n and text[i] == ",":
+                    i += 1
+                elif i < n and text[i] != close:
+                    return i  # not TOML after all: give up on this value
+        return _SCALAR.match(text, i).end()
+
+    def keyval(i: int, path: tuple) -> int:
+        parts, at, i = key(i)
+        if not parts:
+            return i + 1
+        for d in range(len(parts)):
+            pos.setdefault(path + tuple(parts[:d + 1]), lc(at[d]))
+        i = ws(i)
+        if i < n and text[i] == "=":
+            i = ws(i + 1)
+        return value(i, path + tuple(parts))
+
+    table: tuple = ()
+    arrays: dict[tuple, int] = {}  # [[name]] -> index of its last element
+    headers: set[tuple] = set()
+    i = 0
+    while True:
+        i = ws(i, True)
+        if i >= n:
+            break
+        start = i
+        if text[i] == "[":
+            double = text.startswith("[[", i)
+            parts, _at, i = key(i + (2 if double else 1))
+            full: tuple = ()
+            for d, p in enumerate(parts):
+                full += (p,)
+                if d < len(parts) - 1 and full in arrays:
+                    full += (arrays[full],)
+            if double:
+                arrays[full] = arrays.get(full, -1) + 1
+                pos.setdefault(full, lc(start))
+                full += (arrays[full],)
+            if full not in headers:  # an explicit header names the table (not an earlier sub-table)
+                headers.add(full)
+                pos[full] = lc(start)
+            for d in range(1, len(full)):
+                pos.setdefault(full[:d], lc(start))
+            table = full
+            i = text.find("]", i)
+            i = i + (2 if double else 1) if i >= 0 else n
+        else:
+            i = keyval(i, table)
+        while i < n and text[i] != "\n":  # the rest of the line: spaces and a comment
+            if text[i] == "#":
+                i = text.find("\n", i)
+                i = n if i < 0 else i
+                break
+            i += 1
+    return pos
+
+
 def load_setup(path: str) -> Setup:
     """Read and validate a setup file. Raises CutsimError (exit status 2 in the CLI)."""
     try:
-        with open(path, "rb") as f:
-            raw = f.read()
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except (OSError, ValueError) as e:
+        raise CutsimError(path, 0, 0, f"cannot read the setup: {getattr(e, 'strerror', None) or e}") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise CutsimError(path, 0, 0, "cannot read the setup: not a regular file")
+        with os.fdopen(os.dup(fd), "rb") as f:
+            raw = f.read(MAX_SETUP_BYTES + 1)
     except OSError as e:
         raise CutsimError(path, 0, 0, f"cannot read the setup: {e.strerror}") from None
+    finally:
+        os.close(fd)
+    if len(raw) > MAX_SETUP_BYTES:
+        raise CutsimError(path, 0, 0, f"the setup is larger than {MAX_SETUP_BYTES >> 20} MiB")
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte order mark is accepted
     except UnicodeDecodeError as e:
-        raise CutsimError(path, 0, 0, f"the setup is not UTF-8 text (byte {e.start})") from None
+        ls = raw.rfind(b"\n", 0, e.start) + 1
+        head = raw[ls:e.start].decode("utf-8")
+        if ls == 0:
+            head = head.removeprefix("\ufeff")
+        raise CutsimError(path, raw.count(b"\n", 0, e.start) + 1, len(head) + 1,
+                          f"the setup is not UTF-8 text (byte 0x{raw[e.start]:02x} at offset {e.start})") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

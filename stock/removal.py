@@ -7,19 +7,21 @@ i.e. from the stock minus the earlier cuts that overlap it.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Callable
 
 import manifold3d as m3d
 import numpy as np
 
-from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments
+from cutsim.interp.errors import CutsimError
+from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
 
 from . import helix, mill
-from .build import stock_outline
+from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from .specs import StockSpec, ToolSpec
-from .sweeps import clipped_profile, planar_region, screw_sweep, spatial_hulls
-from .tools import lathe_body, lathe_profile
+from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, planar_region, screw_sweep, spatial_hulls
+from .tools import lathe_body, lathe_profile, mill_body
 
 # A collision smaller than this is numerical noise between two discretisations of one surface.
 MIN_COLLISION_VOLUME = 1e-3  # mm^3
@@ -64,7 +66,10 @@ def _overlap(lo1, hi1, lo2, hi2) -> bool:
 
 
 def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
-           progress: Progress | None = None) -> Removal:
+           progress: Progress | None = None, max_triangles: int = DEFAULT_MAX_TRIANGLES) -> Removal:
+    """The part: ``stock`` minus what every path sweeps. Before any sweep is built the triangles
+    the sweeps need are estimated (``Work``); more than ``max_triangles`` held at once is a
+    CutsimError at the line of the move responsible (``[simulation] max_triangles`` raises it)."""
     sb = stock.bounding_box()
     slo, shi = np.array(sb[:3]), np.array(sb[3:])
     rmax = float(max(np.hypot(slo[0], slo[1]), np.hypot(shi[0], shi[1]), np.hypot(slo[0], shi[1]),
@@ -90,6 +95,9 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
 
     def revolve(region: m3d.CrossSection) -> m3d.Manifold:
         return m3d.Manifold.revolve(region, circular_segments=nseg)
+
+    work = Work(max_triangles, stock.num_tri())
+    screw_parts = work.estimate(paths, tol, profile, outline, r_clip, margin, float(shi[2]))
 
     millb = mill.MillBatch(tol)
     cuts: list[_Cut] = []
@@ -140,7 +148,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
             flush()
         if isinstance(path, ScrewPath):
             solids, parts = [], []
-            for s0, s1, h in _screw_pieces(path, profile(path.tool), outline, r_clip, margin):
+            for s0, s1, h in screw_parts.pop(i):
                 prof = clipped_profile(profile(path.tool), h)
                 if not prof.is_empty():
                     solids.extend(screw_sweep(path, prof, tol, s0, s1))
@@ -191,6 +199,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
                                    _Cut(i, mill.check_solids(path, tol, cap), None, lo, hi), path))
     flush()
     for lv in millb.levels():
+        work.add(_prism_triangles(lv.region()), lv.src, "this Z level of the end mill")  # exact 2D union first
         solid = lv.solid()
         lo, hi = _bbox([solid])
         if _overlap(lo, hi, slo, shi):
@@ -223,7 +232,10 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     regions = [c.region for c in cuts if c.region is not None]
     part, pending, tris, count = stock, [], 0, 0
     if regions:
-        pending.append(revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))
+        union = m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)
+        first = min(c.index for c in cuts if c.region is not None)
+        work.add(2 * union.num_vert() * nseg, paths[first].src, "the turning moves (one solid of revolution)")
+        pending.append(revolve(union))
     for k, c in enumerate(cuts):
         if progress:
             progress("subtracting", k, len(cuts))
@@ -266,6 +278,10 @@ def _stock_rmax(outline: np.ndarray | None, zlo: float, zhi: float, default: flo
 
 
 def _screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, margin: float):
+    return list(_iter_screw_pieces(path, profile, outline, r_clip, margin))
+
+
+def _iter_screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, margin: float):
     """Split a screw path into pieces (s0, s1, clip height) such that each piece's profile is clipped
     where it leaves the stock *locally*: a tool point further out than the stock's largest radius
     over the heights the piece can reach never touches material, so the clip is exact. A taper
@@ -292,8 +308,9 @@ def _screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, 
 
     if outline is None or fits(0.0, 1.0) or path.revolutions <= 1.0:
         h = clip(0.0, 1.0)
-        return [(0.0, 1.0, h)] if h > 0 else []
-    pieces = []
+        if h > 0:
+            yield 0.0, 1.0, h
+        return
     step = 1.0 / path.revolutions  # one turn
     s0 = 0.0
     while s0 < 1.0 - 1e-12:
@@ -303,9 +320,8 @@ def _screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, 
                 s1 = min(1.0, s1 + step)
         h = clip(s0, s1)
         if h > 0:
-            pieces.append((s0, s1, h))
+            yield s0, s1, h
         s0 = s1
-    return pieces
 
 
 def drop_debris(part: m3d.Manifold) -> m3d.Manifold:
@@ -341,3 +357,173 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
     if prior:
         hit = m3d.Manifold.batch_boolean([hit] + prior, m3d.OpType.Subtract)
     return float(hit.volume())
+
+
+# -- work estimates --------------------------------------------------------------------------------
+# Measured peak memory of manifold3d sweeps and their subtract: about 600 bytes per triangle
+# (extrude + warp of a 4M-triangle screw sweep and its subtract from a bar: 2.3 GB).
+BYTES_PER_TRIANGLE = 600
+
+
+class Work:
+    """The triangles of the solids a run holds at once (the stock, every sweep kept for the batch
+    subtract, the largest batch of lazily swept mill moves), estimated before anything is swept.
+    More than ``limit`` is a CutsimError at the line of the move that goes over it."""
+
+    def __init__(self, limit: int, stock_triangles: int):
+        self.limit = int(limit)
+        self.held = int(stock_triangles)
+
+    def add(self, tris: int, src, what: str) -> None:
+        self.held += int(tris)
+        if self.held > self.limit:
+            raise CutsimError(src.program, src.line, src.col, self.message(int(tris), what))
+
+    def message(self, tris: int, what: str) -> str:
+        gb = self.held * BYTES_PER_TRIANGLE / 1e9
+        return (f"too much geometry: the sweeps would need about {self.held:,} triangles at once "
+                f"(~{gb:.1f} GB; {what}: about {tris:,}), more than [simulation] max_triangles = {self.limit:,}; "
+                f"raise max_triangles in the setup or use a coarser tolerance")
+
+    def estimate(self, paths: list, tol: float, profile, outline, r_clip: float, margin: float,
+                 top: float) -> dict[int, list]:
+        """Estimate every path's sweep (see ``_path_triangles``) in program order, refusing as soon
+        as the total goes over the limit; returns the screw paths' pieces (computed once, used by
+        the sweep)."""
+        cap = mill.cap_height(top, tol)
+        verts: dict = {}
+
+        def body_verts(tool: ToolSpec) -> int:
+            if tool not in verts:
+                pieces = lathe_body(tool, tol) if tool.is_lathe_tool else mill_body(tool, tol)
+                verts[tool] = sum(len(p) for p in pieces)
+            return verts[tool]
+
+        screw: dict[int, list] = {}
+        lazy_total, lazy_piece, lazy_src = 0, 0, None
+        arc: list = []  # [index, path] of the pending arc (consecutive arcs on one helix joined)
+
+        def flush_arc() -> None:
+            if arc:
+                _, p = arc.pop()
+                self.add(_arc_triangles(p, tol, top, cap, body_verts(p.tool)), p.src, "this arc or helix")
+
+        for i, path in enumerate(paths):
+            if isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid \
+                    and not mill.batchable(path) and not mill.plunges(path) and path.arc is not None:
+                joined = helix.merge_arcs([arc[0][1], path]) if arc else []
+                if len(joined) == 1:
+                    arc[0][1] = joined[0]
+                else:
+                    flush_arc()
+                    arc.append([i, path])
+                continue
+            flush_arc()
+            if isinstance(path, ScrewPath):
+                pieces, tris = [], 0
+                for piece in _iter_screw_pieces(path, profile(path.tool), outline, r_clip, margin):
+                    pieces.append(piece)
+                    n = _screw_triangles(path, clipped_profile(profile(path.tool), piece[2]), piece[0], piece[1], tol)
+                    tris += n
+                    if self.held + tris > self.limit:  # stop a huge one early: extrapolate its total
+                        self.add(round(tris / max(piece[1], 1e-9)), path.src, "this thread cut")
+                self.add(tris, path.src, "this thread cut")
+                screw[i] = pieces
+            elif isinstance(path, SpatialPath):
+                if path.tool.is_lathe_tool:  # spindle stopped: a hull per segment and piece of the body
+                    segs = len(path.points) - 1
+                    self.add(2 * 4 * segs * body_verts(path.tool), path.src, "this move with the spindle stopped")
+                    continue
+                if mill.batchable(path):
+                    continue  # 2.5D: its Z level is counted from the exact 2D union before extrusion
+                segs = sum(len(p) - 1 for p in mill.below_cap(path.points, cap)) if len(path.points) > 1 else 1
+                if not path.rapid and not mill.plunges(path):  # 3D feed: swept lazily in pieces
+                    lazy_src = lazy_src or path.src
+                    per = 4 * _ring(path.tool, tol) + 8
+                    lazy_total += segs * per
+                    lazy_piece = max(lazy_piece, min(mill.CHAIN_POINTS, lazy_total // per + 1) * per)
+                    continue
+                if mill.is_flat(path.tool) and mill.is_constant_z(path):
+                    k = max(2, math.ceil(math.pi / segment_angle(path.tool.diameter / 2.0, tol)))
+                    tris = 4 * 2 * (k + 1) * max(1, len(path.points) - 1)
+                else:
+                    tris = 4 * segs * body_verts(path.tool)
+                self.add(2 * tris, path.src, "this move (its sweep and its collision check)")
+        flush_arc()
+        if lazy_src is not None:
+            n = min(lazy_total, CHUNK_TRIANGLES + lazy_piece)
+            self.add(n, lazy_src, "the 3D milling moves, swept in batches")
+        return screw
+
+
+def _ring(tool: ToolSpec, tol: float) -> int:
+    """Vertices around a mill's circle at the tolerance."""
+    return max(8, math.ceil(2 * math.pi / segment_angle(tool.diameter / 2.0, tol)))
+
+
+def _prism_triangles(region: m3d.CrossSection) -> int:
+    """An extruded region: two triangles per side edge and about one per vertex in each cap."""
+    return 4 * region.num_vert()
+
+
+def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: float, tol: float) -> int:
+    """Triangles of ``sweeps.screw_sweep(path, prof, tol, s0, s1)`` without building it: the same
+    stations and chunks, the profile's vertices after ``subdivide``."""
+    if prof.is_empty():
+        return 0
+    bounds = prof.bounds()
+    width = bounds[3] - bounds[1]
+    brk = [s0] + [b for b in path.breakpoints() if s0 < b < s1] + [s1]
+    reach = float(np.max(path.pose(np.array(brk))[0])) + bounds[2]
+    total = 360.0 * path.revolutions
+    lead = path.travel / path.revolutions if path.revolutions > 0 else math.inf
+    step = math.degrees(segment_angle(reach, tol))
+    limit = math.inf if width < 0.999 * lead else MAX_CHUNK_DEGREES
+    max_len = EDGE_STEPS * math.sqrt(tol * reach)
+    nv = 0
+    for poly in prof.to_polygons():
+        d = np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)
+        nv += int(np.maximum(1, np.ceil(d / max_len)).sum())
+    tris = 0
+    for a, b in zip(brk, brk[1:]):
+        span = (b - a) * total
+        k = max(1, math.ceil(span / limit)) if span > 0 else 1
+        n = max(1, math.ceil(span / k / step)) if span > 0 else 1
+        tris += k * (2 * nv * n + 2 * nv)
+    return tris
+
+
+def _arc_triangles(path: SpatialPath, tol: float, top: float, cap: float, body: int) -> int:
+    """Triangles of ``helix.arc_sweep`` (or of the hull sweep it falls back to) without building it."""
+    segs = max(1, sum(len(p) - 1 for p in mill.below_cap(path.points, cap)))
+    hulls = 4 * segs * body
+    if not helix.applicable(path, tol):
+        return hulls
+    t = path.tool
+    r = t.diameter / 2.0
+    h = helix.Helix.of(path.arc)
+    a_max = math.asin(r / h.R)
+    M = max(8, math.ceil(2 * math.pi / segment_angle(h.R + r, tol)))
+    step = 2 * math.pi / M
+    J = helix.stations(h.U, a_max, M)
+    if J < 1:
+        return hulls
+    u_a = a_max
+    prof = helix.build_profile(h.R, r, min(max(t.corner_radius, 0.0), r), h.k, t.length, tol)
+    topc = mill.cap_height(top, tol)
+
+    def z_at(j):
+        return float(h.z(u_a + j * step))
+
+    max_len = EDGE_STEPS * math.sqrt(tol * (h.R + r))
+    tris = 0
+    for pc in helix.plan(J, M, h.k, prof, z_at, topc):
+        shifts = [2 * math.pi * h.k * n for n in (pc.n_lo, pc.n_hi)]
+        bottom, up = min(shifts), max(shifts)
+        zmin = min(z_at(pc.j0), z_at(pc.j1))
+        if zmin + bottom + float(prof.lower.min()) > topc:
+            continue
+        nv = len(helix.profile_polygon(prof, bottom, up, zmin + up + prof.length >= topc, max_len))
+        tris += 2 * nv * max(1, pc.j1 - pc.j0) + 2 * nv
+    ends = 2 * max(1, math.ceil(2 * a_max / segment_angle(h.R + r, tol)))
+    return tris + 4 * ends * body
