@@ -544,8 +544,9 @@ def cut_region(cy: Cycle, rtp, safe, top, bottom, loops_rough, loops_fin, mid, m
 
 def _plunge(cy: Cycle, loop, z_prev, z, mode, ffd, top, helix):
     p = loop[0][1]
-    if mode == 0:  # vertical with G0
-        cy.rapid(p, z)
+    if mode == 0:  # vertical: G0 only down to where the material begins, the infeed itself at FFD
+        cy.rapid(p, max(z_prev, z))
+        cy.feed_to(p, z, ffd)
     elif mode == 2 and helix is not None:  # helix about the region centre
         c, r, pitch = helix
         s = (c[0] + r, c[1])
@@ -851,7 +852,10 @@ def cycle71(cy: Cycle):
     f = cy["_FFP1"]
     safe = top + cy["_SDIS"]
     cy.start(cy["_RTP"], G(u0 - ext0, vs[0]))
-    for lv in levels:
+    for j, lv in enumerate(levels):
+        # one-way returns in G0 run _SDIS above the material this level cuts (its top is the level
+        # before, or RFP), not above the level itself: that would cut the lines still to come
+        back = (levels[j - 1] if j and levels[j - 1] > lv else top) + cy["_SDIS"]
         cy.rapid(G(u0 - ext0, vs[0]), max(safe, lv + cy["_SDIS"]) if cy.m.pos[2] > lv else cy.m.pos[2])
         cy.feed_to(G(u0 - ext0, vs[0]), lv, f)
         fwd = True
@@ -864,8 +868,8 @@ def cycle71(cy: Cycle):
                 if zigzag:
                     cy.feed_to(a, lv, f)
                 else:
-                    cy.rapid(cy.pos2(), lv + cy["_SDIS"])
-                    cy.rapid(a, lv + cy["_SDIS"])
+                    cy.rapid(cy.pos2(), back)
+                    cy.rapid(a, back)
                     cy.feed_to(a, lv, f)
             cy.feed_to(b, lv, f)
             if zigzag:
