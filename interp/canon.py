@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 Vec3 = tuple[float, float, float]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Src:
     """Where a record comes from: program name, 1-based line and column, the block label if any.
 
@@ -26,7 +26,7 @@ class Src:
     calls: tuple[tuple[str, int], ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Ramp:
     """A lead-in or runout: over ``length`` mm of travel along the thread's lead axis the tool
     also moves along ``axis`` by ``length*tan(angle)`` in ``direction`` (+1 or -1)."""
@@ -42,7 +42,7 @@ class Ramp:
         return self.direction * self.length * math.tan(math.radians(self.angle))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Motion:
     src: Src
     start: Vec3
@@ -50,18 +50,18 @@ class Motion:
     diameter: bool  # X values are diameters
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Rapid(Motion):
     pass
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Feed(Motion):
     feed: float  # mm/min, or mm/rev when per_rev
     per_rev: bool
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Arc(Motion):
     """Circular (or helical) move in ``plane`` about ``center`` (absolute program values).
 
@@ -78,7 +78,7 @@ class Arc(Motion):
     per_rev: bool
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class SyncedFeed(Motion):
     """Spindle-synchronised move (G33): waits for the spindle angle ``start_angle`` (degrees past the
     zero pulse in the direction of rotation), then advances ``lead`` mm per revolution along
@@ -102,21 +102,21 @@ class SyncedFeed(Motion):
         return (final[0], final[1], final[2])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Spindle:
     src: Src
     direction: int  # +1 M03, -1 M04, 0 M05
     speed: float  # rpm, as programmed by S
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ToolChange:
     src: Src
     tool: int
     offset: int | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ProgramEnd:
     src: Src
 

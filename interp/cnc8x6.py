@@ -71,7 +71,7 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
             k += 1
             while k < n and text[k] in " \t":
                 k += 1
-            value, _raw, i = parse_number(name, lineno, text, k, f"R{text[i:j]}=", COORD_LIMIT)
+            value, _raw, i = parse_number(name, lineno, text, k, f"R{text[i:j]}=", COORD_LIMIT, col=col)
             block.assigns.append((num, value, col))
             continue
         if letter not in LETTERS:
@@ -85,7 +85,7 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
             block.words.append(Word(letter, None, text[i:j], col, param=param_number(name, lineno, col, text[i + 1:j])))
             i = j
             continue
-        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter])
+        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter], col=col)
         block.words.append(Word(letter, value, raw, col))
     if not block.label and not block.words and not block.assigns and not text.strip():
         return None

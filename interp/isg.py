@@ -120,7 +120,7 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
                 j += 1
                 while j < n and text[j] in " \t":
                     j += 1
-            value, raw, i = parse_number(name, lineno, text, j, "S.OFFSET=", COORD_LIMIT, "degrees")
+            value, raw, i = parse_number(name, lineno, text, j, "S.OFFSET=", COORD_LIMIT, "degrees", col=col)
             block.offsets.append(Word("S.OFFSET", value, raw, col))
             continue
         if letter not in LETTERS:
@@ -128,7 +128,7 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
         if letter in seen and letter not in "GM":
             raise CutsimError(name, lineno, col, f"address {letter} appears twice in one block")
         seen[letter] = col
-        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter])
+        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter], col=col)
         block.words.append(Word(letter, value, raw, col))
     if not block.label and not block.words and block.call is None and not block.offsets:
         return None
@@ -245,6 +245,7 @@ class Isg(ModalMachine):
     # -- program structure -----------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
         self.main, self.local = parse(self.name, text, self.cfg.max_blocks)
+        self.check_count()
         self.section(self.main, (), ())
         if not self.ended and self.last_block is not None:
             b = self.last_block
@@ -252,6 +253,31 @@ class Isg(ModalMachine):
         self.program.blocks = self.executed
         self.program.final_position = tuple(self.pos)
         return self.program
+
+    def check_count(self) -> None:
+        """Refuse before running a program whose subprogram calls would execute more than
+        ``cfg.max_blocks`` blocks: calls are unconditional, so the count is known (static_counts).
+        The error is at the main-program block during which the count passes the limit."""
+        counts = static_counts(self.main, self.local)
+        if counts is None:
+            return  # an unknown or recursive call: an error when it runs
+        limit = self.cfg.max_blocks
+        total, _ = counts[None]
+        if total <= limit:
+            return
+        done = 0
+        for b in self.main.blocks:
+            inner = counts[b.call[0]][0] if b.call is not None else 0
+            if done + 1 + inner > limit:
+                if b.call is None:  # (cannot happen: parse() refused a main program this long)
+                    raise self.error(b.line, 1, f"the program would execute {total:,} blocks, more than the limit "
+                                     f"of {limit:,} set by [simulation] max_blocks")
+                raise self.error(b.line, b.call[1], f"LL {b.call[0]} executes {inner:,} blocks (its subprogram calls "
+                                 f"counted) and the program {total:,}, more than the limit of {limit:,} set by "
+                                 "[simulation] max_blocks")
+            done += 1 + inner
+            if _ends_program(b) or (b.call is not None and counts[b.call[0]][1]):
+                break
 
     def section(self, sec: Section, calls: tuple, stack: tuple) -> None:
         """Execute a program body; returns at M29/M17, sets ``self.ended`` at M30/M02."""
@@ -439,6 +465,56 @@ class Isg(ModalMachine):
 
     def error(self, line: int, col: int, message: str) -> CutsimError:
         return CutsimError(self.name, line, col, message)
+
+
+def _ends_program(b: IsgBlock) -> bool:
+    return any(w.letter == "M" and w.value in (2, 30) for w in b.words)
+
+
+def _ends_sub(b: IsgBlock) -> bool:
+    return any(w.letter == "M" and w.value in (17, 29) for w in b.words)
+
+
+def static_counts(main: Section, local: dict[str, Section]) -> dict | None:
+    """Blocks each body executes, its calls included, without running it: name (None for the
+    main program) -> (count, whether it ends the program with M30/M02). Calls are unconditional,
+    so one count per subprogram holds for every call. Worked out by an explicit depth-first walk
+    (no recursion: a chain of calls may be as long as the file). None when a call names an
+    unknown subprogram or is recursive (errors when they run)."""
+    counts: dict = {}
+    bodies = {None: main, **local}
+    stack = [[None, 0, 0]]  # frames: [name, next block index, blocks so far]
+    open_names = {None}
+    while stack:
+        frame = stack[-1]
+        name, k, total = frame
+        blocks = bodies[name].blocks
+        pushed = ended = False
+        while k < len(blocks):
+            b = blocks[k]
+            callee = b.call[0] if b.call is not None else None
+            if callee is not None:
+                if callee not in local or callee in open_names:
+                    return None
+                if callee not in counts:  # count it first, then come back to this block
+                    frame[1], frame[2] = k, total
+                    stack.append([callee, 0, 0])
+                    open_names.add(callee)
+                    pushed = True
+                    break
+            total += 1 + (counts[callee][0] if callee is not None else 0)
+            k += 1
+            if _ends_program(b) or (callee is not None and counts[callee][1]):
+                ended = True
+                break
+            if name is not None and _ends_sub(b):
+                break
+        if pushed:
+            continue
+        counts[name] = (total, ended)
+        stack.pop()
+        open_names.discard(name)
+    return counts
 
 
 def interpret(name: str, text: str, cfg: InterpConfig) -> canon.Program:

@@ -42,9 +42,9 @@ def digits_end(text: str, i: int) -> int:
 def foreign_digit(program: str, line: int, text: str, i: int) -> None:
     """Refuse a digit of another script (fullwidth ``１``, Arabic-Indic ``١``, superscript ``²``) at
     ``text[i]``: it looks like a number but is not one to a controller."""
-    if i < len(text):
+    if i < len(text) and text[i] >= "\x80":  # ASCII is never a foreign digit
         c = text[i]
-        if not is_digit(c) and (c.isdigit() or unicodedata.numeric(c, None) is not None):
+        if c.isdigit() or unicodedata.numeric(c, None) is not None:
             name = unicodedata.name(c, f"U+{ord(c):04X}")
             raise CutsimError(program, line, i + 1, f"'{c}' ({name}) is not a digit a controller reads: "
                               "write numbers with the ASCII digits 0-9")
@@ -116,11 +116,11 @@ class Block:
 
 
 def parse_number(program: str, line: int, text: str, i: int, what: str,
-                 limit: float = NUMBER_LIMIT, unit: str = "") -> tuple[float, str, int]:
+                 limit: float = NUMBER_LIMIT, unit: str = "", col: int | None = None) -> tuple[float, str, int]:
     """Read a number at ``text[i:]``; return (value, raw, next index). A number glued to another
     point or digit run (``1.2.3``) is malformed; a digit of another script is refused; a value
     beyond ``limit`` in magnitude (default: the widest any address allows) is an error naming
-    ``what`` and the number at its column."""
+    ``what`` and the number, at ``col`` (the word's column; default the number's)."""
     m = NUMBER.match(text, i)
     if not m:
         j = i + 1 if i < len(text) and text[i] in "+-\u2212" else i
@@ -133,7 +133,7 @@ def parse_number(program: str, line: int, text: str, i: int, what: str,
         bad = re.match(r"[\w.+\-]*", text[i:]).group(0)
         raise CutsimError(program, line, i + 1, f"malformed number '{_show(bad)}' after {what}")
     value = float(raw.replace("\u2212", "-"))
-    check_range(program, line, i + 1, what + raw, value, -limit, limit, unit)
+    check_range(program, line, i + 1 if col is None else col, what + raw, value, -limit, limit, unit)
     return value, raw, j
 
 
@@ -199,5 +199,5 @@ def check_length(program: str, text: str, max_blocks: int, is_block) -> None:
             count += 1
             if count > max_blocks:
                 raise CutsimError(program, lineno, 1, f"the program is longer than the limit of {max_blocks:,} "
-                                  "blocks set by [simulation] max_blocks (refused before it runs; raise the "
-                                  "setting for a longer program)")
+                                  f"blocks set by [simulation] max_blocks: this line is block {count:,} of the file "
+                                  "(refused before it runs; raise the setting for a longer program)")

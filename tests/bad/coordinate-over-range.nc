@@ -1,0 +1,2 @@
+"EXPECT 2:9 X1000000000000: value exceeds the permitted range -99 999.9999 to 99 999.9999 mm
+N10 G00 X1000000000000 Z2.

@@ -1,0 +1,3 @@
+"EXPECT 3:13 Q1000000000: value exceeds the permitted range
+N10 G01 X28. Z-1. F100
+N20 G73 L10 Q1000000000
