@@ -69,10 +69,8 @@ class Output:
         self.dir = os.path.realpath(out_dir)
         for name in names:
             self._check_target(name)
-        parent = self._staging_parent()
-        if os.path.isdir(parent):
-            _clean_stale(parent)
-            self._make_staging(parent)
+        if os.path.isdir(os.path.dirname(self.dir)):  # else at the commit, with DIR's parents
+            self._stage()
 
     def __enter__(self):
         return self
@@ -90,6 +88,8 @@ class Output:
             raise CutsimError("cutsim", 0, 0, "--out: the output directory name is empty")
         if "\0" in out_dir:
             raise CutsimError("cutsim", 0, 0, "--out: the output directory name contains a NUL byte")
+        if os.path.basename(os.path.abspath(out_dir)).startswith(STAGING_PREFIX):
+            raise self._error(f"names starting with {STAGING_PREFIX} are cutsim's temporary directories")
         try:
             st = os.stat(out_dir)
         except FileNotFoundError:
@@ -132,18 +132,31 @@ class Output:
             raise self._error(f"is {_kind(st.st_mode)}, cutsim writes a file of that name",
                               os.path.join(self.user_dir, name))
 
-    def _staging_parent(self) -> str:
+    def _stage(self) -> None:
+        """Create the staging directory beside DIR; inside DIR when DIR is a mount point (or /)
+        or its parent is not writable (the commit is then per file)."""
         parent = os.path.dirname(self.dir)
-        if parent == self.dir or os.path.ismount(self.dir):
-            return self.dir  # a mount point (or /) cannot be renamed: stage inside it
-        return parent
+        if parent != self.dir and not os.path.ismount(self.dir):
+            try:
+                os.makedirs(parent, exist_ok=True)
+            except OSError as e:
+                raise self._error(f"cannot create {e.filename or parent}: {e.strerror}") from None
+            _clean_stale(parent)
+            try:
+                self._make_staging(parent)
+                return
+            except OSError as e:
+                if not (os.path.isdir(self.dir) and e.errno in (errno.EACCES, errno.EPERM, errno.EROFS)):
+                    raise self._error(f"cannot create a temporary directory in {parent}: {e.strerror}") from None
+        _clean_stale(self.dir)
+        try:
+            self._make_staging(self.dir)
+        except OSError as e:
+            raise self._error(f"cannot create a temporary directory in it: {e.strerror}") from None
 
     def _make_staging(self, parent: str) -> None:
         for _ in range(100):
-            try:
-                path = tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=parent)
-            except OSError as e:
-                raise self._error(f"cannot create a temporary directory in {parent}: {e.strerror}") from None
+            path = tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=parent)
             fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -154,7 +167,7 @@ class Output:
                 self._staging, self._lock_fd = path, fd
                 return
             os.close(fd)
-        raise self._error(f"cannot create a temporary directory in {parent}")
+        raise OSError(errno.EEXIST, "cannot create a temporary directory", parent)
 
     # ---- commit ----------------------------------------------------------------------------
     def commit(self, files: dict[str, bytes]) -> None:
@@ -164,13 +177,7 @@ class Output:
             self._check_target(name)
         try:
             if self._staging is None:
-                parent = self._staging_parent()
-                try:
-                    os.makedirs(parent, exist_ok=True)
-                except OSError as e:
-                    raise self._error(f"cannot create {e.filename or parent}: {e.strerror}") from None
-                _clean_stale(parent)
-                self._make_staging(parent)
+                self._stage()
             self._write_staging(files, names)
             with _signals_blocked(), _dir_lock(os.path.dirname(self._staging)):
                 self._place(names)
@@ -207,8 +214,8 @@ class Output:
                 raise self._error(f"not a directory ({_kind(st.st_mode)})")
             for name in names:
                 self._check_target(name)
-            if self._staging_parent() != os.path.dirname(self._staging):
-                self._per_file(names)  # staged inside DIR (a mount point)
+            if os.path.dirname(self._staging) == self.dir:
+                self._per_file(names)  # staged inside DIR (a mount point, or its parent is read-only)
                 return
             old = _read_marker(self.dir) if st else set()
             entries = _entries(self.dir) if st else []
