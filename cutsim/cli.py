@@ -142,7 +142,7 @@ class _Main(click.Group):
         except ValueError:  # not the main thread
             pass
         try:
-            code = self._guarded(args, prog_name or PROG, complete_var, extra)
+            code = self._guarded(args, PROG, complete_var, extra)  # "cutsim" under python -m too
         finally:
             if old is not None:
                 signal.signal(signal.SIGTERM, old)

@@ -111,3 +111,113 @@ def test_moves_command_and_its_errors(tmp_path):
     bad.write_text("N10 R80=1.0\n")
     res = cli("moves", bad, "--setup", LATHE / "large-lead.toml")
     assert res.exit_code == 2 and res.output.startswith(f"{bad}:1:5: error: R80 is reserved")
+
+
+# ---- errors of the command line itself: cutsim:0:0 / FILE:0:0, exit 2, never a traceback or usage text
+
+
+def _no_noise(res):
+    assert "Traceback" not in res.output and "Usage:" not in res.output, res.output
+    assert res.output.count("\n") == 1, res.output  # one line
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--tolerance", "abc"], "cutsim:0:0: error: --tolerance: 'abc' is not a valid float"),
+    (["--tolerance", "nan"], "cutsim:0:0: error: --tolerance: nan is not between 0.00001 and 1 mm"),
+    (["--format", "obj"], "cutsim:0:0: error: --format: 'obj' is not one of 'stl', '3mf', 'glb'"),
+    (["--tolerance"], "cutsim:0:0: error: Option '--tolerance' requires an argument"),
+    (["--bogus"], "cutsim:0:0: error: No such option '--bogus'"),
+])
+def test_bad_options_exit_2_in_file_line_col_form(tmp_path, args, message):
+    out = tmp_path / "out"
+    res = cli("simulate", LATHE / "multipass.nc", "--setup", LATHE / "multipass.toml", "--out", out, "-q", *args)
+    assert res.exit_code == 2
+    assert res.output.startswith(message), res.output
+    _no_noise(res)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_missing_options_and_arguments_exit_2(tmp_path):
+    res = cli("simulate", LATHE / "multipass.nc", "--out", tmp_path / "o")
+    assert res.exit_code == 2 and res.output == "cutsim:0:0: error: --setup: missing (a required option)\n"
+    res = cli("simulate", "--setup", LATHE / "multipass.toml", "--out", tmp_path / "o")
+    assert res.exit_code == 2 and res.output == "cutsim:0:0: error: PROGRAM: missing (a required argument)\n"
+    res = cli("simulate", "", "--setup", LATHE / "multipass.toml", "--out", tmp_path / "o")
+    assert res.exit_code == 2 and res.output == "cutsim:0:0: error: PROGRAM: the file name is empty\n"
+    res = cli("simulat")
+    assert res.exit_code == 2 and res.output.startswith("cutsim:0:0: error: No such command 'simulat'")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_help_and_version_still_work():
+    res = cli("--help")
+    assert res.exit_code == 0 and "simulate" in res.output and "moves" in res.output
+    res = cli("simulate", "--help")
+    assert res.exit_code == 0 and res.output.startswith("Usage: cutsim simulate [OPTIONS] PROGRAM")
+    assert "--tolerance" in res.output
+    res = cli("--version")
+    assert res.exit_code == 0 and "version" in res.output
+
+
+def test_program_that_is_not_a_readable_file_exits_2(tmp_path):
+    import os
+
+    fifo = tmp_path / "pipe.nc"
+    os.mkfifo(fifo)  # opening it must not wait for a writer
+    big = tmp_path / "big.nc"
+    with open(big, "wb") as f:
+        f.truncate(64 * 1024 * 1024 + 1)  # sparse: one byte over the limit
+    cases = {
+        tmp_path: "cannot read the program: it is a directory",
+        "/dev/zero": "cannot read the program: not a regular file",
+        fifo: "cannot read the program: not a regular file",
+        big: "cannot read the program: the file is larger than 64 MiB",
+    }
+    for prog, text in cases.items():
+        for cmd in (["simulate", prog, "--out", tmp_path / "o"], ["moves", prog]):
+            res = cli(*cmd, "--setup", LATHE / "multipass.toml")
+            assert res.exit_code == 2, (cmd, res.output)
+            assert res.output.startswith(f"{prog}:0:0: error: {text}"), res.output
+            _no_noise(res)
+    assert not (tmp_path / "o").exists()
+
+
+def test_read_program_limit_is_inclusive(tmp_path):
+    import cutsim
+
+    exact = tmp_path / "exact.nc"
+    exact.write_bytes(b"N10 G00 X1.\n".ljust(cutsim.MAX_PROGRAM_BYTES, b" "))
+    assert len(cutsim.read_program(str(exact))) == cutsim.MAX_PROGRAM_BYTES
+
+
+def test_moves_never_prints_a_traceback(tmp_path, monkeypatch):
+    res = cli("moves", LATHE / "multipass.nc", "--setup", tmp_path)  # a setup that is a directory
+    assert res.exit_code == 2 and res.output.startswith(f"{tmp_path}:0:0: error: cannot read the setup")
+    _no_noise(res)
+    # an unexpected exception (a bug) is exit 3 with the report-it message, for every command
+    import cutsim.interp
+
+    def boom(*a, **k):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(cutsim.interp, "interpret", boom)
+    res = cli("moves", LATHE / "multipass.nc", "--setup", LATHE / "multipass.toml")
+    assert res.exit_code == 3
+    assert res.output.startswith(f"{LATHE / 'multipass.nc'}:0:0: error: internal error in cutsim "
+                                 "(RuntimeError: boom); please report it")
+    _no_noise(res)
+    monkeypatch.setattr(cutsim, "interpret", boom)
+    res = cli("simulate", LATHE / "multipass.nc", "--setup", LATHE / "multipass.toml", "--out", tmp_path / "o", "-q")
+    assert res.exit_code == 3 and "internal error in cutsim (RuntimeError: boom)" in res.output
+    _no_noise(res)
+    assert not (tmp_path / "o").exists()
+
+
+def test_moves_into_a_closed_pipe_is_quiet(tmp_path):
+    # `cutsim moves ... | head -1`: the reader goes away; no traceback, no "Exception ignored"
+    proc = subprocess.Popen([sys.executable, "-m", "cutsim", "moves", str(LATHE / "multipass.nc"), "--setup",
+                             str(LATHE / "multipass.toml")], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) in (0, 1, 141)
+    assert "Traceback" not in err and "Exception" not in err, err
