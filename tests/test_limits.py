@@ -1,0 +1,239 @@
+"""Work limits: sweeps that would need more triangles than [simulation] max_triangles are refused
+before they are built, at the line of the move responsible; hostile setups and mesh stocks are
+errors at their key's line, never crashes; report.json stays strict JSON."""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+import cutsim
+from conftest import EXAMPLES
+from cutsim import CutsimError
+from cutsim.kinematics.paths import segment_angle
+from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
+
+LATHE = EXAMPLES / "cnc8x6-lathe"
+
+THREAD = """\
+N325 G00 G95 T9 S1000 M03
+N330 G00 X26.618 Z3.
+N335 G33 Z-19. I0. F{lead}
+N340 G00 X29.
+"""
+
+
+def _strict(text: str):
+    def bad(name):
+        raise ValueError(f"not JSON: {name}")
+    return json.loads(text, parse_constant=bad)
+
+
+def test_fine_lead_thread_is_refused_naming_max_triangles(tmp_path):
+    """G33 with lead 0.001 over 22 mm: 22000 turns; at 2 um every turn needs about 180 stations
+    (the chord of a 13.3 mm radius at 0.002 mm is 1.99 degrees) of a profile of at least 3
+    vertices, so the sweep needs more than 22000 * 180 * 2 * 3 = 24M triangles: refused at its
+    line (3), nothing written."""
+    prog = tmp_path / "fine.nc"
+    prog.write_text(THREAD.format(lead="0.001"))
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(prog), "--setup",
+                           str(LATHE / "multipass.toml"), "--out", str(out), "-q"], capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stderr
+    assert f"{prog}:3:" in proc.stderr and "max_triangles" in proc.stderr and "Traceback" not in proc.stderr
+    assert not out.exists()
+    # the estimate in the message is at least the lower bound above
+    stations = 22000 * 360 / math.degrees(segment_angle(26.618 / 2, 0.002))
+    est = int(proc.stderr.split("about ")[1].split(" triangles")[0].replace(",", ""))
+    assert est >= 6 * stations
+
+
+def test_raising_max_triangles_is_the_setting_named(tmp_path):
+    """The same thread with a coarse lead passes by default and is refused under a small limit:
+    the limit is what the message names."""
+    prog = tmp_path / "t.nc"
+    prog.write_text(THREAD.format(lead="1.5"))
+    setup = tmp_path / "s.toml"
+    base = (LATHE / "multipass.toml").read_text()
+    setup.write_text(base)
+    r = cutsim.simulate(str(prog), str(setup))
+    assert r.report["removed_volume"] > 0
+    setup.write_text(base + "\n[simulation]\nmax_triangles = 5000\n")
+    with pytest.raises(CutsimError) as e:
+        cutsim.simulate(str(prog), str(setup))
+    assert (e.value.program, e.value.line) == (str(prog), 3)
+    assert "max_triangles = 5,000" in e.value.message and "this thread cut" in e.value.message
+
+
+def test_screw_estimate_matches_the_built_sweep():
+    """The estimate before building equals the built sweep's triangles within 1 %."""
+    from cutsim.stock import removal, sweeps
+
+    setup = cutsim.load_setup(str(LATHE / "multipass.toml"))
+    built = []
+    orig = sweeps.screw_sweep
+
+    def counting(*a, **k):
+        out = orig(*a, **k)
+        if len(a) < 6 and "zwindow" not in k:  # not the rebuilds near a rapid
+            built.append(sum(s.num_tri() for s in out))
+        return out
+
+    estimates = []
+    add = removal.Work.add
+
+    def recording(self, tris, src, what):
+        if what == "this thread cut":
+            estimates.append(tris)
+        return add(self, tris, src, what)
+
+    removal.screw_sweep, removal.Work.add = counting, recording
+    try:
+        cutsim.simulate(str(LATHE / "multipass.nc"), setup)
+    finally:
+        removal.screw_sweep, removal.Work.add = orig, add
+    assert len(estimates) == 3 and len(built) == 3
+    for est, n in zip(estimates, built):
+        assert abs(est - n) <= 0.01 * n
+
+
+def test_small_limit_refuses_a_slot_level_before_it_is_extruded(tmp_path):
+    """A 10 mm end mill's L-shaped slot at 0.002 mm: each stadium has 2 * 57 vertices (half circles
+    in chords of 3.24 degrees), their union well over 150, about 4 triangles per vertex once
+    extruded (> 600). The rapid down beside the plate is two hulls of two 222-vertex tool bodies
+    (< 1800 triangles), so under a limit of 2000 the level is what goes over: refused at its
+    first move (line 3) before the prism is built."""
+    setup = tmp_path / "s.toml"
+    setup.write_text(_PLATE + "\n[simulation]\nmax_triangles = 2000\n")
+    prog = tmp_path / "p.nc"
+    prog.write_text("N10 T1 G00 X-10 Y50 Z5\nN20 G00 Z-3\nN30 G01 X80 F200\nN40 Y20\n")
+    with pytest.raises(CutsimError) as e:
+        cutsim.simulate(str(prog), str(setup))
+    assert "max_triangles" in e.value.message and "Z level" in e.value.message
+    assert e.value.line == 3
+
+
+_PLATE = """\
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [0.0, 0.0, 30.0]
+
+[stock]
+shape = "box"
+x = [0.0, 100.0]
+y = [0.0, 100.0]
+z = [-20.0, 0.0]
+
+[[tool]]
+number = 1
+kind = "endmill"
+diameter = 10.0
+length = 25.0
+"""
+
+
+def test_default_limit_keeps_the_shipped_examples():
+    """Every shipped example runs at its own tolerance under the default limit."""
+    assert DEFAULT_MAX_TRIANGLES >= 1_000_000
+    for nc in sorted(EXAMPLES.glob("*/*.nc")):
+        setup = cutsim.load_setup(str(nc.with_suffix(".toml")))
+        assert setup.max_triangles == DEFAULT_MAX_TRIANGLES
+    # (the examples themselves run in test_examples.py with this default)
+
+
+def test_nan_start_is_refused_and_report_is_strict_json(tmp_path):
+    setup = tmp_path / "s.toml"
+    base = (LATHE / "multipass.toml").read_text()
+    setup.write_text(base.replace("diameter_programming = true", "diameter_programming = true\nstart = [nan, 40, 50]"))
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(LATHE / "multipass.nc"), "--setup",
+                           str(setup), "--out", str(out), "-q"], capture_output=True, text=True)
+    line = setup.read_text().splitlines().index("start = [nan, 40, 50]") + 1
+    assert proc.returncode == 2 and f"{setup}:{line}:1: error: [machine] start" in proc.stderr, proc.stderr
+    setup.write_text(base.replace("diameter_programming = true", "diameter_programming = true\nstart = [60, 0, 50]"))
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(LATHE / "multipass.nc"), "--setup",
+                           str(setup), "--out", str(out), "--tolerance", "0.02", "-q"], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    rep = _strict((out / "report.json").read_text())
+    assert all(math.isfinite(v) for v in rep["final_position"])
+
+
+# -- mesh stock ------------------------------------------------------------------------------------
+MESH_SETUP = """\
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+
+[stock]
+shape = "mesh"
+path = "{path}"
+
+[[tool]]
+kind = "endmill"
+diameter = 6.0
+"""
+
+
+def _mesh_error(tmp_path, name: str, data: bytes | None = None, extra: str = "") -> CutsimError:
+    if data is not None:
+        (tmp_path / name).write_bytes(data)
+    setup = tmp_path / "s.toml"
+    setup.write_text(MESH_SETUP.format(path=name) + extra)
+    with pytest.raises(CutsimError) as e:
+        cutsim.load_setup(str(setup))
+    assert e.value.program == str(setup)
+    assert (e.value.line, e.value.col) == (7, 1), e.value  # the path key
+    assert "[stock] path" in e.value.message
+    return e.value
+
+
+def _stl(mesh: trimesh.Trimesh) -> bytes:
+    return mesh.export(file_type="stl")
+
+
+def test_mesh_stock_errors_at_the_path_key(tmp_path):
+    assert "empty" in _mesh_error(tmp_path, "empty.stl", b"").message
+    junk = _mesh_error(tmp_path, "junk.stl", b"solid x\nfacet normal nonsense\n" * 3).message
+    assert "cannot read" in junk or "no triangles" in junk
+    box = trimesh.creation.box((10, 10, 10))
+    open_box = trimesh.Trimesh(box.vertices, box.faces[:-1], process=False)
+    assert "not a closed solid" in _mesh_error(tmp_path, "open.stl", _stl(open_box)).message
+    sphere = trimesh.creation.icosphere(subdivisions=4)  # 5120 triangles
+    e = _mesh_error(tmp_path, "big.stl", _stl(sphere), "\n[simulation]\nmax_triangles = 1000\n")
+    assert "5,120 triangles" in e.message and "max_triangles" in e.message
+    far = box.copy()
+    far.apply_translation((2e5, 0, 0))
+    assert "beyond" in _mesh_error(tmp_path, "far.stl", _stl(far)).message
+
+
+def test_good_mesh_stock_loads_and_builds(tmp_path):
+    box = trimesh.creation.box((10, 20, 30))
+    (tmp_path / "b.stl").write_bytes(_stl(box))
+    setup = tmp_path / "s.toml"
+    setup.write_text(MESH_SETUP.format(path="b.stl"))
+    s = cutsim.load_setup(str(setup))
+    from cutsim.stock import build_stock
+
+    solid = build_stock(s.stock, s.tolerance, s.path)
+    assert solid.volume() == pytest.approx(6000.0, rel=1e-6)
+    assert np.allclose(solid.bounding_box(), (-5, -10, -15, 5, 10, 15), atol=1e-5)
+
+
+def test_fine_tolerance_on_a_huge_bar_is_refused_at_its_key(tmp_path):
+    """A 200 m bar at 0.00001 mm: a circle of radius 1e5 needs pi / acos(1 - 1e-10) ~ 222k segments,
+    4 outline vertices -> ~1.8M triangles, over a limit of 1M."""
+    setup = tmp_path / "s.toml"
+    setup.write_text((LATHE / "multipass.toml").read_text().split("[stock]")[0] +
+                     '[stock]\nshape = "cylinder"\ndiameter = 200000.0\nz = [-10, 0]\n\n[[tool]]\nkind = "thread"\n'
+                     "\n[simulation]\ntolerance = 0.00001\nmax_triangles = 1000000\n")
+    with pytest.raises(CutsimError) as e:
+        cutsim.load_setup(str(setup))
+    assert "[stock] diameter" in e.value.message and "max_triangles" in e.value.message
+    line = setup.read_text().splitlines().index("diameter = 200000.0") + 1
+    assert e.value.line == line
