@@ -633,12 +633,12 @@ def load_setup(path: str) -> Setup:
     try:
         text = raw.decode("utf-8-sig")  # a byte order mark is accepted
     except UnicodeDecodeError as e:
-        ls = raw.rfind(b"\n", 0, e.start) + 1
-        head = raw[ls:e.start].decode("utf-8")
-        if ls == 0:
-            head = head.removeprefix("\ufeff")
-        raise CutsimError(path, raw.count(b"\n", 0, e.start) + 1, len(head) + 1,
-                          f"the setup is not UTF-8 text (byte 0x{raw[e.start]:02x} at offset {e.start})") from None
+        bom = 3 if raw.startswith(b"\xef\xbb\xbf") else 0
+        at = e.start + bom  # the decoder counts from after the byte order mark
+        ls = raw.rfind(b"\n", 0, at) + 1
+        head = raw[max(ls, bom):at].decode("utf-8")
+        raise CutsimError(path, raw.count(b"\n", 0, at) + 1, len(head) + 1,
+                          f"the setup is not UTF-8 text (byte 0x{raw[at]:02x} at offset {at})") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

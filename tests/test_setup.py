@@ -106,3 +106,124 @@ def test_max_blocks(tmp_path):
     for bad, why in (("0", "at least 1"), ("1e6", "whole number"), ('"many"', "whole number")):
         e = error(tmp_path, BASE + f"\n[simulation]\nmax_blocks = {bad}\n")
         assert "[simulation] max_blocks" in e.message and why in e.message and e.line == 15
+
+
+# -- ranges, wrong types and where they are reported ------------------------------------------------
+def _at(text: str, needle: str) -> tuple[int, int]:
+    """1-based line and column of the first ``needle`` in ``text`` (the expected error position)."""
+    i = text.index(needle)
+    line = text.count("\n", 0, i) + 1
+    return line, i - (text.rfind("\n", 0, i) + 1) + 1
+
+
+BODY = BASE.split("\n\n", 1)[1]  # everything after the [machine] table
+
+
+@pytest.mark.parametrize("text,needle,fragments", [
+    # a top-level table given as a value of another type: at that key
+    ("machine = 5\n" + BODY, "machine", ["[machine] must be a table, not 5"]),
+    ("simulation = 1\n" + BASE, "simulation", ["[simulation] must be a table"]),
+    ("parameters = [1]\n" + BASE, "parameters", ["[parameters] must be a table"]),
+    ("stock = \"bar\"\n" + BASE.replace("[stock]\nshape = \"cylinder\"\ndiameter = 30.0\nz = [-40.0, 0.0]\n", ""),
+     "stock", ["[stock] must be a table"]),
+    # array elements that are not tables: at the element
+    ("tool = [1, 2]\n" + BASE.replace('[[tool]]\nnumber = 9\nkind = "thread"\n', ""), "1, 2",
+     ["[[tool]] #1 must be a table, not 1"]),
+    ("check = 3\n" + BASE, "check = 3", ["[[check]]"]),
+    # nested tables of the wrong type
+    (BASE.replace('dialect = "cnc8x6"', 'dialect = "cnc8x6"\nconstants = 5'), "constants",
+     ["[machine] constants", "must be a table"]),
+    # numbers out of range or not finite
+    (BASE.replace('shape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]',
+                  'shape = "box"\nx = [0, inf]\ny = [0, 1]\nz = [0, 1]'), "x = [0, inf]", ["[stock] x", "finite"]),
+    (BASE.replace("diameter = 30.0", "diameter = 1e-9"), "diameter", ["[stock] diameter", "0.001"]),
+    (BASE.replace("diameter = 30.0", "diameter = nan"), "diameter", ["[stock] diameter", "must be a number"]),
+    (BASE.replace("z = [-40.0, 0.0]", "z = [-40.0, -39.9999]"), "z = ", ["[stock] z", "at least 0.001 mm"]),
+    (BASE.replace("z = [-40.0, 0.0]", "z = [-1e6, 0.0]"), "z = ", ["[stock] z", "100000"]),
+    (BASE.replace('dialect = "cnc8x6"', 'dialect = "cnc8x6"\nstart = [nan, 40, 50]'), "start",
+     ["[machine] start", "finite"]),
+    (BASE.replace('dialect = "cnc8x6"', 'dialect = "cnc8x6"\nstart = [1e9, 40, 50]'), "start",
+     ["[machine] start", "100000"]),
+    (BASE.replace('dialect = "cnc8x6"', 'dialect = "cnc8x6"\nrapid = 1e300'), "rapid", ["[machine] rapid"]),
+    (BASE + "[parameters]\nR4 = 1e300\n", "R4", ["[parameters] R4", "within"]),
+    (BASE + "[machine.constants]\n8 = -inf\n", "8 =", ["[machine.constants] 8", "must be a number"]),
+    (BASE + "[simulation]\nmax_triangles = 10\n", "max_triangles", ["[simulation] max_triangles", "1,000"]),
+    (BASE + "[simulation]\nmax_blocks = 10000000000000\n", "max_blocks", ["[simulation] max_blocks"]),
+    (BASE.replace('shape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]',
+                  'shape = "revolve"\nprofile = [\n  [0, 0],\n  [10, 0],\n  [10, 1e-4],\n  [0, 1e-4],\n]'),
+     "profile", ["[stock] profile", "0.001"]),
+])
+def test_bad_setup_at_its_line_and_column(tmp_path, text, needle, fragments):
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == _at(text, needle), (str(e), _at(text, needle))
+    for f in fragments:
+        assert f in e.message, e.message
+
+
+def test_dotted_keys_and_inline_tables_are_located(tmp_path):
+    # `machine.kind` written as a dotted key on line 4: the error names line 4, the column of `kind`
+    text = "# setup\n\n\nmachine.kind = \"lathes\"\nmachine.dialect = \"cnc8x6\"\n" + BODY
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == (4, 9) and "[machine] kind" in e.message
+    text = ('stock.shape = "cylinder"\nstock.diameter = 30.0\n\nstock.z = [0.0, -40.0]\n' +
+            BASE.replace('[stock]\nshape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]\n', ""))
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == (4, 7) and "[stock] z" in e.message
+    text = ('stock = {shape = "cylinder", diameter = 30.0, z = [0, inf]}\n' +
+            BASE.replace('[stock]\nshape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]\n', ""))
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == _at(text, "z = [0, inf]") and "[stock] z" in e.message
+    # an array of inline tables: the second tool's key
+    text = ('tool = [\n  {number = 9, kind = "thread"},\n  {number = 8, kind = "thread", angle = "x"},\n]\n' +
+            BASE.replace('[[tool]]\nnumber = 9\nkind = "thread"\n', ""))
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == _at(text, 'angle = "x"') and "[[tool]] #2 angle" in e.message
+    # multi-line arrays (lines starting with "[") are values, not table headers
+    text = BASE.replace('shape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]',
+                        'shape = "revolve"\nprofile = [\n  [0, 0],\n  [10, 0],\n  [10, 5],\n]\ncolour = 1')
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == _at(text, "colour") and "[stock] colour: unknown key" in e.message
+    # the second [[tool]] table's key
+    text = BASE + '\n[[tool]] # two\nnumber = 8\nkind = "thread"\nangle = 500\n'
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == _at(text, "angle = 500") and "[[tool]] #2 angle" in e.message
+
+
+def test_byte_order_mark_is_accepted(tmp_path):
+    p = tmp_path / "bom.toml"
+    p.write_bytes(b"\xef\xbb\xbf" + BASE.encode())
+    s = cutsim.load_setup(str(p))
+    assert s.stock.diameter == 30.0 and s.tools[0].number == 9
+
+
+def test_non_utf8_setup_names_the_bad_byte(tmp_path):
+    p = tmp_path / "latin.toml"
+    text = BASE.replace('kind = "thread"', 'kind = "thr\xe9ad"')
+    p.write_bytes(text.encode("latin-1"))
+    with pytest.raises(CutsimError) as e:
+        cutsim.load_setup(str(p))
+    assert (e.value.line, e.value.col) == _at(text, "\xe9") and "not UTF-8" in e.value.message
+    p.write_bytes(b"\xef\xbb\xbf" + 'a = "\xe9"\n'.encode("latin-1"))  # after a BOM, columns count from the text
+    with pytest.raises(CutsimError) as e:
+        cutsim.load_setup(str(p))
+    assert (e.value.line, e.value.col) == (1, 6)
+
+
+def test_max_triangles(tmp_path):
+    from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
+
+    s, _ = load(tmp_path, BASE)
+    assert s.max_triangles == DEFAULT_MAX_TRIANGLES
+    s, _ = load(tmp_path, BASE + "\n[simulation]\nmax_triangles = 20000000\n")
+    assert s.max_triangles == 20_000_000
+    e = error(tmp_path, BASE + "\n[simulation]\nmax_triangles = 1.5e7\n")
+    assert "[simulation] max_triangles" in e.message and "whole number" in e.message and e.line == 15
+
+
+def test_big_revolve_profile_over_the_limit(tmp_path):
+    """2000 outline points on a 30 mm bar at 0.002 mm: ~ 2 * 2000 * 216 segments > 100k triangles."""
+    pts = [[0, 0]] + [[15 + (i % 2) * 0.01, -i * 0.01] for i in range(2000)] + [[0, -20]]
+    text = BASE.replace('shape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]',
+                        f'shape = "revolve"\nprofile = {pts}') + "\n[simulation]\nmax_triangles = 100000\n"
+    e = error(tmp_path, text)
+    assert (e.line, e.col) == _at(text, "profile") and "max_triangles" in e.message
