@@ -330,3 +330,17 @@ def test_write_outputs_api(tmp_path):
     mask = os.umask(0)
     os.umask(mask)
     assert (out / "b.txt").stat().st_mode & 0o777 == 0o666 & ~mask
+
+
+def test_without_renameat2_the_commit_is_per_file(tmp_path, monkeypatch):
+    import cutsim.reports.output as output
+
+    monkeypatch.setattr(output, "_RENAMEAT2", [None])  # as off Linux or on an old kernel
+    out = tmp_path / "o"
+    output.write_outputs(str(out), {"a.txt": b"1", "b.txt": b"2"})
+    inode = out.stat().st_ino
+    output.write_outputs(str(out), {"b.txt": b"3", "c.txt": b"4"})
+    assert out.stat().st_ino == inode  # the same directory, files replaced in it
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.name != MARKER} == {"b.txt": b"3", "c.txt": b"4"}
+    assert marker(out) == ["b.txt", "c.txt"]
+    assert staging_dirs(tmp_path) == []
