@@ -94,10 +94,10 @@ def scan(name: str, lineno: int, text: str) -> Block | None:
 
 def param_number(name: str, lineno: int, col: int, digits: str) -> int:
     """``04`` of ``R04`` -> 4; parameters are R00..R99."""
-    if len(digits.lstrip("0")) > 2 or int(digits) > MAX_PARAM:
+    if len(digits.lstrip("0")) > 2 or int(digits.lstrip("0") or "0") > MAX_PARAM:
         raise CutsimError(name, lineno, col, f"parameter number R{digits if len(digits) <= 12 else digits[:12] + '...'} "
                           f"is outside R00..R{MAX_PARAM}")
-    return int(digits)
+    return int(digits.lstrip("0") or "0")
 
 
 def is_block(line: str) -> bool:

@@ -257,7 +257,7 @@ class Isg(ModalMachine):
     def check_count(self) -> None:
         """Refuse before running a program whose subprogram calls would execute more than
         ``cfg.max_blocks`` blocks: calls are unconditional, so the count is known (static_counts).
-        The error is at the main-program block during which the count passes the limit."""
+        The error is at the main program's call that executes the most blocks."""
         counts = static_counts(self.main, self.local)
         if counts is None:
             return  # an unknown or recursive call: an error when it runs
@@ -265,19 +265,17 @@ class Isg(ModalMachine):
         total, _ = counts[None]
         if total <= limit:
             return
-        done = 0
+        heaviest = None
         for b in self.main.blocks:
-            inner = counts[b.call[0]][0] if b.call is not None else 0
-            if done + 1 + inner > limit:
-                if b.call is None:  # (cannot happen: parse() refused a main program this long)
-                    raise self.error(b.line, 1, f"the program would execute {total:,} blocks, more than the limit "
-                                     f"of {limit:,} set by [simulation] max_blocks")
-                raise self.error(b.line, b.call[1], f"LL {b.call[0]} executes {inner:,} blocks (its subprogram calls "
-                                 f"counted) and the program {total:,}, more than the limit of {limit:,} set by "
-                                 "[simulation] max_blocks")
-            done += 1 + inner
+            if b.call is not None and (heaviest is None or counts[b.call[0]][0] > counts[heaviest.call[0]][0]):
+                heaviest = b
             if _ends_program(b) or (b.call is not None and counts[b.call[0]][1]):
                 break
+        where = (1, 1) if heaviest is None else (heaviest.line, heaviest.call[1])
+        what = "" if heaviest is None else (f"LL {heaviest.call[0]} executes {counts[heaviest.call[0]][0]:,} blocks "
+                                             "(its subprogram calls counted): ")
+        raise self.error(*where, f"{what}the program would execute {total:,} blocks, more than the limit of "
+                         f"{limit:,} set by [simulation] max_blocks")
 
     def section(self, sec: Section, calls: tuple, stack: tuple) -> None:
         """Execute a program body; returns at M29/M17, sets ``self.ended`` at M30/M02."""
