@@ -344,3 +344,29 @@ def test_without_renameat2_the_commit_is_per_file(tmp_path, monkeypatch):
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.name != MARKER} == {"b.txt": b"3", "c.txt": b"4"}
     assert marker(out) == ["b.txt", "c.txt"]
     assert staging_dirs(tmp_path) == []
+
+
+def test_disk_full_at_commit_exits_2_and_keeps_previous_output(tmp_path):
+    """A real ENOSPC: DIR on a 512 KiB tmpfs in a private mount namespace (root only)."""
+    mnt = tmp_path / "small"
+    mnt.mkdir()
+    out = mnt / "out"
+    run = f"{sys.executable} -m cutsim simulate {PROG} --setup {SETUP} --out {out} -q --tolerance"
+    listing = f"(cd {out} && sha256sum $(ls -A | sort)); ls -A {mnt}"
+    script = (f"mount -t tmpfs -o size=512k tmpfs {mnt} || exit 97\n"
+              f"{run} 0.05 || exit 98\n"  # a 170 kB part: fits
+              f"{listing}; echo ---\n"
+              f"{run} 0.002; echo rc=$?\n"  # a 1 MB part: does not fit
+              f"echo ---; {listing}")
+    try:
+        proc = subprocess.run(["unshare", "-m", "sh", "-c", script], capture_output=True, text=True, timeout=300)
+    except FileNotFoundError:
+        pytest.skip("no unshare")
+    if proc.returncode in (1, 97) and "rc=" not in proc.stdout:
+        pytest.skip(f"cannot mount a tmpfs here: {proc.stderr.strip()}")
+    before, rc, after = proc.stdout.split("---\n")
+    assert rc == "rc=2\n", proc.stderr
+    assert proc.stderr.startswith(f"{out / 'part.stl'}:0:0: error: --out: cannot write it: No space left on device")
+    assert "Traceback" not in proc.stderr
+    assert after == before  # byte-identical, and no staging directory left in the mount
+    assert before.split()[-1] == "out" and "part.stl" in before
