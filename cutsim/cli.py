@@ -24,6 +24,7 @@ from cutsim.interp.errors import CutsimError
 
 FORMATS = ("stl", "3mf", "glb")
 PROG = "cutsim"
+_NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())  # () matches nothing (click 8.1)
 # errors of the machine or the file system, not of cutsim: exit status 2
 _ENV_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EACCES, errno.EPERM, errno.EROFS, errno.EIO, errno.EMFILE,
                errno.ENFILE, errno.ENOMEM, errno.EFBIG, errno.ENAMETOOLONG, errno.ENOTDIR, errno.EISDIR,
@@ -158,7 +159,7 @@ class _Main(click.Group):
             return rv if isinstance(rv, int) else 0
         except SystemExit:
             raise
-        except click.exceptions.NoArgsIsHelpError as e:
+        except _NO_ARGS_IS_HELP as e:  # `cutsim` alone: the help (click >= 8.2)
             e.show()
             return e.exit_code
         except click.exceptions.UsageError as e:
