@@ -124,6 +124,61 @@ def test_lead_in_ramp_and_phase():
     assert on_ramp >= 5
 
 
+# -- lead-in with the lead-in axis programmed: the thread ends at the programmed X ------------------
+# The manual's lead-in example (X71.798 Z-100, 18 degrees from R16, E12.) with X60. added to the
+# thread block. The lead-in ramps from the start point (seed 000, 5.3) and the thread ends at the
+# programmed end point like every G33: its line runs from where the manual's straight thread would
+# start, r0' = 71.798/2 - 12*tan 18 (the lead-in's reach), to r = 30 at Z3, and over the first
+# 12 mm the tool comes in to that line from the start, 12*tan 18 outside it at Z-100 and on it
+# at Z-88. Without X the same block cuts the manual's straight thread at r0'.
+
+LEADIN_SETUP = (LATHE / "lead-in.toml").read_text() if LATHE.is_dir() else ""
+LEADIN_TAPER = ("N10 M04  S50\nN20 X71.798  Z-100.  R16=118.0\nN30 X60. Z3 F6.0 E12. G33\nN40\n"
+                "N50 X80. Z3 G0\n")
+
+
+def leadin_line(z):
+    """Root radius the taper lead-in cuts at height z (see above)."""
+    tan18 = math.tan(math.radians(18.0))
+    r0 = 71.798 / 2 - 12.0 * tan18
+    d = z + 100.0  # lead-axis travel from the start
+    line = r0 + (30.0 - r0) * d / 103.0
+    return np.where(d < 12.0, line + (12.0 - d) * tan18, line)
+
+
+def test_lead_in_with_x_programmed_ends_at_x_and_warns():
+    from cutsim.interp import InterpConfig, interpret
+    cfg = InterpConfig(dialect="cnc8x6", diameter_programming=True, start=(80.0, 0.0, -110.0),
+                       constants={8: 15160000})
+    taper = interpret("t.nc", LEADIN_TAPER, cfg)
+    assert taper.last_cut_position == pytest.approx((60.0, 0.0, 3.0), abs=1e-12)  # was X56.202 (60 - 3.798)
+    (src, msg), = taper.warnings
+    assert src.line == 3 and "X60. programmed" in msg and "tapers" in msg
+    straight = 71.798 - 2 * 12.0 * math.tan(math.radians(18.0))  # 63.99993: the manual's X64
+    plain = interpret("t.nc", LEADIN_TAPER.replace("X60. Z3", "Z3"), cfg)
+    assert plain.last_cut_position == pytest.approx((straight, 0.0, 3.0), abs=1e-12) and plain.warnings == []
+    # X programmed at the straight thread's value: the same cut as without X, nothing to warn about
+    same = interpret("t.nc", LEADIN_TAPER.replace("X60. Z3", f"X{straight:.6f} Z3"), cfg)
+    assert same.warnings == []
+    assert same.last_cut_position == pytest.approx(plain.last_cut_position, abs=1e-6)
+
+
+def test_lead_in_taper_roots(tmp_path):
+    (tmp_path / "s.toml").write_text(LEADIN_SETUP)
+    r = cutsim.simulate("taper-lead-in.nc", str(tmp_path / "s.toml"), tolerance=TOL, text=LEADIN_TAPER)
+    assert any("tapers" in w["message"] for w in r.warnings), r.warnings
+    mesh = r.mesh()
+    on_ramp = 0
+    for phi in (45.0, 200.0, 300.0, 10.0):
+        rts = groove_roots(section(mesh, phi), -100.0, 0.0, 35.69, 2.0)
+        dz = wrap(rts[:, 0] - phase_z(phi, -100.0, 6.0, rho=-1, sigma=1), 6.0)  # M04 feeding +Z
+        assert np.all(np.abs(dz) < 1e-4), (phi, dz)
+        assert_roots(rts, leadin_line(rts[:, 0]), TOL, f"phi={phi}")
+        on_ramp += int(np.sum(rts[:, 0] < -88.0))
+        assert len(rts) >= 15
+    assert on_ramp >= 5
+
+
 # -- runouts: the last 12 mm of Z-100 climb outwards -------------------------------------------------
 
 @pytest.mark.parametrize("name,angle", [("runout-constant", 12.5), ("runout-parameter", 20.0)])
