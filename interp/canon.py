@@ -82,7 +82,13 @@ class Arc(Motion):
 class SyncedFeed(Motion):
     """Spindle-synchronised move (G33): waits for the spindle angle ``start_angle`` (degrees past the
     zero pulse in the direction of rotation), then advances ``lead`` mm per revolution along
-    ``lead_axis`` (None: the axis with the larger travel)."""
+    ``lead_axis`` (None: the axis with the larger travel).
+
+    With ramps the tool follows the straight line ``start`` -> ``end`` with each ramp's
+    displacement added progressively over its length (the lead-in over the first ``leadin.length``
+    mm of lead-axis travel, the runout over the last), so it stops at ``tool_end``. ``end`` is thus
+    the programmed end point only where no ramp moves it: the interpreter sets it so that the
+    tool reaches what the dialect means (CNC8x6: see its lead-in rule in docs/dialects/cnc8x6.md)."""
 
     lead: float
     lead_axis: str | None
