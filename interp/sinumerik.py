@@ -32,8 +32,53 @@ IGNORED_WORDS = {"STOPRE", "SUPA", "FFWON", "FFWOF", "SOFT", "BRISK", "CFC", "CF
                  "DIAMOF", "TRAFOOF", "M17"}
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
          "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2}
-LABEL_RE = re.compile(r"\s*(?:N\d+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
+LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
 CONTOUR_BEGIN = "contour definition begin"
+
+# -- limits (docs/dialects/sinumerik.md, "Limits"; the same ranges as the other dialects) ----------
+COORD_LIMIT = 99_999.9999  # |X Y Z I J K CR|, every position reached, cycle lengths and positions (mm)
+FEED_LIMIT = 99_999.9999  # F (mm/min, mm/rev) and cycle feeds
+SPEED_LIMIT = 99_999.0  # S (rpm)
+TOOL_LIMIT = 32_000  # T and D numbers
+PASS_LIMIT = 9_999  # P: repetitions of a subprogram call or of REPEAT
+L_LIMIT = 9_999_999  # L<n> subprogram numbers
+R_LIMIT = 9_999  # R0..R9999
+MAX_DIGITS = 20  # digits of one written number
+MAX_BLOCK_CHARS = 512  # characters of a block's statements (its comment not counted)
+MAX_NESTING = 32  # parentheses, function calls and signs nested in one expression
+MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
+MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
+RANGES = {**{a: (-COORD_LIMIT, COORD_LIMIT, "mm") for a in ("X", "Y", "Z", "I", "J", "K", "CR")},
+          "F": (0.0, FEED_LIMIT, "mm/min or mm/rev"), "S": (0.0, SPEED_LIMIT, "rpm"),
+          "T": (0, TOOL_LIMIT, ""), "D": (0, TOOL_LIMIT, ""), "P": (1, PASS_LIMIT, ""), "L": (0, L_LIMIT, "")}
+
+
+def _fmt(v: float) -> str:
+    """99999.9999 -> '99 999.9999' (groups of three as in the docs)."""
+    whole, _, frac = f"{abs(v):.4f}".rstrip("0").rstrip(".").partition(".")
+    groups = []
+    while len(whole) > 3:
+        groups.insert(0, whole[-3:])
+        whole = whole[:-3]
+    groups.insert(0, whole)
+    return ("-" if v < 0 else "") + " ".join(groups) + ("." + frac if frac else "")
+
+
+def range_message(what: str, value: float, lo: float, hi: float, unit: str = "") -> str:
+    """The one message for a value beyond its range (the manuals' "value exceeds the permitted range")."""
+    shown = f"{value:.10g}" if math.isfinite(value) else str(value)
+    return f"{what} = {shown}: value exceeds the permitted range {_fmt(lo)} to {_fmt(hi)}{' ' + unit if unit else ''}"
+
+
+def foreign_char(ch: str) -> str:
+    import unicodedata
+    if ch == "\ufffd":
+        return "a byte that is not UTF-8 text (shown as U+FFFD) outside a comment or a string"
+    name = unicodedata.name(ch, f"U+{ord(ch):04X}")
+    if ch.isdigit() or unicodedata.numeric(ch, None) is not None:
+        return f"'{ch}' ({name}) is not a digit the controller reads: write numbers with the ASCII digits 0-9"
+    return (f"'{ch}' ({name}) is not allowed outside a comment or a string: addresses, names and numbers "
+            "are ASCII")
 CONTOUR_END = "contour definition end"
 
 
@@ -63,6 +108,12 @@ class _Scanner:
 
     def __init__(self, prog: str, line: int, text: str):
         self.prog, self.line, self.s, self.i = prog, line, text, 0
+        self.depth = 0  # expressions, parentheses and signs open (MAX_NESTING)
+
+    def enter(self, col: int) -> None:
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self.err(col, f"expression nested deeper than {MAX_NESTING} levels (parentheses, functions, signs)")
 
     def err(self, col: int, msg: str) -> CutsimError:
         return CutsimError(self.prog, self.line, col, msg)
@@ -84,12 +135,15 @@ class _Scanner:
 
     # expressions: comparison > additive > multiplicative > unary > primary
     def expr(self):
+        self.enter(self.i + 1)
         left = self.additive()
         self.ws()
         for op in ("==", "<>", "<=", ">=", "<", ">"):
             if self.s.startswith(op, self.i):
                 self.i += len(op)
-                return ("bin", op, left, self.additive())
+                left = ("bin", op, left, self.additive())
+                break
+        self.depth -= 1
         return left
 
     def additive(self):
@@ -115,8 +169,10 @@ class _Scanner:
     def unary(self):
         c = self.peek()
         if c in ("-", "+", "\u2212") and c:
+            self.enter(self.i + 1)
             self.i += 1
             v = self.unary()
+            self.depth -= 1
             return ("neg", v) if c != "+" else v
         return self.primary()
 
@@ -125,8 +181,9 @@ class _Scanner:
         col = self.i + 1
         if not c:
             raise self.err(col, "expression expected at the end of the line")
-        m = re.compile(r"(?:\d+\.?\d*|\.\d+)").match(self.s, self.i)
+        m = NUMBER_RE.match(self.s, self.i)
         if m:
+            digits(self, col, m.group(0))
             self.i = m.end()
             if self.i < len(self.s) and (self.s[self.i] == "." or self.s[self.i].isalpha() and self.s[self.i].upper() not in ADDRESSES | {"R", "C", "A", "N"}):
                 raise self.err(col, f"malformed number '{self.s[col - 1:self.i + 1]}'")
@@ -172,13 +229,26 @@ class _Scanner:
         raise self.err(col, f"unexpected character '{c}' in an expression")
 
 
+NUMBER_RE = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)")  # [0-9], not \d: that matches every script's digits
+SIGNED_RE = re.compile(r"[+\-\u2212]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
+
+
+def digits(sc: _Scanner, col: int, raw: str) -> None:
+    """A written number has at most MAX_DIGITS digits (a 309-digit number is no number)."""
+    n = sum(ch in "0123456789" for ch in raw)
+    if n > MAX_DIGITS:
+        shown = raw if len(raw) <= 24 else f"{raw[:12]}...{raw[-6:]}"
+        raise sc.err(col, f"the number {shown} has {n} digits, more than the {MAX_DIGITS} a number may have")
+
+
 def _number_word(sc: _Scanner):
     """After an address letter: a plain number (G1, X-10.5)."""
-    m = re.compile(r"[+\-\u2212]?(?:\d+\.?\d*|\.\d+)").match(sc.s, sc.i)
+    m = SIGNED_RE.match(sc.s, sc.i)
     if not m:
         return None
+    digits(sc, sc.i + 1, m.group(0))
     j = m.end()
-    if j < len(sc.s) and (sc.s[j] == "." or sc.s[j].isdigit()):
+    if j < len(sc.s) and (sc.s[j] == "." or sc.s[j] in "0123456789"):
         raise sc.err(sc.i + 1, f"malformed number '{sc.s[sc.i:j + 1]}'")
     sc.i = j
     return float(m.group(0).replace("\u2212", "-"))
@@ -194,16 +264,33 @@ def strip_comment(text: str) -> str:
     return text
 
 
+def check_text(prog: str, lineno: int, text: str) -> None:
+    """A block (comment removed) is ASCII outside double-quoted strings (the Unicode minus sign of
+    OCR'd listings aside) and at most MAX_BLOCK_CHARS long."""
+    if len(text.rstrip()) > MAX_BLOCK_CHARS:
+        raise CutsimError(prog, lineno, MAX_BLOCK_CHARS + 1, f"the block is longer than {MAX_BLOCK_CHARS} characters "
+                          "(its comment not counted)")
+    if text.isascii():
+        return
+    inq = False
+    for k, ch in enumerate(text):
+        if ch == '"':
+            inq = not inq
+        elif ch >= "\x80" and not inq and ch != "\u2212":
+            raise CutsimError(prog, lineno, k + 1, foreign_char(ch))
+
+
 def scan_line(prog: str, lineno: int, raw: str) -> Line:
     ln = Line(lineno, raw)
     text = strip_comment(raw)
     if text.lstrip().startswith("%"):  # program header (%_N_NAME_MPF): handled by the splitter
         return ln
+    check_text(prog, lineno, text)
     sc = _Scanner(prog, lineno, text)
     m = LABEL_RE.match(text)
     if m and m.group(1).upper() not in KEYWORDS and len(m.group(1)) >= 2:
         ln.label = m.group(1).upper()
-        pre = re.match(r"\s*N(\d+)", text)
+        pre = re.match(r"\s*N([0-9]+)", text)
         if pre:
             ln.nlabel = "N" + pre.group(1)
         sc.i = m.end()
@@ -214,7 +301,7 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
             break
         col = sc.i + 1
         up = c.upper()
-        if up == "N" and first and sc.i + 1 < len(text) and text[sc.i + 1].isdigit():
+        if up == "N" and first and sc.i + 1 < len(text) and text[sc.i + 1] in "0123456789":
             sc.i += 1
             v = _number_word(sc)
             ln.nlabel = "N" + str(int(v))
@@ -222,12 +309,14 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
             continue
         first = False
         # R<n>=expr assignment
-        mr = re.compile(r"[Rr](\d+)\s*=").match(text, sc.i)
+        mr = re.compile(r"[Rr]([0-9]+)\s*=").match(text, sc.i)
         if mr:
+            if len(mr.group(1).lstrip("0")) > len(str(R_LIMIT)) or int(mr.group(1)) > R_LIMIT:
+                raise sc.err(col, f"R{mr.group(1)}: there are the parameters R0 to R{R_LIMIT}")
             sc.i = mr.end()
             ln.stmts.append(Stmt("assign", col, "R" + str(int(mr.group(1))), sc.expr()))
             continue
-        if up in ADDRESSES and sc.i + 1 < len(text) and (text[sc.i + 1].isdigit() or text[sc.i + 1] in "+-.\u2212"):
+        if up in ADDRESSES and sc.i + 1 < len(text) and text[sc.i + 1] in "0123456789+-.\u2212":
             sc.i += 1
             v = _number_word(sc)
             if v is None:
@@ -237,6 +326,8 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
         if not (c.isalpha() or c == "_"):
             raise sc.err(col, f"unexpected character '{c}'")
         name = sc.ident()
+        if not name:  # pragma: no cover - check_text and the test above leave only ASCII names here
+            raise sc.err(col, f"unexpected character '{c}'")
         nxt = sc.peek()
         if name == "DEF":
             sc.ws()
@@ -357,7 +448,7 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
             continue
         if re.fullmatch(r"[A-Z]", name):
             raise sc.err(col, f"address {name} needs a value")
-        if col > 1 and (text[col - 2].isdigit() or text[col - 2] == "."):
+        if col > 1 and text[col - 2] in "0123456789.":
             raise sc.err(col, f"unexpected '{name}' right after a number")
         ln.stmts.append(Stmt("sub", col, name))
     return ln
@@ -435,79 +526,98 @@ class Sinumerik(ModalMachine):
         return float(self.cfg.tool_radii.get(self.tool_no, 0.0))
 
     def ev(self, node, line: int, col: int):
+        """The value of an expression: a string or a finite float (an overflow is an error at the
+        expression's column)."""
+        v = self._ev(node, line, col)
+        if not isinstance(v, str) and not math.isfinite(v):
+            raise self.error(line, col, "the expression overflows: its value is not a finite number")
+        return v
+
+    def r_index(self, i: float, line: int, col: int) -> str:
+        if i != int(i) or not 0 <= i <= R_LIMIT:
+            raise self.error(line, col, f"R[{i:.10g}]: there are the parameters R0 to R{R_LIMIT}")
+        return f"R{int(i)}"
+
+    def _ev(self, node, line: int, col: int):
         k = node[0]
         if k == "num":
             return node[1]
         if k == "str":
             return node[1]
         if k == "neg":
-            v = self.ev(node[1], line, col)
+            v = self._ev(node[1], line, col)
             if isinstance(v, str):
                 raise self.error(line, col, "a string cannot be negated")
             return -v
         if k == "var":
             name = node[1]
-            if re.fullmatch(r"R\d+", name):
-                return self.params.get("R" + str(int(name[1:])), 0.0)
+            if re.fullmatch(r"R[0-9]+", name):
+                if len(name[1:].lstrip("0")) > len(str(R_LIMIT)):
+                    raise self.error(line, node[2], f"{name}: there are the parameters R0 to R{R_LIMIT}")
+                return self.params.get(self.r_index(float(int(name[1:])), line, node[2]), 0.0)
             if name in self.vars:
                 return self.vars[name]
             if name in ("TRUE", "FALSE"):
                 return 1.0 if name == "TRUE" else 0.0
             raise self.error(line, node[2], f"unknown variable '{name}' (declare it with DEF)")
         if k == "ridx":
-            i = self.num(self.ev(node[1], line, col), line, node[2])
-            return self.params.get(f"R{int(i)}", 0.0)
+            i = self.num(self._ev(node[1], line, col), line, node[2])
+            return self.params.get(self.r_index(i, line, node[2]), 0.0)
         if k == "fn":
-            args = [self.num(self.ev(a, line, col), line, node[3]) for a in node[2]]
+            args = [self.num(self._ev(a, line, col), line, node[3]) for a in node[2]]
             f = node[1]
-            try:
-                if f == "SIN":
-                    return math.sin(math.radians(args[0]))
-                if f == "COS":
-                    return math.cos(math.radians(args[0]))
-                if f == "TAN":
-                    return math.tan(math.radians(args[0]))
-                if f == "ASIN":
-                    return math.degrees(math.asin(args[0]))
-                if f == "ACOS":
-                    return math.degrees(math.acos(args[0]))
-                if f == "ATAN2":
-                    return math.degrees(math.atan2(args[0], args[1]))
-                if f == "SQRT":
-                    return math.sqrt(args[0])
-                if f == "ABS":
-                    return abs(args[0])
-                if f == "POT":
-                    return args[0] * args[0]
-                if f == "TRUNC":
-                    return float(math.trunc(args[0]))
-                if f == "ROUND":
-                    return float(math.floor(args[0] + 0.5))
-                if f == "MINVAL":
-                    return min(args)
-                if f == "MAXVAL":
-                    return max(args)
-            except ValueError:
-                raise self.error(line, node[3], f"{f} of {args[0]:g} is not defined") from None
+            r = self.fn(f, args, line, node[3])
+            if not math.isfinite(r):
+                raise self.error(line, node[3], f"{f} overflows: the result is not a finite number")
+            return r
         if k == "bin":
             op = node[1]
-            a = self.ev(node[2], line, col)
-            b = self.ev(node[3], line, col)
+            a = self._ev(node[2], line, col)
+            b = self._ev(node[3], line, col)
             if op in ("==", "<>") and isinstance(a, str) and isinstance(b, str):
                 return float((a == b) == (op == "=="))
             a, b = self.num(a, line, col), self.num(b, line, col)
-            if op == "+":
-                return a + b
-            if op == "-":
-                return a - b
-            if op == "*":
-                return a * b
-            if op == "/":
-                if b == 0:
+            if op in ("+", "-", "*", "/"):
+                if op == "/" and b == 0:
                     raise self.error(line, col, "division by zero")
-                return a / b
+                r = a + b if op == "+" else a - b if op == "-" else a * b if op == "*" else a / b
+                if not math.isfinite(r):
+                    raise self.error(line, col, f"{a:.10g} {op} {b:.10g} overflows: the result is not a finite number")
+                return r
             return float({"==": a == b, "<>": a != b, "<": a < b, ">": a > b, "<=": a <= b, ">=": a >= b}[op])
         raise self.error(line, col, "bad expression")  # pragma: no cover
+
+    def fn(self, f: str, args: list, line: int, col: int) -> float:
+        try:
+            if f == "SIN":
+                return math.sin(math.radians(args[0]))
+            if f == "COS":
+                return math.cos(math.radians(args[0]))
+            if f == "TAN":
+                return math.tan(math.radians(args[0]))
+            if f == "ASIN":
+                return math.degrees(math.asin(args[0]))
+            if f == "ACOS":
+                return math.degrees(math.acos(args[0]))
+            if f == "ATAN2":
+                return math.degrees(math.atan2(args[0], args[1]))
+            if f == "SQRT":
+                return math.sqrt(args[0])
+            if f == "ABS":
+                return abs(args[0])
+            if f == "POT":
+                return args[0] * args[0]
+            if f == "TRUNC":
+                return float(math.trunc(args[0]))
+            if f == "ROUND":
+                return float(math.floor(args[0] + 0.5))
+            if f == "MINVAL":
+                return min(args)
+            if f == "MAXVAL":
+                return max(args)
+        except (ValueError, OverflowError):
+            raise self.error(line, col, f"{f} of {args[0]:g} is not defined") from None
+        raise self.error(line, col, f"unknown function {f}")  # pragma: no cover
 
     def num(self, v, line: int, col: int) -> float:
         if isinstance(v, str):
@@ -518,6 +628,12 @@ class Sinumerik(ModalMachine):
 
     # -- emission (radius compensation buffers motions) -----------------------------------------
     def emit(self, rec) -> None:
+        for p in (rec.end, getattr(rec, "center", None)) if isinstance(rec, canon.MOTIONS) else ():
+            if p is not None and max(abs(c) for c in p) > COORD_LIMIT:
+                i = max(range(3), key=lambda k: abs(p[k]))
+                what = "the arc centre" if p is not rec.end else "the end point"
+                raise CutsimError(rec.src.program, rec.src.line, rec.src.col,
+                                  range_message(f"{what} {'XYZ'[i]}", p[i], -COORD_LIMIT, COORD_LIMIT, "mm"))
         if self.comp_buf is not None:
             self.comp_buf.append(rec)
         else:
@@ -600,14 +716,38 @@ class Sinumerik(ModalMachine):
         if not cands:
             raise self.error(line, col, f"subprogram {name} is not defined (PROC {name} in this file, or {name}.spf beside it)")
         path = os.path.join(d, sorted(cands)[0])
-        with open(path, "rb") as f:
-            text = f.read().decode("utf-8-sig", errors="replace")
+        text = self.read_sub(path, name, line, col)
         unit, more = split_units(path, text)
         unit.name = name
         self.subs[name] = unit
         for k, u in more.items():
             self.subs.setdefault(k, u)
         return unit
+
+    def read_sub(self, path: str, name: str, line: int, col: int) -> str:
+        """The text of a subprogram file; a directory, a special or unreadable file, or one larger
+        than MAX_SUB_BYTES is an error at the calling block."""
+        what = f"subprogram {name}: {path}"
+        try:
+            st = os.stat(path)
+        except OSError as e:
+            raise self.error(line, col, f"{what} cannot be read ({e.strerror})") from None
+        import stat
+        if stat.S_ISDIR(st.st_mode):
+            raise self.error(line, col, f"{what} is a directory, not a program file")
+        if not stat.S_ISREG(st.st_mode):
+            raise self.error(line, col, f"{what} is not a regular file")
+        if st.st_size > MAX_SUB_BYTES:
+            raise self.error(line, col, f"{what} has {st.st_size:,} bytes, more than the {MAX_SUB_BYTES:,} a "
+                             "subprogram file may have")
+        try:
+            with open(path, "rb") as f:
+                data = f.read(MAX_SUB_BYTES + 1)
+        except OSError as e:
+            raise self.error(line, col, f"{what} cannot be read ({e.strerror})") from None
+        if len(data) > MAX_SUB_BYTES:
+            raise self.error(line, col, f"{what} has more than the {MAX_SUB_BYTES:,} bytes a subprogram file may have")
+        return data.decode("utf-8-sig", errors="replace")
 
     # -- one block -------------------------------------------------------------------------------
     def block(self, ln: Line, fr: Frame, stack: list[Frame]) -> bool:
@@ -621,7 +761,7 @@ class Sinumerik(ModalMachine):
         for st in ln.stmts:
             if st.kind == "assign":
                 v = self.ev(st.b, line, st.col)
-                if st.a.startswith("R") and re.fullmatch(r"R\d+", st.a):
+                if st.a.startswith("R") and re.fullmatch(r"R[0-9]+", st.a):
                     self.params[st.a] = self.num(v, line, st.col)
                 elif st.a in self.vars:
                     self.vars[st.a] = v
@@ -629,7 +769,7 @@ class Sinumerik(ModalMachine):
                     raise self.error(line, st.col, f"unknown variable '{st.a}' (declare it with DEF)")
             elif st.kind == "def":
                 for vname, init, vcol in st.b:
-                    if re.fullmatch(r"R\d+", vname) or vname in EXPR_ADDRESSES or len(vname) == 1:
+                    if re.fullmatch(r"R[0-9]+", vname) or vname in EXPR_ADDRESSES or len(vname) == 1:
                         raise self.error(line, vcol, f"'{vname}' is an address or parameter and cannot be a variable name")
                     val = 0.0 if st.a != "STRING" else ""
                     if init is not None:
@@ -652,7 +792,11 @@ class Sinumerik(ModalMachine):
                 else:
                     if st.a in words:
                         raise self.error(line, st.col, f"address {st.a} appears twice in one block")
-                    words[st.a] = (self.num(val, line, st.col), st.c, st.col)
+                    v = self.num(val, line, st.col)
+                    lo, hi, unit = RANGES[st.a]
+                    if not lo <= v <= hi:
+                        raise self.error(line, st.col, range_message(st.a, v, lo, hi, unit))
+                    words[st.a] = (v, st.c, st.col)
             elif st.kind in ("goto", "repeat"):
                 jumps.append(st)
             elif st.kind in ("call", "sub", "ret"):
@@ -754,6 +898,8 @@ class Sinumerik(ModalMachine):
                 return False
         if "L" in words:
             lw = words.pop("L")
+            if lw[0] != int(lw[0]):
+                raise self.error(line, lw[2], f"L{lw[0]:g}: a subprogram number is a whole number")
             self.call_sub(self.find_sub(f"L{int(lw[0])}", line, lw[2]), src, words, stack, lw[2])
             return False
         if "P" in words:
@@ -778,8 +924,11 @@ class Sinumerik(ModalMachine):
                 cur = fr2.pc - 1
                 a = self.find_label(fr2.unit, st.a, line, st.col)
                 n = self.num(self.ev(st.c, line, st.col), line, st.col)
-                if n != int(n) or n < 1:
-                    raise self.error(line, st.col, "REPEAT P must be a whole number of at least 1")
+                if n != int(n) or not 1 <= n <= PASS_LIMIT:
+                    raise self.error(line, st.col, f"REPEAT P must be a whole number from 1 to {PASS_LIMIT} (got {n:.10g})")
+                if len(stack) > MAX_STACK:
+                    raise self.error(line, st.col, f"REPEAT sections and subprograms nested deeper than {MAX_STACK} "
+                                     "(a REPEAT inside the section it repeats?)")
                 if st.b is None:
                     if a >= cur:
                         raise self.error(line, st.col, f"REPEAT {st.a}: the label must come before this block")
@@ -836,12 +985,14 @@ class Sinumerik(ModalMachine):
 
     def move(self, ln: Line, src: Src, words: dict, motion_word) -> None:
         line = ln.line
+        cols = {i: words[a][2] for i, a in enumerate("XYZ") if a in words}
         targets = self.axis_targets(words)
         if not targets and motion_word not in (2, 3) and not any(k in words for k in ("I", "J", "K", "CR")):
             return
         end = list(self.pos)
         for i, v in targets.items():
             end[i] = v
+            self.in_range(line, cols[i], "XYZ"[i], v, "the end point")
         end = (end[0], end[1], end[2])
         if self.motion in (0, 1):
             for a in ("I", "J", "K", "CR"):
@@ -875,17 +1026,25 @@ class Sinumerik(ModalMachine):
             cx, cy = mx - sgn * h * dy / d, my + sgn * h * dx / d
             centre = list(self.pos)
             centre[a], centre[b] = cx, cy
+            for i in (a, b):
+                self.in_range(line, ccol, "XYZ"[i], centre[i], "the arc centre")
         else:
             centre = list(self.pos)
             given = False
             for i in (a, b):
                 if letters[i] in words:
-                    v, mode, _ = words.pop(letters[i])
+                    v, mode, icol = words.pop(letters[i])
                     centre[i] = v if mode == "AC" else self.pos[i] + v
+                    self.in_range(line, icol, "XYZ"[i], centre[i], "the arc centre")
                     given = True
             if not given:
                 raise self.error(line, 1, f"circle needs its centre ({letters[a]}/{letters[b]}) or a radius CR=")
         self.arc(src, end, (centre[0], centre[1], centre[2]), cw)
+
+    def in_range(self, line: int, col: int, axis: str, v: float, what: str) -> None:
+        """A position the tool reaches (incremental words add up) stays within COORD_LIMIT."""
+        if abs(v) > COORD_LIMIT:
+            raise self.error(line, col, range_message(f"{what} {axis}", v, -COORD_LIMIT, COORD_LIMIT, "mm"))
 
     # -- tool radius compensation ----------------------------------------------------------------
     def flush_comp(self, src_g40: Src | None, line: int) -> None:

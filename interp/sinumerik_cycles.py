@@ -15,12 +15,17 @@ from dataclasses import dataclass
 
 from . import canon
 from .canon import Src
+from .errors import CutsimError
 from .modal import PLANE_AXES
+from .sinumerik import COORD_LIMIT, range_message
 
 SIDE_STEP = 1.0  # pocket/slot roughing: radial step between concentric paths, x tool radius
 INNER_LOOP = 0.9  # the innermost roughing path lies this many tool radii inside the final one
 FACE_STEP = 1.5  # CYCLE71 default side step (_MIDA empty), x tool radius
 EPS = 1e-9
+ANGLES = {"STA1", "INDA", "AFSL", "_STA"}  # degrees, within +-ANGLE_LIMIT
+ANGLE_LIMIT = 360.0
+NUM_LIMIT = 1000  # SLOT1/SLOT2 NUM
 
 
 # ---------------------------------------------------------------------------------------------
@@ -345,6 +350,10 @@ class Cycle:
                 raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) must be a number, not the string \"{val}\"")
             if p.kind == "s" and not isinstance(val, str):
                 raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) must be a string in double quotes")
+            if p.kind == "n":
+                lim, unit = (ANGLE_LIMIT, "degrees") if p.name in ANGLES else (COORD_LIMIT, "")
+                if not -lim <= val <= lim:
+                    raise m.error(self.line, col, f"{name}: parameter {k + 1} " + range_message(p.name, val, -lim, lim, unit))
             self.v[p.name] = val
             self.given.add(p.name)
         self.rt = m.tool_radius()
@@ -498,6 +507,51 @@ def offsets(d, rt, step):
     return [(n - 1 - j) * s for j in range(n)]
 
 
+def n_levels(top, bottom, mid) -> int:
+    """How many depth steps Cycle.levels makes (without building them)."""
+    if bottom >= top - EPS:
+        return 0
+    return 1 if mid <= EPS else max(1, math.ceil((top - bottom) / mid - 1e-9))
+
+
+def n_offsets(d, rt, step) -> int:
+    """How many concentric paths offsets() makes (without building them)."""
+    return 1 if d <= INNER_LOOP * rt else 1 + math.ceil((d - INNER_LOOP * rt) / step - 1e-9)
+
+
+def budget(cy: Cycle, moves: int, parts: list[tuple[int, str]]) -> None:
+    """Refuse a cycle whose moves (estimated from its parameters, before any is built) exceed
+    [simulation] max_blocks; ``parts`` are the factors as (count, text naming the parameter)."""
+    limit = cy.m.cfg.max_blocks
+    if moves > limit:
+        detail = ", ".join(f"{n:,} {t}" for n, t in parts)
+        raise cy.err(f"the cycle would make about {moves:,} moves ({detail}), more than [simulation] max_blocks = "
+                     f"{limit:,}: a cycle may make at most that many moves")
+
+
+def region_budget(cy: Cycle, top, bottom, mid, midf, fald, units, fal, n_loops, per_loop, step_text, count=1,
+                  helix_pitch=None):
+    """The moves cut_region will make for ``count`` regions of ``n_loops`` paths of ``per_loop``
+    elements each, checked against max_blocks before anything is built."""
+    u = "_" if cy.name in ("POCKET3", "POCKET4") else ""
+    rough = units in (0, 1)
+    fin = units == 2 or (units == 0 and fal > 0)
+    nr = n_levels(top, bottom + fald, mid) if rough else 0
+    nf = n_levels(top, bottom, midf if midf > 0 else mid) if fin else 0
+    per_level = n_loops * (per_loop + 1) + 3
+    moves = nr * per_level + (per_level if rough and fald > 0 else 0) + nf * (per_loop + 3) + 6
+    parts = [(max(nr, nf), f"infeeds of at most {u}MID {mid:g} over {top - bottom:g} mm"
+              + (f" (finishing: MIDF {midf:g})" if nf > nr else "")),
+             (n_loops, f"paths side by side {step_text}")]
+    if helix_pitch:
+        half_turns = math.ceil((top - bottom) / (helix_pitch / 2)) + 4 * nr
+        moves += half_turns
+        parts.append((half_turns, f"helix half-turns of _DP1 {helix_pitch:g} mm per turn"))
+    if count > 1:
+        parts.append((count, "slots (NUM)"))
+    budget(cy, moves * count, parts)
+
+
 def cut_region(cy: Cycle, rtp, safe, top, bottom, loops_rough, loops_fin, mid, midf, plunge, ffd, ffp1, ffp2,
                fald=0.0, helix=None):
     """Rough the loops level by level (plunge at the first loop's start), then finish along the
@@ -626,8 +680,8 @@ def _seg_dist(p1, p2, q1, q2):
 def _slot_count(cy: Cycle) -> int:
     """NUM: how many slots (default 1), a whole number."""
     num = cy["NUM"] if "NUM" in cy.given else 1
-    if num < 1 or num != int(num):
-        raise cy.err("NUM must be a whole number of slots, at least 1")
+    if num < 1 or num != int(num) or num > NUM_LIMIT:
+        raise cy.err(f"NUM must be a whole number of slots from 1 to {NUM_LIMIT} (got {num:.10g})")
     return int(num)
 
 
@@ -665,6 +719,9 @@ def slot1(cy: Cycle):
     ccw = cy.ccw(cy["CDIR"])
     bottom = cy.depth()
     safe = cy["RFP"] + cy["SDIS"]
+    region_budget(cy, cy["RFP"], bottom, cy["MID"], cy["MIDF"], 0.0, units, fal,
+                  n_offsets(max(wid / 2 - rt - fal, 0.0), rt, SIDE_STEP * rt), 9,
+                  f"{SIDE_STEP * rt:g} mm apart (the tool radius {rt:g} mm)", count=num)
     for ang, p0, p1 in axes:
         mid = ((p0[0] + p1[0]) / 2, (p0[1] + p1[1]) / 2)
         a, b = leng / 2 - rt, wid / 2 - rt
@@ -706,6 +763,9 @@ def slot2(cy: Cycle):
     c = (cy["CPA"], cy["CPO"])
     bottom = cy.depth()
     safe = cy["RFP"] + cy["SDIS"]
+    region_budget(cy, cy["RFP"], bottom, cy["MID"], cy["MIDF"], 0.0, units, fal,
+                  n_offsets(max(wid / 2 - rt - fal, 0.0), rt, SIDE_STEP * rt), 5,
+                  f"{SIDE_STEP * rt:g} mm apart (the tool radius {rt:g} mm)", count=num)
     for k in range(num):
         t0 = math.radians(cy["STA1"] + k * inda)
         t1 = t0 + math.radians(afsl)
@@ -737,6 +797,13 @@ def _rect_pocket(cy: Cycle, leng, wid, crad, centre, sta, mid, midf, fal, fald, 
         raise cy.err(f"the finishing allowance {fal:g} leaves no room for the tool in the pocket")
     ang = math.radians(sta)
     ccw = cy.ccw(cdir)
+    pitch = None
+    if mode == 2:
+        pitch = helix_pitch if helix_pitch and helix_pitch > 0 else max(rt / 2, 1e-3)
+    mida_given = cy.name in ("POCKET3", "POCKET4") and cy["_MIDA"] > 0
+    step_text = f"_MIDA {step:g} mm apart" if mida_given else f"{step:g} mm apart (the tool radius {rt:g} mm)"
+    region_budget(cy, rfp, bottom, mid, midf, fald, units, fal, n_offsets(max(min(a, b) - fal, 0.0), rt, step),
+                  9, step_text, helix_pitch=pitch)
 
     def build(extra):
         d = max(min(a, b) - extra, 0.0)
@@ -748,7 +815,6 @@ def _rect_pocket(cy: Cycle, leng, wid, crad, centre, sta, mid, midf, fal, fald, 
         r = helix_r if helix_r and helix_r > 0 else rt / 2
         if r + rt > min(leng, wid) / 2 + 1e-9:
             raise cy.err(f"the helix radius {r:g} does not fit in the pocket with this tool")
-        pitch = helix_pitch if helix_pitch and helix_pitch > 0 else max(rt / 2, 1e-3)
         helix = (centre, r, pitch)
     cut_region(cy, rtp, rfp + sdis, rfp, bottom, _orient(rough, ccw), _orient(fin, ccw), mid, midf, mode, ffd, ffp1,
                ffp2, fald, helix)
@@ -835,6 +901,11 @@ def cycle71(cy: Cycle):
     if not along_first:  # cut along the second axis: swap the roles
         u0, u1, v0, v1 = v0, v1, u0, u1
     n = max(1, math.ceil((v1 - v0) / step - 1e-9))
+    top, bottom, fald = cy["_RFP"], cy["_DP"], cy["_FALD"]
+    nl = n_levels(top, bottom, cy["_MID"]) + 1
+    budget(cy, nl * (3 * (n + 1) + 4), [(nl, f"infeeds of at most _MID {cy['_MID']:g} over {top - bottom:g} mm"),
+                                        (n + 1, f"lines {step:g} mm apart" + (" (_MIDA)" if mida > 0 else
+                                                                            f" (the tool radius {rt:g} mm)"))])
     vs = [v0 + (v1 - v0) * k / n for k in range(n + 1)]
     ext0 = rt + (cy["_FDP"] if cy["_FDP"] > 0 else cy["_SDIS"])
     ext1 = rt + cy["_FDP1"]
@@ -842,8 +913,6 @@ def cycle71(cy: Cycle):
     def G(u, v):
         p = (u, v) if along_first else (v, u)
         return _rot(p, ang, corner)
-    top, bottom = cy["_RFP"], cy["_DP"]
-    fald = cy["_FALD"]
     levels = []
     if units in (0, 1):
         levels += cy.levels(top, bottom + (fald if units == 1 or fald > 0 else 0.0), cy["_MID"])
@@ -881,8 +950,8 @@ def cycle71(cy: Cycle):
 
 # ---------------------------------------------------------------------------------------------
 def contour_elements(m, name: str, cy: Cycle):
-    """The contour named by _KNAME (a subprogram or "START:END" labels) as (start, elements) in
-    the XY plane; its blocks run in a sandbox that emits nothing."""
+    """The contour named by _KNAME (a subprogram or "START:END" labels) as (start, elements, the
+    Src of each element) in the XY plane; its blocks run in a sandbox that emits nothing."""
     from .sinumerik import Frame
     name = name.strip()
     if not name:
@@ -900,7 +969,9 @@ def contour_elements(m, name: str, cy: Cycle):
     else:
         try:
             unit = m.find_sub(name.upper(), cy.line, cy.col)
-        except Exception:
+        except CutsimError as e:
+            if "is not defined" not in e.message:
+                raise  # a NAME.spf that is a directory, unreadable or too large
             raise cy.err(f"contour {name} not found (no subprogram and no \"START:END\" labels of that name)") from None
         lines = unit.lines
     saved = (list(m.pos), m.absolute, m.plane, m.motion, m.feed, m.per_rev, m.program.records, m.comp_buf,
@@ -931,18 +1002,25 @@ def contour_elements(m, name: str, cy: Cycle):
     if not motions:
         raise cy.err(f"contour {name} has no moves")
     start = (motions[0].end[0], motions[0].end[1])
-    elems = []
+    elems, srcs = [], []
     for r in motions[1:]:
         s, e = (r.start[0], r.start[1]), (r.end[0], r.end[1])
         if isinstance(r, canon.Arc):
             if r.full_turn:
-                raise cy.err("a full circle in the contour is not supported: split it in two arcs")
+                raise contour_error(cy, r.src, "a full circle in the contour is not supported: split it in two arcs")
             elems.append(("A", s, e, (r.center[0], r.center[1]), r.clockwise))
+            srcs.append(r.src)
         elif _norm(_sub(e, s)) > 1e-9:
             elems.append(("L", s, e))
+            srcs.append(r.src)
     if not elems:
         raise cy.err(f"contour {name} has a start point but no elements")
-    return start, elems
+    return start, elems, srcs
+
+
+def contour_error(cy: Cycle, src: Src, msg: str) -> CutsimError:
+    """An error of the contour at its own line (and file), naming the cycle's call."""
+    return CutsimError(src.program, src.line, src.col, f"{cy.name} (called at line {cy.line}): {msg}")
 
 
 def cycle72(cy: Cycle):
@@ -959,7 +1037,7 @@ def cycle72(cy: Cycle):
     units = int(v) % 10
     if units not in (0, 1, 2):
         raise cy.err(f"_VARI units digit must be 0 (complete), 1 (roughing) or 2 (finishing), got {units}")
-    _, elems = contour_elements(m, cy["_KNAME"], cy)
+    _, elems, srcs = contour_elements(m, cy["_KNAME"], cy)
     side = {40: 0, 41: 1, 42: -1}[rl]
     fal = cy["_FAL"] if rl != 40 else 0.0
 
@@ -967,9 +1045,13 @@ def cycle72(cy: Cycle):
         try:
             chain = offset_chain(elems, side * (cy.rt + extra))
         except OffsetError as e:
-            raise cy.err(f"contour element {e.index + 1}: {e}") from None
+            raise contour_error(cy, srcs[e.index], f"contour element {e.index + 1}: {e}") from None
         return [e for e, _ in chain]
     top, bottom, fald = cy["_RFP"], cy["_DP"], cy["_FALD"]
+    npass = ((n_levels(top, bottom + fald, cy["_MID"]) if units in (0, 1) else 0)
+             + (n_levels(top, bottom, cy["_MID"]) if units == 2 or (units == 0 and (fal > 0 or fald > 0)) else 0))
+    budget(cy, npass * (2 * len(elems) + 12), [(npass, f"passes for infeeds of at most _MID {cy['_MID']:g}"),
+                                               (len(elems), "contour elements")])
     passes = []
     if units in (0, 1):
         for lv in cy.levels(top, bottom + fald, cy["_MID"]):
