@@ -43,13 +43,21 @@ class Result:
     report: dict = field(default_factory=dict)
 
     def mesh(self):
-        """The part as a trimesh.Trimesh (workpiece frame, mm)."""
+        """The part as a trimesh.Trimesh (workpiece frame, ``units = "mm"``): the mesh that
+        ``cutsim simulate`` writes, closed by position (cutsim.reports.mesh.closed_mesh). It is
+        computed once per Result; each call returns a fresh Trimesh of it."""
         import trimesh
 
         from cutsim.reports.report import mesh_arrays
 
-        v, f = mesh_arrays(self.part)
-        return trimesh.Trimesh(vertices=v, faces=f, process=False)
+        cached = self.__dict__.get("_closed_mesh")
+        if cached is None or cached[0] is not self.part:
+            cached = (self.part, mesh_arrays(self.part, self.report.get("tolerance")))
+            self.__dict__["_closed_mesh"] = cached
+        v, f = cached[1]
+        mesh = trimesh.Trimesh(vertices=v.copy(), faces=f.copy(), process=False)
+        mesh.units = "mm"
+        return mesh
 
     @property
     def warnings(self) -> list[dict]:

@@ -3,9 +3,12 @@ output directory and are renamed into place only when every one was written."""
 from __future__ import annotations
 
 import json
+import math
 import os
 
 import numpy as np
+
+from .mesh import closed_mesh, part_bytes, stl_bytes, threemf_bytes  # noqa: F401 - the exporters live in mesh.py
 
 
 def _round(v: float, nd: int = 6) -> float:
@@ -63,75 +66,34 @@ def warning_text(w: dict) -> str:
     return f"{w['program']}:{w['line']}:{w['column']}: warning: {w['message']}{called_from(w)}"
 
 
-def mesh_arrays(part):
-    """Vertices (float64) and faces of a manifold, in a deterministic order."""
-    mesh = part.to_mesh()
-    verts = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
-    faces = np.asarray(mesh.tri_verts, dtype=np.int64)
-    return verts, faces
-
-
-def stl_bytes(verts: np.ndarray, faces: np.ndarray) -> bytes:
-    """Binary STL with unit normals, little-endian, zero header: same mesh, same bytes."""
-    tri = verts[faces].astype(np.float64)
-    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    ln = np.linalg.norm(nrm, axis=1, keepdims=True)
-    nrm = np.divide(nrm, ln, out=np.zeros_like(nrm), where=ln > 0)
-    rec = np.zeros(len(faces), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
-    rec["n"] = nrm
-    rec["v"] = tri
-    header = b"cutsim binary STL".ljust(80, b"\0")
-    return header + np.uint32(len(faces)).astype("<u4").tobytes() + rec.tobytes()
+def mesh_arrays(part, tolerance: float | None = None):
+    """Vertices (float64, mm) and faces of the part as written: the mesh closed by position
+    (reports/mesh.py closed_mesh; ``tolerance`` is the run's chordal tolerance)."""
+    m = closed_mesh(part, tolerance)
+    return m.vertices, m.faces
 
 
 def report_bytes(report: dict) -> bytes:
-    return (json.dumps(report, indent=2, ensure_ascii=False, sort_keys=False) + "\n").encode("utf-8")
+    """report.json: strict JSON (RFC 8259). A NaN or infinity anywhere in the report is a bug in
+    cutsim and raises ValueError naming the field; it is never written."""
+    bad = _non_finite(report, "")
+    if bad is not None:
+        raise ValueError(f"report.json field {bad} is not a finite number")
+    return (json.dumps(report, indent=2, ensure_ascii=False, sort_keys=False, allow_nan=False) + "\n").encode("utf-8")
 
 
-def part_bytes(verts: np.ndarray, faces: np.ndarray, fmt: str = "stl") -> bytes:
-    """The part file in ``fmt``: "stl" (stl_bytes), "3mf" (threemf_bytes) or "glb" (trimesh's
-    exporter). Same mesh, same bytes for all three: the 3MF zip has fixed entry dates and GLB
-    carries no timestamps."""
-    if fmt == "stl":
-        return stl_bytes(verts, faces)
-    if fmt == "3mf":
-        return threemf_bytes(verts, faces)
-    import trimesh
-
-    mesh = trimesh.Trimesh(vertices=verts, faces=faces, process=False)
-    if fmt == "glb":
-        return trimesh.exchange.gltf.export_glb(trimesh.Scene(mesh))
-    raise ValueError(f"unknown part format {fmt!r}")
-
-
-def threemf_bytes(verts: np.ndarray, faces: np.ndarray) -> bytes:
-    """A minimal 3MF package (core spec: one mesh object, unit millimetre), written without lxml;
-    zip entries carry a fixed date so the bytes depend only on the mesh."""
-    import io
-    import zipfile
-
-    v = "".join(f'<vertex x="{x:.9g}" y="{y:.9g}" z="{z:.9g}"/>' for x, y, z in np.asarray(verts, dtype=np.float64))
-    t = "".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in np.asarray(faces, dtype=np.int64))
-    model = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-             '<model unit="millimeter" xml:lang="en-US" '
-             'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">'
-             '<resources><object id="1" type="model" name="part"><mesh>'
-             f"<vertices>{v}</vertices><triangles>{t}</triangles></mesh></object></resources>"
-             '<build><item objectid="1"/></build></model>\n')
-    types = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-             '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
-             '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
-             '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
-             "</Types>\n")
-    rels = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-            '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
-            '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
-            'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>\n')
-    buf = io.BytesIO()
-    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_DEFLATED) as z:
-        for name, text in (("[Content_Types].xml", types), ("_rels/.rels", rels), ("3D/3dmodel.model", model)):
-            info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
-            info.compress_type = zipfile.ZIP_DEFLATED
-            info.external_attr = 0o644 << 16
-            z.writestr(info, text.encode("utf-8"))
-    return buf.getvalue()
+def _non_finite(value, path: str) -> str | None:
+    """The path (``checks[0].measured``) of the first NaN or infinity in ``value``, else None."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else (path or "(top level)")
+    if isinstance(value, dict):
+        items = ((f"{path}.{k}" if path else str(k), v) for k, v in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = ((f"{path}[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for p, v in items:
+        bad = _non_finite(v, p)
+        if bad is not None:
+            return bad
+    return None
