@@ -412,7 +412,8 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
                 sc.i += 1
             else:
                 while True:
-                    acol = sc.i + 1
+                    sc.ws()
+                    acol = sc.i + 1  # the parameter's first character (its comma when empty)
                     if sc.peek() in (",", ")"):
                         args.append((None, acol))
                     else:
