@@ -257,3 +257,32 @@ def test_endless_gotob_is_found_at_its_line_without_the_block_limit():
     prog = interpret("t.mpf", text.replace("  GOTOB AGAIN\n", ""), cfg)
     xs = [m.end[0] for m in prog.moves]
     assert xs == [1.0, 2.0, 3.0, 4.0, 5.0, 0.0]  # the counted loop ran five times
+
+
+# -- limits: the values just inside every limit still run (tests/test_bad_sinumerik.py: just outside)
+def test_values_at_the_limits_run():
+    chain = "+".join(["1"] * 250)  # a block of 499 characters before its comment
+    nested = "(" * 31 + "2" + ")" * 31  # 31 parentheses + the expression itself: 32 levels
+    p = moves(f"""G90 G17 F99999.9999 S99999 T32000 D0
+G1 X99999.9999 Y-99999.9999 Z0
+R9999={nested}
+R1={chain} ; {"a comment of any length " * 40}
+G1 X=R1 Y=R9999 Z=12345678901234567890/1000000000000000
+G1 X0.0000000000000000001
+M30
+""")
+    assert ends(p) == [(99999.9999, -99999.9999, 0), (250, 2, 12345.678901), (0, 2, 12345.678901)]
+
+
+def test_unicode_minus_and_strings_stay_accepted():
+    p = moves('MSG("Fräsen − ž")\nG1 X−10 Y5 Z0 F100\nM30\n')
+    assert ends(p) == [(-10, 5, 0)]
+
+
+def test_cycle_moves_up_to_max_blocks_run():
+    # POCKET2 radius 14, 10 mm tool, 4 infeeds: estimated about 100 moves, runs under a limit of 200
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(50.0, 50.0, 50.0), tool_radii={1: 5.0},
+                       max_blocks=200)
+    p = interpret("t.mpf", "G17 G90 S1000 M3 F300\nPOCKET2(10, 0, 2, -4, , 14, 50, 50, 100, 300, 1, 0, 0, 0)\nM30\n", cfg)
+    assert 20 < len(p.moves) <= 200
+    assert min(r.end[2] for r in p.moves) == pytest.approx(-4.0)
