@@ -240,3 +240,89 @@ def test_cycle72_boss_wall(tmp_path):
     assert max(point_segment_distance(hs, p) for p in pts) < 0.005
     assert floor_z(m, (15.0, 50.0), 5.0) == pytest.approx(-5.0, abs=0.002)  # beside the boss
     assert floor_z(m, (50.0, 50.0), 5.0) == pytest.approx(0.0, abs=0.002)  # the boss's top
+
+
+# -- random parameter sets (fixed seed): depth, infeed, allowances, machining type, infeed kind,
+# direction and tool drawn around the cases above
+from cutsim.interp import InterpConfig, canon, interpret  # noqa: E402
+from cutsim.interp.sinumerik_cycles import SPECS  # noqa: E402
+
+RADII = {1: 5.0, 2: 3.0, 3: 8.0}
+TENS = {"SLOT1": (0, 1, 3), "SLOT2": (0, 1, 3), "POCKET1": (0, 1), "POCKET2": (0, 1), "POCKET3": (0, 1, 2, 3),
+        "POCKET4": (0, 1, 2)}
+DRAW = {"DP": (-1, -2.5, -4, -6), "MID": (0, 0.7, 1.5, 2.5, 4), "FAL": (0, 0.2, 0.5), "MIDF": (0, 1, 2),
+        "SDIS": (0.5, 1, 2), "CDIR": (0, 1, 2, 3), "FALD": (0, 0.2), "FDP": (0, 2, 5), "FDP1": (0, 1, 3),
+        "AS1": (1, 2, 3), "AS2": (1, 2, 3), "LP1": (3, 5, 8), "LP2": (3, 5, 8), "STA": (0, 15, 90),
+        "STA1": (0, 20, 45)}
+
+
+def random_case(rng, name):
+    tool, params = rng.choice(CASES[name])
+    names = [p.name for p in SPECS[name]]
+    ps = params.split(", ")
+    ps += [""] * (len(names) - len(ps))
+    for k, n in enumerate(names):
+        key = n.lstrip("_")
+        if key in DRAW and rng.random() < 0.6:
+            ps[k] = str(rng.choice(DRAW[key]))
+        if key == "DPR" and ps[k] and rng.random() < 0.5:
+            ps[k] = str(rng.choice((1, 3, 5)))
+        if key == "VARI":
+            if name == "CYCLE71":
+                ps[k] = str(10 * rng.choice((1, 2, 3, 4)) + rng.choice((1, 2)))
+            elif name == "CYCLE72":
+                ps[k] = str(rng.choice((0, 1, 2)))
+            else:
+                ps[k] = str(10 * rng.choice(TENS[name]) + rng.choice((0, 1, 2)))
+    if name != "CYCLE71" and rng.random() < 0.5:
+        tool = rng.choice((1, 2, 3))
+    return tool, ", ".join(ps).rstrip(", ")
+
+
+def cycle_program(name, tool, params, spindle="M3"):
+    tail = BOSS if "BOSS" in params else SEED if "KONT" in params else ""
+    return f"G17 G90\nT{tool} D1\nM6\nS2000 {spindle} F300\n{name}({params})\nM30\n{tail}"
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_random_parameters_no_rapid_down_into_the_block(name):
+    """200 random parameter sets per cycle, interpreter only: every rapid that goes down ends at
+    RFP (0) + SDIS or higher (a rapid that ends lower would go into the block). At least half the
+    sets must be valid so the check is not empty."""
+    import random
+    rng = random.Random(20261123)
+    valid = 0
+    for _ in range(200):
+        tool, params = random_case(rng, name)
+        sdis = float(params.split(", ")[3 if name == "CYCLE72" else 2] or 0)
+        cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(50.0, 50.0, 50.0), tool_radii=RADII)
+        try:
+            prog = interpret("p.mpf", cycle_program(name, tool, params, rng.choice(("M3", "M4"))), cfg)
+        except cutsim.CutsimError:
+            continue
+        valid += 1
+        for r in prog.moves:
+            if isinstance(r, canon.Rapid) and r.end[2] < r.start[2] - 1e-9:
+                assert r.end[2] >= sdis - 1e-9, (params, r)
+    assert valid >= 100
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_random_parameters_make_no_warning(tmp_path, name):
+    """Two random parameter sets per cycle through the whole simulation: no warning."""
+    import random
+    rng = random.Random(sum(map(ord, name)))
+    done = 0
+    while done < 2:
+        tool, params = random_case(rng, name)
+        tail, box, start = "", BOX, (50.0, 50.0)
+        if "BOSS" in params:
+            tail = BOSS
+        elif "KONT" in params:
+            tail, box, start = SEED, ((-20.0, 76.0), (-35.0, 69.65)), (28.0, 90.0)
+        try:
+            r = run(tmp_path, tool, f"{name}({params})", tail, box, start)
+        except cutsim.CutsimError:
+            continue
+        clean(r)
+        done += 1
