@@ -33,6 +33,10 @@ COORD_MAX = SIZE_MAX  # mm: profile tool points lie within +-COORD_MAX of the co
 # so every tool within the ranges stays far above it.
 MIN_WIDTH = 1e-6  # mm
 
+# Flutes longer than this many diameters make a body so thin that convex hulls (which merge
+# points closer than a fraction of the cloud's size) lose its roundness.
+MAX_FLUTE_RATIO = 1000.0
+
 LATHE_KINDS = ("thread", "turning", "profile")
 MILL_KINDS = ("endmill", "ballmill")
 
@@ -75,6 +79,9 @@ def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
             p = _size(tool, key)
             if p:
                 return p
+        if tool.length > MAX_FLUTE_RATIO * tool.diameter:
+            return "length", (f"must be at most {MAX_FLUTE_RATIO:g} x the diameter ({MAX_FLUTE_RATIO * tool.diameter:g} mm) "
+                              f"(got {tool.length!r})")
         rc = tool.corner_radius
         r = tool.diameter / 2.0
         if not (math.isfinite(rc) and (rc == 0 or SIZE_MIN <= rc <= r * (1 + 1e-12))):
@@ -93,7 +100,7 @@ def check_tool(tool: ToolSpec) -> None:
     p = tool_problem(tool)
     if p is not None:
         key, why = p
-        raise tool_error(tool, f"{key + ' ' if key else ''}{why}")
+        raise tool_error(tool, f"{key + ': ' if key else ''}{why}")
 
 
 # -- polygons ------------------------------------------------------------------------------------
@@ -107,26 +114,25 @@ def perimeter(poly: np.ndarray) -> float:
     return float(np.sum(np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)))
 
 
-def polygon_problem(poly: np.ndarray) -> str | None:
-    """Why ``poly`` is not a usable tool region (None if it is): too few points, coordinates out of
-    range, a self-crossing outline (the region it encloses would depend on a fill rule), or (almost)
-    no area."""
+def polygon_problem(poly: np.ndarray, limit: float | None = COORD_MAX) -> str | None:
+    """Why ``poly`` is not a usable tool region (None if it is): too few points, coordinates not
+    finite or beyond ``limit``, a self-crossing outline (the region it encloses would depend on a
+    fill rule), or (almost) no area."""
     if poly.ndim != 2 or poly.shape[1] != 2 or len(poly) < 3:
         return "must be a polygon of at least 3 points"
-    if not np.all(np.isfinite(poly)) or np.max(np.abs(poly)) > COORD_MAX:
-        return f"coordinates must lie within +-{COORD_MAX:g} mm of the control point"
+    if not np.all(np.isfinite(poly)) or limit is not None and np.max(np.abs(poly)) > limit:
+        return f"coordinates must lie within +-{limit:g} mm of the control point"
     a = signed_area(poly)
     per = perimeter(poly)
-    if per <= 0 or 2.0 * abs(a) / per < MIN_WIDTH:
-        return "the polygon encloses (almost) no area"
     # a simple outline: the regions by the non-zero and even-odd rules are the shoelace area (a
     # crossing outline has lobes of opposite sign or counted twice, and those differ)
-    ccw = poly if a > 0 else poly[::-1]
-    nz = m3d.CrossSection([ccw], m3d.FillRule.NonZero).area()
-    eo = m3d.CrossSection([ccw], m3d.FillRule.EvenOdd).area()
-    eps = 1e-6 * abs(a) + 1e-12
+    nz = m3d.CrossSection([poly], m3d.FillRule.NonZero).area()
+    eo = m3d.CrossSection([poly], m3d.FillRule.EvenOdd).area()
+    eps = 1e-6 * abs(a) + 1e-7 * per  # Clipper rounds the coordinates: about 1e-8 mm x the outline
     if abs(nz - abs(a)) > eps or abs(eo - abs(a)) > eps:
         return "the polygon crosses itself"
+    if per <= 0 or 2.0 * abs(a) / per < MIN_WIDTH:
+        return "the polygon encloses (almost) no area"
     return None
 
 
@@ -175,7 +181,8 @@ def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
     else:
         raise tool_error(tool, f"a {tool.kind} is not a lathe tool")
     poly = counter_clockwise(poly)
-    why = polygon_problem(poly)
+    # (a V within the ranges may be wider than the points of a profile tool may reach)
+    why = polygon_problem(poly, COORD_MAX if tool.kind == "profile" else None)
     if why:
         raise tool_error(tool, f"the tool's profile is unusable: {why}")
     return poly
@@ -198,8 +205,13 @@ def lathe_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
     thick along Y (used when the spindle stands still)."""
     out = []
     t = tool.thickness / 2.0
-    for piece in convex_pieces(lathe_profile(tool, tol)):
+    prof = lathe_profile(tool, tol)
+    for piece in convex_pieces(prof):
         out.append(np.vstack([np.column_stack([piece[:, 0], np.full(len(piece), y), piece[:, 1]]) for y in (-t, t)]))
+    vol = sum(m3d.Manifold.hull_points(p).volume() for p in out)
+    if not vol >= 0.5 * signed_area(prof) * tool.thickness:
+        raise tool_error(tool, f"the tool's plate (profile x thickness {tool.thickness:g} mm) encloses (almost) no volume "
+                               f"({vol:.3g} mm^3)")
     return out
 
 
