@@ -9,7 +9,8 @@ Two sets of example programs:
   taken to use it when it asks for the ``examples`` fixture, when one of its parameters is a path
   in the shared folder, or when its code - or the code of a fixture or module-level function it
   uses, followed through the module - reads a module global that holds such a path (``EXAMPLES``,
-  ``LATHE = EXAMPLES / "cnc8x6-lathe"``, ...). Tests may also say it outright with
+  ``LATHE = EXAMPLES / "cnc8x6-lathe"``, ...) or is assigned at module level from one
+  (``SETUP = (LATHE / "lead-in.toml").read_text() if LATHE.is_dir() else ""``). Tests may also say it outright with
   ``@needs_shared`` (``from conftest import needs_shared``).
 
 CI has the shared folder, so these tests always run there; set ``CUTSIM_REQUIRE_SHARED=1`` to
@@ -17,6 +18,7 @@ make a missing shared folder an error instead of a skip.
 """
 from __future__ import annotations
 
+import ast
 import inspect
 import os
 import types
@@ -91,6 +93,36 @@ def _reads_shared(func, module, shared_names: set[str], seen: set) -> bool:
     return False
 
 
+_SHARED_NAMES: dict[str, set[str]] = {}
+
+
+def shared_names(module) -> set[str]:
+    """Module globals that hold a path in the shared folder, or whose module-level assignment
+    reads one of those (followed to a fixed point)."""
+    if module.__name__ in _SHARED_NAMES:
+        return _SHARED_NAMES[module.__name__]
+    names = {name for name, value in vars(module).items() if in_shared(value)}
+    try:
+        tree = ast.parse(inspect.getsource(module))
+    except (OSError, TypeError, SyntaxError):
+        tree = ast.Module(body=[], type_ignores=[])
+    assigns = []
+    for node in tree.body:
+        if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)) and node.value is not None:
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            assigns.append(({n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)},
+                            {n.id for n in ast.walk(node.value) if isinstance(n, ast.Name)}))
+    changed = True
+    while changed:
+        changed = False
+        for targets, used in assigns:
+            if used & names and not targets <= names:
+                names |= targets
+                changed = True
+    _SHARED_NAMES[module.__name__] = names
+    return names
+
+
 def uses_shared(item) -> bool:
     """Whether a collected test needs the shared folder (see the module docstring)."""
     if "examples" in getattr(item, "fixturenames", ()):
@@ -101,7 +133,7 @@ def uses_shared(item) -> bool:
     module = getattr(item, "module", None)
     if module is None:
         return False
-    shared_names = {name for name, value in vars(module).items() if in_shared(value)}
+    names = shared_names(module)
     funcs = [item.function]
     defs = getattr(getattr(item, "_fixtureinfo", None), "name2fixturedefs", {})
     for name in getattr(item, "fixturenames", ()):
@@ -109,7 +141,7 @@ def uses_shared(item) -> bool:
             if fixdef.func is not None and getattr(fixdef.func, "__module__", None) == module.__name__:
                 funcs.append(fixdef.func)
     seen: set = set()
-    return any(_reads_shared(f, module, shared_names, seen) for f in funcs)
+    return any(_reads_shared(f, module, names, seen) for f in funcs)
 
 
 def pytest_collection_modifyitems(config, items):
