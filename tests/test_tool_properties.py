@@ -224,6 +224,41 @@ def test_turning_pass_volume(workdir, radius, depth_frac, length, angle, rho, ex
     assert abs(res.report["removed_volume"] - exact) <= bound, (res.report["removed_volume"], exact, bound)
 
 
+# -- profile tools: a two-pronged grooving tool, plunged -----------------------------------------
+@SIM
+@given(radius=st.floats(5.0, 40.0), depth_frac=st.floats(0.02, 0.9), a=st.floats(0.1, 5.0), b=st.floats(0.1, 5.0),
+       gap=st.floats(0.1, 5.0), prong=st.floats(0.1, 10.0), bar=st.floats(0.1, 5.0), reverse=st.booleans(),
+       roll=st.integers(0, 7))
+def test_profile_tool_plunge_volume(workdir, radius, depth_frac, a, b, gap, prong, bar, reverse, roll):
+    """A profile tool shaped like a fork (two prongs of widths a and b, a gap between them, joined
+    by a bar behind them; not convex, so its sweep goes through a triangulation), its points given
+    in either direction from any vertex, plunged radially into a bar to radius r0 and withdrawn.
+    Each prong cuts a ring from r0 to the bar's surface R; the bar behind the prongs cuts the gap
+    from r0 + prong outwards:
+
+        V = pi (R^2 - r0^2) (a + b) + pi (R^2 - min(R, r0 + prong)^2) gap
+
+    Bound: the profile is exact (straight edges); the revolved walls are chords within tol
+    radially: |V - exact| <= tol x 2 pi int r |dz| <= tol 2 pi R x 2 (a + gap + b)."""
+    tol = 0.005
+    a, b, gap, prong, bar = (num(x) for x in (a, b, gap, prong, bar))
+    R = num(radius)
+    r0 = num(R - max(0.05, depth_frac * (R - 0.5)))
+    lo, g0, g1, hi = -a / 2, a / 2, a / 2 + gap, a / 2 + gap + b  # v of the prongs' sides
+    pts = [(0, lo), (prong + bar, lo), (prong + bar, hi), (0, hi), (0, g1), (prong, g1), (prong, g0), (0, g0)]
+    pts = pts[roll:] + pts[:roll]
+    if reverse:
+        pts = pts[::-1]
+    tool = 'kind = "profile"\npoints = [' + ", ".join(f"[{u:.4f}, {v:.4f}]" for u, v in pts) + "]\n"
+    zg = num(-(hi - lo) - 2.0)
+    prog = (f"N10 G95 S800 M03\nN20 G00 X{2 * (R + 1):.4f} Z{zg:.4f}\nN30 G01 X{2 * r0:.4f} F0.1\n"
+            f"N40 X{2 * (R + 1):.4f}\nN50 M30\n")
+    res = simulate(workdir, lathe_setup(R, 2 * zg, tool, tol), prog)
+    exact = math.pi * (R * R - r0 * r0) * (a + b) + math.pi * (R * R - min(R, r0 + prong) ** 2) * gap
+    bound = tol * 2 * math.pi * R * 2 * (a + gap + b)
+    assert abs(res.report["removed_volume"] - exact) <= bound, (res.report["removed_volume"], exact, bound)
+
+
 # -- threads: screw motion -----------------------------------------------------------------------
 def thread_bound(tol, R, Ls, lead, g: V, U):
     """Bound for a screw sweep through a slab of length Ls. The sweep's surfaces between stations
