@@ -52,7 +52,7 @@ class Result:
 
         cached = self.__dict__.get("_closed_mesh")
         if cached is None or cached[0] is not self.part:
-            cached = (self.part, mesh_arrays(self.part, self.report.get("tolerance")))
+            cached = (self.part, mesh_arrays(self.part))
             self.__dict__["_closed_mesh"] = cached
         v, f = cached[1]
         mesh = trimesh.Trimesh(vertices=v.copy(), faces=f.copy(), process=False)

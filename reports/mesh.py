@@ -255,10 +255,8 @@ def _separate(q: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, int, int]:
     return q, len(movers), worst
 
 
-def closed_mesh(part, tolerance: float | None = None) -> ClosedMesh:
-    """The part (a manifold3d.Manifold) as a mesh closed by position (module doc). ``tolerance``,
-    the run's chordal tolerance, is only compared with the displacement: an export that would
-    move the surface by more than a tenth of it raises LeakyMeshError."""
+def closed_mesh(part) -> ClosedMesh:
+    """The part (a manifold3d.Manifold) as a mesh closed by position (module doc)."""
     v, f = _arrays(part)
     if len(f) == 0:
         return ClosedMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64), MIN_GRID, 0, 0, 0.0)
@@ -266,14 +264,11 @@ def closed_mesh(part, tolerance: float | None = None) -> ClosedMesh:
     q = np.round(v / h).astype(np.int64)
     q, f, collapsed = _collapse(q, f)
     q, separated, rings = _separate(q, f)
-    disp = math.sqrt(3.0) * h * (0.5 + rings)
     out = q.astype(np.float64) * h
     why = closed_by_position(out, f)
-    if why is None and tolerance is not None and disp > tolerance / 10:
-        why = f"vertices would move by up to {disp:.3g} mm, more than a tenth of the tolerance {tolerance:g} mm"
     if why is not None:
         raise LeakyMeshError(f"the part cannot be written as a closed mesh: {why}")
-    return ClosedMesh(out, f, h, collapsed, separated, disp)
+    return ClosedMesh(out, f, h, collapsed, separated, math.sqrt(3.0) * h * (0.5 + rings))
 
 
 # ---- files -----------------------------------------------------------------------------------

@@ -66,10 +66,10 @@ def warning_text(w: dict) -> str:
     return f"{w['program']}:{w['line']}:{w['column']}: warning: {w['message']}{called_from(w)}"
 
 
-def mesh_arrays(part, tolerance: float | None = None):
+def mesh_arrays(part):
     """Vertices (float64, mm) and faces of the part as written: the mesh closed by position
-    (reports/mesh.py closed_mesh; ``tolerance`` is the run's chordal tolerance)."""
-    m = closed_mesh(part, tolerance)
+    (reports/mesh.py closed_mesh)."""
+    m = closed_mesh(part)
     return m.vertices, m.faces
 
 
