@@ -12,7 +12,7 @@ from . import canon
 from .canon import Ramp, Src
 from .errors import CutsimError
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, check_range,
-                    digits_end, foreign_digit, iter_lines, parse_number, read_whole)
+                    digits_end, fmt_count, foreign_digit, iter_lines, parse_number, read_whole)
 from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
@@ -196,7 +196,7 @@ class Cnc8x6(ModalMachine):
             return
         outer = chain[0]
         raise self.error(outer.line, outer.col,
-                         f"G73 loops would execute {total:,} blocks ({_describe(chain)}), more than the limit of "
+                         f"G73 loops would execute {fmt_count(total)} blocks ({_describe(chain)}), more than the limit of "
                          f"{limit:,} set by [simulation] max_blocks; treated as a program that does not end")
 
     def too_many_blocks(self, blocks: list[Block], active: list[int], b: Block):

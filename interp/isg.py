@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 from . import canon
 from .canon import Src
 from .errors import CutsimError
-from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, iter_lines,
-                    parse_number)
+from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, fmt_count,
+                    iter_lines, parse_number)
 from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 LETTERS = set("NGMXYZIJKFSTDL")
@@ -272,9 +272,9 @@ class Isg(ModalMachine):
             if _ends_program(b) or (b.call is not None and counts[b.call[0]][1]):
                 break
         where = (1, 1) if heaviest is None else (heaviest.line, heaviest.call[1])
-        what = "" if heaviest is None else (f"LL {heaviest.call[0]} executes {counts[heaviest.call[0]][0]:,} blocks "
+        what = "" if heaviest is None else (f"LL {heaviest.call[0]} executes {fmt_count(counts[heaviest.call[0]][0])} blocks "
                                              "(its subprogram calls counted): ")
-        raise self.error(*where, f"{what}the program would execute {total:,} blocks, more than the limit of "
+        raise self.error(*where, f"{what}the program would execute {fmt_count(total)} blocks, more than the limit of "
                          f"{limit:,} set by [simulation] max_blocks")
 
     def section(self, sec: Section, calls: tuple, stack: tuple) -> None:

@@ -68,6 +68,15 @@ def fmt_limit(v: float) -> str:
     return sign + " ".join(groups) + ("." + frac if frac else "")
 
 
+def fmt_count(n: int) -> str:
+    """A block count for a message: ``1,234,567``; from 10^15 on ``about 4.24e+1503`` (a count
+    of nested loops can have thousands of digits, more than ``str(int)`` converts)."""
+    if n < 10**15:
+        return f"{n:,}"
+    e = math.log10(n)
+    return f"about {10 ** (e - int(e)):.2f}e+{int(e)}"
+
+
 def out_of_range(program: str, line: int, col: int, word: str, lo: float, hi: float, unit: str = "") -> CutsimError:
     """The one message for a value beyond its permitted range (the controllers' "value exceeds
     permitted range")."""

@@ -236,3 +236,14 @@ def test_cnc8x6_parameter_loops_are_caught_running_and_named():
     # longer than the limit"
     e = fails(cnc, "N10 R20=1000.\nN20 G01 X1 F100\nN30 G73 L20 QR20\n", max_blocks=100, kind="mill")
     assert (e.line, e.col) == (3, 5) and "G73 loops (QR20 at line 3)" in e.message
+
+
+def test_counts_too_big_to_print_are_given_as_powers_of_ten():
+    # 1000 loops, each G73 jumping back to N1 with Q99999999: every activation of the loop at
+    # block k runs 1 + Q*(cost + 1) blocks, so the count is at least (Q+1)^1000 = 10^8000, far more
+    # digits than Python converts to text (4300); the message gives its magnitude
+    text = "N1 G01 X1 F100\n" + "".join(f"N{i + 2} G73 L1 Q99999999\n" for i in range(1000))
+    e = fails(cnc, text, kind="mill")
+    assert (e.line, e.col) == (1001, 7)
+    m = __import__("re").search(r"would execute about (\d\.\d\d)e\+(\d+) blocks", e.message)
+    assert m and int(m.group(2)) >= 8000, e.message
