@@ -125,6 +125,8 @@ def decode_angle_code(value: float) -> tuple[int, int, float]:
     degree. A parameter holds it as a decimal whose integer part is decades 8..4 and whose three
     decimals are decades 3..1 (``R04=-00120.000``: minus, axis 1, 20.000 degrees).
     """
+    if not math.isfinite(value):
+        raise ValueError("not a finite number")
     sign = -1 if value < 0 else 1
     digits = f"{round(abs(value) * 1000):08d}"
     if len(digits) > 8:

@@ -9,6 +9,7 @@ expected places and values are worked out from the program text and the document
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 
@@ -96,6 +97,9 @@ def test_parameter_values_are_checked_where_they_are_used():
         assert (e.line, e.col) == (1, 8) and "FR10 = " in e.message and "permitted range" in e.message
     e = fails(cnc, "M03 S100\nG33 Z-10. F2. J2.\nN1\nG0 X40 Z5\n", constants={8: math.inf})
     assert (e.line, e.col) == (2, 15) and "machine constant 8" in e.message
+    e = fails(cnc, "M03 S100\nG33 Z-10. F2. J2.\nN1\nG0 X40 Z5\n", constants={8: 4000000},
+              parameters={4: math.inf})  # the runout angle code in R04
+    assert (e.line, e.col) == (2, 15) and "R04 = inf is not an angle code" in e.message
 
 
 # Python's float() and int() read every script's decimal digits: float("１32") == 132.0. A
@@ -245,5 +249,5 @@ def test_counts_too_big_to_print_are_given_as_powers_of_ten():
     text = "N1 G01 X1 F100\n" + "".join(f"N{i + 2} G73 L1 Q99999999\n" for i in range(1000))
     e = fails(cnc, text, kind="mill")
     assert (e.line, e.col) == (1001, 7)
-    m = __import__("re").search(r"would execute about (\d\.\d\d)e\+(\d+) blocks", e.message)
+    m = re.search(r"would execute about (\d\.\d\d)e\+(\d+) blocks", e.message)
     assert m and int(m.group(2)) >= 8000, e.message
