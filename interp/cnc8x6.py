@@ -11,8 +11,8 @@ from dataclasses import dataclass
 from . import canon
 from .canon import Ramp, Src
 from .errors import CutsimError
-from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, check_range,
-                    digits_end, fmt_count, foreign_digit, iter_lines, parse_number, read_whole)
+from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
+                    check_range, digits_end, fmt_count, foreign_digit, iter_lines, parse_number, read_whole)
 from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
@@ -100,16 +100,15 @@ def param_number(name: str, lineno: int, col: int, digits: str) -> int:
     return int(digits.lstrip("0") or "0")
 
 
-def is_block(line: str) -> bool:
-    """Whether a line is a block (every line that is not blank, also a comment alone)."""
-    return bool(line.strip())
+# Every line that is not blank is a block (also a comment alone: an empty block).
+BLOCK_LINES = block_lines(r"[^\s]")
 
 
 def parse(name: str, text: str, max_blocks: int | None = None) -> list[Block]:
     """The program's blocks. With ``max_blocks`` a program with more blocks than that is refused
     before any line is scanned (lexer.check_length)."""
     if max_blocks is not None:
-        check_length(name, text, max_blocks, is_block)
+        check_length(name, text, max_blocks, BLOCK_LINES)
     blocks = []
     for lineno, line in iter_lines(text):
         b = scan(name, lineno, line)

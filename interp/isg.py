@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 from . import canon
 from .canon import Src
 from .errors import CutsimError
-from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_number, check_length, fmt_count,
-                    iter_lines, parse_number)
+from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
+                    fmt_count, iter_lines, parse_number)
 from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
 
 LETTERS = set("NGMXYZIJKFSTDL")
@@ -138,18 +138,17 @@ def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
 HEADER = re.compile(r"%(?:(?P<local>[Ll])[ \t]+(?P<lname>\S+)|(?P<mname>[^\s(;]+))")
 
 
-def is_block(line: str) -> bool:
-    """Whether a line can be a block (a cheap test for lexer.check_length: never true for a line
-    that is not one; headers, comment lines and blank lines are not)."""
-    s = line.strip()
-    return bool(s) and s[0] not in ";%("
+# Lines that can be blocks, for lexer.check_length: never one that is not (headers, comment lines
+# and blank lines are not; a line opening with a "( )" comment is left out too, which can only
+# undercount).
+BLOCK_LINES = block_lines(r"[^\s;%(]")
 
 
 def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section, dict[str, Section]]:
     """The file -> (main program, local subprograms by name). With ``max_blocks`` a file with more
     blocks than that is refused before any line is scanned (lexer.check_length)."""
     if max_blocks is not None:
-        check_length(name, text, max_blocks, is_block)
+        check_length(name, text, max_blocks, BLOCK_LINES)
     loose: list[IsgBlock] = []  # blocks before any header
     sections: list[Section] = []
     for lineno, line in iter_lines(text):

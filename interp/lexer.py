@@ -195,18 +195,30 @@ def iter_lines(text: str):
     yield lineno + 1, text[i:]
 
 
-def check_length(program: str, text: str, max_blocks: int, is_block) -> None:
+def block_lines(first: str) -> re.Pattern:
+    """A pattern for ``check_length``: it matches at the start of every line whose first character
+    after blanks is in the character class ``first`` (e.g. ``[^\\s]``: every non-blank line)."""
+    return re.compile(r"(?:\A|(?<=\n)|(?<=\r)(?!\n))[ \t\f\v]*" + first)
+
+
+def line_of(text: str, pos: int) -> int:
+    """The 1-based line (as split_lines counts them) of the character at ``pos``."""
+    head = text[:pos]
+    return 1 + head.count("\r\n") + (head.count("\n") - head.count("\r\n")) + (head.count("\r") - head.count("\r\n"))
+
+
+def check_length(program: str, text: str, max_blocks: int, blocks: re.Pattern) -> None:
     """Refuse, before anything is scanned, a program with more than ``max_blocks`` blocks (a program
     that is simply too long, not one that loops): the error names the line of the first block
-    over the limit. ``is_block(line)`` says whether a line is a block. A cheap count of line ends
-    decides first whether the lines need looking at."""
+    over the limit. ``blocks`` matches at the start of every line that is a block (block_lines).
+    Lines are counted, not kept: memory stays flat in the length of the program. A count of line
+    ends decides first whether they need counting at all."""
     if text.count("\n") + text.count("\r") < max_blocks:
         return
     count = 0
-    for lineno, line in iter_lines(text):
-        if is_block(line):
-            count += 1
-            if count > max_blocks:
-                raise CutsimError(program, lineno, 1, f"the program is longer than the limit of {max_blocks:,} "
-                                  f"blocks set by [simulation] max_blocks: this line is block {count:,} of the file "
-                                  "(refused before it runs; raise the setting for a longer program)")
+    for m in blocks.finditer(text):
+        count += 1
+        if count > max_blocks:
+            raise CutsimError(program, line_of(text, m.start()), 1, f"the program is longer than the limit of "
+                              f"{max_blocks:,} blocks set by [simulation] max_blocks: this line is block {count:,} "
+                              "of the file (refused before it runs; raise the setting for a longer program)")
