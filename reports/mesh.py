@@ -160,8 +160,9 @@ class _Faces:
     def __init__(self, f: np.ndarray):
         self.f = f
         flat = f.reshape(-1)
-        self.order = np.argsort(flat, kind="stable") // 3
-        self.start = np.searchsorted(flat[np.argsort(flat, kind="stable")], np.arange(int(flat.max()) + 2))
+        by_vertex = np.argsort(flat, kind="stable")
+        self.order = by_vertex // 3
+        self.start = np.searchsorted(flat[by_vertex], np.arange(int(flat.max()) + 2))
         self.cache: dict[int, set[int]] = {}
 
     def of(self, vert: int) -> set[int]:
