@@ -188,12 +188,15 @@ def _collapse(q: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray, int
     count = 0
     for group in groups:
         members = group.tolist()
+        member_set = set(members)
         changed = True
         while changed:  # a collapse can make two other members adjacent
             changed = False
-            for i, a in enumerate(members):
-                for b in members[i + 1:]:
-                    if dead_vert[a] or dead_vert[b]:
+            for a in members:
+                if dead_vert[a]:
+                    continue
+                for b in sorted(faces.neighbours(a) & member_set):
+                    if b < a or dead_vert[a] or dead_vert[b]:
                         continue
                     shared = faces.of(a) & faces.of(b)
                     if len(shared) != 2:

@@ -181,6 +181,32 @@ def test_film_a_tenth_of_a_nanometre_thick():
     assert_files_closed(part, cm)
 
 
+@pytest.mark.parametrize("top", [1e-9, 1e-6])
+def test_a_cone_cut_with_a_tip_of_a_nanometre(top):
+    # a 256-sided cylinder tapering to a radius of 1e-9 (1e-6) mm: its top ring of 256 vertices
+    # lies within one grid cell, and collapses to the apex of the true cone (radius 0) - 255
+    # collapses, the cone's own triangle count
+    block = manifold3d.Manifold.cube((20.0, 20.0, 20.0)).translate((-10.0, -10.0, -5.0))
+    part = block - manifold3d.Manifold.cylinder(10.0, 5.0, top, 256)
+    cone = block - manifold3d.Manifold.cylinder(10.0, 5.0, 0.0, 256)
+    cm = closed_mesh(part)
+    assert cm.collapsed == 255
+    assert len(cm.faces) == cone.num_tri()
+    assert_files_closed(part, cm)
+
+
+def test_checkerboard_of_cubes_touching_along_edges():
+    part = manifold3d.Manifold()
+    for i in range(4):
+        for j in range(4):
+            if (i + j) % 2 == 0:
+                part = part + _cube(i, j, 0.0, s=1.0)
+    assert part.volume() == pytest.approx(8.0)
+    cm = closed_mesh(part)
+    assert cm.separated > 0
+    assert_files_closed(part, cm)
+
+
 # -- random solids with near-coincident faces ---------------------------------------------------
 JITTER = st.sampled_from([0.0, 1e-10, 1e-9, 3e-8, 1e-7, 1e-6, 4e-6, -1e-9, -1e-7, -2e-6])
 COORD = st.sampled_from([0.0, 2.5, 5.0, 7.5, 10.0, 12.5, 15.0, 20.0])
