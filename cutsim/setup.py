@@ -167,7 +167,10 @@ class _Loader:
         it is written (a table header, dotted keys, an inline table, an array of inline tables);
         the table when the key is absent; 1:1 when the table is absent too."""
         if self._positions is None:
-            self._positions = _key_positions(self.text)
+            try:
+                self._positions = _key_positions(self.text)
+            except Exception:  # noqa: BLE001 - a position is a courtesy; never fail the error report
+                self._positions = {}
         path = tuple(table.split(".")) + ((index,) if index is not None else ())
         if key is not None and path + (key,) in self._positions:
             return self._positions[path + (key,)]
