@@ -61,15 +61,29 @@ def test_every_dialect_has_examples():
 
 @pytest.mark.parametrize("setup", SETUPS, ids=_id)
 def test_repository_example_simulates_cleanly(setup, tmp_path):
+    """Exit 0, no warnings, every check passed; an example with a design model also draws every
+    view with --images (iso, top or section, deviation)."""
     program = _program(setup)
-    res, rep = _simulate(program, setup, tmp_path / "out")
+    checks = tomllib.loads(setup.read_text()).get("check", [])
+    design = any(c["kind"] == "design" for c in checks)
+    out = tmp_path / "out"
+    res, rep = _simulate(program, setup, out, *(["--images"] if design else []))
     assert res.exit_code == 0, res.output
     assert rep["warnings"] == []
     failed = [c["name"] for c in rep["checks"] if not c["passed"]]
     assert failed == []
-    assert len(rep["checks"]) == len(tomllib.loads(setup.read_text()).get("check", []))
+    assert len(rep["checks"]) == len(checks)
     assert rep["removed_volume"] > 0
-    assert (tmp_path / "out" / "part.stl").stat().st_size > 84
+    assert (out / "part.stl").stat().st_size > 84
+    if design:
+        from PIL import Image
+        view = "top.png" if rep["machine"]["kind"] == "mill" else "section.png"
+        for name in ("iso.png", view, "deviation.png"):
+            with Image.open(out / name) as im:
+                assert im.size == (1024, 768), name
+                # a drawn view, not a blank canvas: many distinct colours
+                assert len(im.convert("RGB").getcolors(1 << 20) or []) > 50, name
+        assert (out / "report.html").is_file()
 
 
 # ------------------------------------------------- the issue-15 thread example, checked by hand
