@@ -108,7 +108,9 @@ def assert_files_closed(part, cm, fmts=FORMATS):
     box = np.asarray(part.bounding_box(), dtype=float)
     h = grid_step(float(np.abs(box).max()))
     assert cm.grid == h
-    d = cm.displacement
+    d = cm.displacement  # half a grid diagonal, plus sqrt(3) h per ring of a separation
+    if cm.separated == 0:
+        assert d == math.sqrt(3) / 2 * h
     assert d >= math.sqrt(3) / 2 * h
     solid_volume, solid_area = part.volume(), part.surface_area()
     for fmt in fmts:
