@@ -74,7 +74,7 @@ def test_part_formats(tmp_path):
     vol = json.loads((tmp_path / "stl1" / "report.json").read_text())["part_volume"]
     assert abs(trimesh.load(io.BytesIO(outs["stl", 1]), file_type="stl").volume - vol) < 1.0
     glb = trimesh.load(io.BytesIO(outs["glb", 1]), file_type="glb", force="mesh")
-    assert abs(glb.volume - vol) < 1.0
+    assert abs(glb.volume * 1e9 - vol) < 1.0  # glTF is in metres: 1 m^3 = 1e9 mm^3
     with zipfile.ZipFile(io.BytesIO(outs["3mf", 1])) as z:
         root = ET.fromstring(z.read("3D/3dmodel.model"))
     ns = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
