@@ -140,8 +140,9 @@ class _Scanner:
         self.ws()
         for op in ("==", "<>", "<=", ">=", "<", ">"):
             if self.s.startswith(op, self.i):
+                opcol = self.i + 1
                 self.i += len(op)
-                left = ("bin", op, left, self.additive())
+                left = ("bin", op, left, self.additive(), opcol)
                 break
         self.depth -= 1
         return left
@@ -152,7 +153,8 @@ class _Scanner:
             c = self.peek()
             if c in ("+", "-") and c:
                 self.i += 1
-                left = ("bin", c, left, self.term())
+                opcol = self.i  # 1-based column of the operator
+                left = ("bin", c, left, self.term(), opcol)
             else:
                 return left
 
@@ -162,7 +164,8 @@ class _Scanner:
             c = self.peek()
             if c in ("*", "/") and c:
                 self.i += 1
-                left = ("bin", c, left, self.unary())
+                opcol = self.i
+                left = ("bin", c, left, self.unary(), opcol)
             else:
                 return left
 
@@ -580,10 +583,10 @@ class Sinumerik(ModalMachine):
             a, b = self.num(a, line, col), self.num(b, line, col)
             if op in ("+", "-", "*", "/"):
                 if op == "/" and b == 0:
-                    raise self.error(line, col, "division by zero")
+                    raise self.error(line, node[4], "division by zero")
                 r = a + b if op == "+" else a - b if op == "-" else a * b if op == "*" else a / b
                 if not math.isfinite(r):
-                    raise self.error(line, col, f"{a:.10g} {op} {b:.10g} overflows: the result is not a finite number")
+                    raise self.error(line, node[4], f"{a:.10g} {op} {b:.10g} overflows: the result is not a finite number")
                 return r
             return float({"==": a == b, "<>": a != b, "<": a < b, ">": a > b, "<=": a <= b, ">=": a >= b}[op])
         raise self.error(line, col, "bad expression")  # pragma: no cover

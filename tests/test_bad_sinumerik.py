@@ -23,7 +23,7 @@ RULES = {  # every limit of docs/dialects/sinumerik.md ("Limits") has its progra
     "non-ascii-letter", "fullwidth-digit", "arabic-indic-digit", "number-321-digits", "coordinate-over-range",
     "incremental-over-range", "arc-centre-over-range", "arc-centre-ac-over-range", "feed-negative",
     "speed-over-range", "tool-over-range", "r-parameter-over-range", "r-index-over-range", "expression-nesting",
-    "signs-nesting", "expression-overflow", "product-overflow", "pass-count-over-range", "repeat-inside-itself",
+    "signs-nesting", "expression-overflow", "product-overflow", "division-by-zero", "pass-count-over-range", "repeat-inside-itself",
     "slot1-inda-over-range", "slot1-num-over-range", "pocket1-rad-over-range", "pocket1-path-out-of-range",
     "pocket2-tiny-tool-too-many-moves", "pocket1-mid-too-many-moves", "pocket3-helix-too-many-moves",
     "cycle71-mida-too-many-moves", "cycle72-contour-bottleneck", "cycle72-contour-concave-arc",
