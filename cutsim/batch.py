@@ -35,6 +35,7 @@ import tempfile
 import threading
 import time
 import tomllib
+import types
 import uuid
 from dataclasses import asdict, dataclass, field
 from xml.sax.saxutils import escape as _xml_escape
@@ -824,13 +825,14 @@ def run_batch(jobs, out: str | None = None, client=None, *, scheduler: str | Non
         command = shlex.split(os.environ[ENV_COMMAND])
     if isinstance(command, str):
         command = shlex.split(command)
-    if not os.path.isdir(out):
-        try:
-            os.makedirs(out, exist_ok=True)
-        except OSError as e:
-            raise CutsimError(out, 0, 0, f"--out: {e.strerror}") from None
     records_dir = os.path.join(out, RECORDS)
-    os.makedirs(records_dir, exist_ok=True)
+    try:
+        os.makedirs(records_dir, exist_ok=True)
+        probe = os.path.join(records_dir, f".probe-{os.getpid()}")
+        _write_atomic(probe, b"")
+        os.unlink(probe)
+    except OSError as e:
+        raise CutsimError(out, 0, 0, f"--out: {e.strerror or e}") from None
 
     # the options of every job, its key and its payload
     items = []
@@ -1189,9 +1191,14 @@ def batch_command(ctx, manifest, out_dir, n_jobs, scheduler, images, resume, tol
     except CutsimError as e:
         click.echo(str(e), err=True)
         ctx.exit(2)
-    except KeyboardInterrupt:
-        click.echo(f"cutsim batch: interrupted; finished jobs are kept in {out_dir} (--resume continues)", err=True)
-        ctx.exit(130)
+    except OSError as e:  # writing DIR's files: disk full, permissions
+        click.echo(f"{e.filename or out_dir}:0:0: error: {e.strerror or e}", err=True)
+        ctx.exit(2)
+    except KeyboardInterrupt as e:  # Ctrl-C; SIGTERM too under the cutsim group (cli._Terminated)
+        term = type(e).__name__ == "_Terminated"
+        click.echo(f"cutsim batch: {'terminated' if term else 'interrupted'}; finished jobs are kept in {out_dir} "
+                   "(--resume continues)", err=True)
+        ctx.exit(143 if term else 130)
     if not quiet:
         c = summary["counts"]
         click.echo(f"cutsim batch: {summary['total']} jobs, " + ", ".join(f"{v} {k}" for k, v in c.items())
@@ -1216,6 +1223,16 @@ def _compare_main(argv) -> int:
         json.dump(res, f)
     return 0
 
+
+class _CallableModule(types.ModuleType):
+    """``cutsim.batch`` is this module once it is imported (Python sets the package attribute), so
+    the module itself is callable: ``cutsim.batch(jobs, out=None, client=None, **options)``."""
+
+    def __call__(self, jobs, out=None, client=None, **options) -> BatchSummary:
+        return run_batch(jobs, out, client, **options)
+
+
+sys.modules[__name__].__class__ = _CallableModule
 
 if __name__ == "__main__":  # python3 -m cutsim.batch --compare PART REFERENCE RESULT.json
     if len(sys.argv) == 5 and sys.argv[1] == "--compare":

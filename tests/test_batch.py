@@ -224,7 +224,9 @@ def test_regression_mode_reports_changed_solids(tmp_path):
     # the same part against an earlier batch's parts (--reference-dir): unchanged
     ref_dir = tmp_path / "out"
     plain = {k: v for k, v in jobs[0].items() if k != "expect"}
-    s2 = run_batch([plain], str(tmp_path / "again"), reference_dir=str(ref_dir), progress=False)
+    import cutsim.batch  # the public spelling: cutsim.batch(jobs, out, client=None, **options)
+
+    s2 = cutsim.batch([plain], str(tmp_path / "again"), reference_dir=str(ref_dir), progress=False)
     assert s2["jobs"][0]["regression"]["symmetric_difference"] == 0.0 and s2["changed"] == []
 
 
