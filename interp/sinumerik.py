@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 import os
 import re
+import stat
+import unicodedata
 from dataclasses import dataclass, field, replace
 
 from . import canon
@@ -71,7 +73,7 @@ def range_message(what: str, value: float, lo: float, hi: float, unit: str = "")
 
 
 def foreign_char(ch: str) -> str:
-    import unicodedata
+    """The message for a non-ASCII character outside comments and strings."""
     if ch == "\ufffd":
         return "a byte that is not UTF-8 text (shown as U+FFFD) outside a comment or a string"
     name = unicodedata.name(ch, f"U+{ord(ch):04X}")
@@ -736,7 +738,6 @@ class Sinumerik(ModalMachine):
             st = os.stat(path)
         except OSError as e:
             raise self.error(line, col, f"{what} cannot be read ({e.strerror})") from None
-        import stat
         if stat.S_ISDIR(st.st_mode):
             raise self.error(line, col, f"{what} is a directory, not a program file")
         if not stat.S_ISREG(st.st_mode):
