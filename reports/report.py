@@ -1,12 +1,10 @@
-"""report.json and the part file. Writing is all-or-nothing: files go to temporary names in the
-output directory and are renamed into place only when every one was written."""
+"""report.json (build_report, report_bytes: strict JSON) and the warning text. The part file's
+mesh and bytes are made in mesh.py (mesh_arrays here returns its closed mesh; part_bytes and the
+per-format writers are re-exported); writing the files is output.py."""
 from __future__ import annotations
 
 import json
 import math
-import os
-
-import numpy as np
 
 from .mesh import closed_mesh, part_bytes, stl_bytes, threemf_bytes  # noqa: F401 - the exporters live in mesh.py
 
