@@ -13,6 +13,14 @@ hand against their programs: e.g. two-start-checked ends each pass at X = X0 - 2
 leadin-param reaches 54.6043 - 2*10*tan 22.5 deg = 46.320029, helix-groove falls 2 per circle
 from Z1 to Z-11 and to Z-12 on the half circle, and the plate's POCKET1 finishes on the tool-centre
 rectangle X20..50 Y30..50 with corner radius 1 (40 x 30, radius 6, minus the 5 mm tool radius).
+Every other Sinumerik example has one too: POCKET4 (PRAD 15, 10 mm tool, FAL 0.2) roughs the
+circles of radius 4.5 (0.9 tool radii) and 9.8 and finishes on radius 10 about (40, 40); CYCLE71
+(80 x 50, _MIDA 7) cuts ceil(50 / 7) + 1 = 9 lines 6.25 apart from X -10 (_FDP 5 + tool radius) to
+87 (_FDP1 2 + tool radius) at Z 1 and Z 0 (_MID 1 from _RFP 2).
+
+The test programs under tests/ that simulate (CNC8x6 and ISG) have golden files
+``tests_<folder>_<name>.txt`` with the setup their tests use (TEST_PROGRAMS), e.g. tests/mill/slot.nc
+goes down to Z-3 at (20, 50) and cuts to X80 at F200.
 """
 from __future__ import annotations
 
@@ -57,10 +65,8 @@ OWN = sorted(p for p in REPO_EXAMPLES.rglob("*") if p.suffix in (".nc", ".mpf")
 
 
 def test_own_examples_have_transcripts():
-    """Every example program outside examples/sinumerik (whose older cycle examples are covered
-    by test_sinumerik*.py) has a golden transcript, and so does the plate."""
-    want = {p for p in REPO_EXAMPLES.rglob("*") if p.suffix in (".nc", ".mpf") and p.parent.name != "sinumerik"}
-    want.add(REPO_EXAMPLES / "sinumerik" / "plate.mpf")
+    """Every example program has a golden transcript."""
+    want = {p for p in REPO_EXAMPLES.rglob("*") if p.suffix in (".nc", ".mpf")}
     assert want <= set(OWN), sorted(str(p) for p in want - set(OWN))
 
 
@@ -69,6 +75,29 @@ def test_own_example_transcript(prog):
     res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(prog.with_suffix(".toml"))])
     assert res.exit_code == 0, res.output
     golden = GOLDEN / f"own_{prog.parent.name}_{prog.stem}.txt"
+    if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
+        golden.write_text(res.output)
+    assert res.output == golden.read_text()
+
+
+TESTS = Path(__file__).parent
+# test programs that simulate, with the setup their tests use (the others are error cases)
+TEST_PROGRAMS = {
+    "checks/multipass.nc": "checks/multipass.toml", "checks/multipass-shallow.nc": "checks/multipass.toml",
+    "checks/slot.nc": "checks/slot.toml", "checks/slot-shallow.nc": "checks/slot.toml",
+    "checks/slot-deep.nc": "checks/slot.toml",
+    "isg/three-start.nc": "isg/three-start.toml", "isg/offset90.nc": "isg/three-start.toml",
+    "mill/ball.nc": "mill/plate.toml", "mill/pocket.nc": "mill/plate.toml", "mill/slot.nc": "mill/plate.toml",
+    "mill/warnings.nc": "mill/plate.toml",
+}
+
+
+@pytest.mark.parametrize("rel", sorted(TEST_PROGRAMS))
+def test_test_program_transcript(rel):
+    prog = TESTS / rel
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(TESTS / TEST_PROGRAMS[rel])])
+    assert res.exit_code == 0, res.output
+    golden = GOLDEN / f"tests_{prog.parent.name}_{prog.stem}.txt"
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
         golden.write_text(res.output)
     assert res.output == golden.read_text()
