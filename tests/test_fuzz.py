@@ -49,6 +49,9 @@ def test_part_oracle(tmp_path):
     case = {"argv": ["simulate"], "out": "out", "fmt": "stl"}
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "part.stl").write_bytes(F.stl_box(0, 1, 0, 2, 0, 3))
+    assert F.check_part(str(tmp_path), case)[0] == "missing-part"  # no report.json
+    (tmp_path / "out" / "report.json").write_text(
+        '{"program": "p.nc", "dialect": "cnc8x6", "blocks": 1, "moves": 1, "part_volume": 6.0, "warnings": []}')
     assert F.check_part(str(tmp_path), case) == ("", "")
     (tmp_path / "out" / "part.stl").write_bytes(F.stl_box(0, 1, 0, 2, 0, 3, drop=1))
     assert F.check_part(str(tmp_path), case)[0] == "leaky-part"
