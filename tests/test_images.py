@@ -1,7 +1,13 @@
-"""--images: PNGs of the set size that are not blank, and a report.html that embeds every image and
-lists every check."""
+"""--images: PNGs of the set size that are not blank, drawn in true workpiece coordinates with the
+expected regions coloured, and a report.html that embeds every image and lists every check.
+
+Expected numbers come from the test programs and setups (tests/checks/*.toml comments), not from
+a run: the multipass blank is Z-30..0 with radius 13.5 and an undercut to radius 12.5 at
+Z-12..-8; its thread (lead 1.5, 60 degrees, root diameter 26.177) has a groove at angle 0 at
+Z = 3 - 1.5 k. The slot is 8 wide centred on Y20 to X30, floor Z-3 (slot-deep: Z-3.05)."""
 import base64
 import io
+import json
 import re
 import subprocess
 import sys
@@ -14,6 +20,8 @@ HERE = Path(__file__).parent / "checks"
 pytest.importorskip("pyvista")
 from PIL import Image  # noqa: E402
 
+import cutsim  # noqa: E402
+from cutsim.reports import images as I  # noqa: E402
 from cutsim.reports.images import HEIGHT, WIDTH  # noqa: E402
 
 
@@ -23,43 +31,201 @@ def _run(nc, toml, out):
     return proc
 
 
-def _check_png(path):
-    img = np.asarray(Image.open(path).convert("RGB"), dtype=float)
+def _check_png(data):
+    img = np.asarray(Image.open(io.BytesIO(data) if isinstance(data, bytes) else data).convert("RGB"), dtype=float)
     assert img.shape == (HEIGHT, WIDTH, 3)
     nonwhite = np.mean(np.any(img < 245, axis=2))
-    assert 0.05 < nonwhite < 0.95, f"{path.name}: {nonwhite:.3f} of the pixels are drawn"
+    assert 0.05 < nonwhite < 0.95, f"{nonwhite:.3f} of the pixels are drawn"
     assert img.std() > 10
     return img
 
 
+def _rgb(hexcolor):
+    return np.array([int(hexcolor[i:i + 2], 16) for i in (1, 3, 5)], dtype=float)
+
+
+def _near(img, rc, color, tol=12.0):
+    """The pixel at rc (and its 3x3 neighbourhood, all of it) has ``color``."""
+    r, c = rc
+    patch = img[r - 1:r + 2, c - 1:c + 2].reshape(-1, 3)
+    return bool(np.all(np.abs(patch - color).max(axis=1) <= tol))
+
+
+def _value(text):
+    return float(text.replace("\u2212", "-"))
+
+
+def _tick_labels(view, axis_values, coord):
+    """The tick values of one axis as read back from the plotter's text actors: for each value a
+    text actor showing it at world ``coord`` (0 = x, 1 = y) equal to the value."""
+    found = []
+    for text, pos in I.text_actors(view.plotter):
+        try:
+            v = _value(text)
+        except ValueError:
+            continue
+        if any(abs(v - t) < 1e-9 and abs(pos[coord] - t) < 1e-9 for t in axis_values):
+            found.append(v)
+    return sorted(set(found))
+
+
+@pytest.fixture(scope="module")
+def multipass():
+    return cutsim.simulate(str(HERE / "multipass.nc"), str(HERE / "multipass.toml"))
+
+
+@pytest.fixture(scope="module")
+def slot_deep():
+    return cutsim.simulate(str(HERE / "slot-deep.nc"), str(HERE / "slot.checks.toml"), checks=False)
+
+
 @pytest.mark.parametrize("nc,toml,names", [
-    ("multipass.nc", "multipass.toml", {"iso.png", "section.png"}),
-    ("slot.nc", "slot.checks.toml", {"iso.png", "top.png", "deviation.png"}),
+    ("multipass.nc", "multipass.toml", ["iso.png", "section.png", "thread-1.png"]),
+    ("slot.nc", "slot.checks.toml", ["iso.png", "top.png", "deviation.png"]),
 ])
 def test_images_and_html(tmp_path, nc, toml, names):
     out = tmp_path / "out"
     proc = _run(nc, toml, out)
     assert proc.returncode == 0, proc.stderr
     pngs = {p.name for p in out.glob("*.png")}
-    assert pngs == names
+    assert pngs == set(names)
     for name in names:
         _check_png(out / name)
     html = (out / "report.html").read_text()
     assert "http://" not in html.replace("http://schemas", "") and "https://" not in html and "<script" not in html
     embedded = re.findall(r'<img alt="([^"]+)"[^>]*src="data:image/png;base64,([^"]+)"', html)
-    assert {n for n, _ in embedded} == names
+    assert [n for n, _ in embedded] == names  # in the order they were made
     for name, data in embedded:
         assert base64.b64decode(data) == (out / name).read_bytes()
-    import json
-
     for c in json.loads((out / "report.json").read_text())["checks"]:
-        assert f"<td>{c['name']}</td>" in html
+        assert re.search(rf'<td rowspan="\d+">{re.escape(c["name"])}</td>', html)
 
 
 def test_deviation_map_shows_gouge(tmp_path):
     out = tmp_path / "deep"
     proc = _run("slot-deep.nc", "slot.checks.toml", out)
     assert proc.returncode == 1  # the design check fails on the gouge
-    img = _check_png(out / "deviation.png")
+    _check_png(out / "deviation.png")
     assert "FAIL" in (out / "report.html").read_text()
+
+
+# ---------------------------------------------------------------------------------------------
+# lathe: section and thread detail in true coordinates
+# ---------------------------------------------------------------------------------------------
+def test_nice_ticks_are_round():
+    # steps of 1, 2, 2.5 or 5 x 10^k, about n intervals: never -20, 16, 52, 89
+    assert I.nice_ticks(-31.8, 1.8, 7) == [-30.0, -25.0, -20.0, -15.0, -10.0, -5.0, 0.0]
+    assert I.nice_ticks(-20.0, 89.0, 6) == [-20.0, 0.0, 20.0, 40.0, 60.0, 80.0]
+    assert I.nice_ticks(10.4, 13.6, 7) == [10.5, 11.0, 11.5, 12.0, 12.5, 13.0, 13.5]
+    assert I.nice_ticks(-0.06, 0.06, 4) == [-0.05, 0.0, 0.05]
+
+
+def test_section_in_workpiece_coordinates(multipass):
+    view = I.section_view(multipass)
+    try:
+        z = view.ticks["Z mm"]
+        r = view.ticks["radius mm"]
+        # the blank is Z-30..0: its ends are round ticks, every tick lies near the part
+        assert -30.0 in z and 0.0 in z and min(z) >= -40 and max(z) <= 10
+        assert r[0] == 0.0 and max(r) >= 13.5
+        assert view.ticks["\u00d8 mm"] == [2 * v for v in r]
+        # read back from the plotter's actors: a label "-30" at x = -30, ...
+        assert _tick_labels(view, z, 0) == z
+        assert _tick_labels(view, r, 1) == r
+        rc_part, rc_air, rc_undercut = view.pixel(-20.3, 6.3), view.pixel(-20.3, 16.3), view.pixel(-10.3, 13.1)
+        img = _check_png(view.png())
+    except BaseException:
+        view.plotter.close()
+        raise
+    assert _near(img, rc_part, _rgb(I.PART_COLOR))
+    assert _near(img, rc_air, np.array([255.0, 255, 255]))
+    assert _near(img, rc_undercut, np.array([255.0, 255, 255]))  # the blank's undercut is not material
+
+
+def test_thread_detail(multipass):
+    spec = [c for c in multipass.setup.checks if c["kind"] == "thread"][0]
+    view = I.thread_view(multipass, spec, 1)
+    try:
+        z, r = view.ticks["Z mm"], view.ticks["radius mm"]
+        # two and a half pitches (1.5) around the middle of the checked range Z-6..-1
+        assert min(z) <= -3.5 - 1.5 and max(z) >= -3.5 + 1.5 and max(z) - min(z) <= 5 * 1.5
+        assert min(r) <= 26.177 / 2 and max(r) >= 13.5 and max(r) - min(r) < 4  # root .. crest, not the bar
+        assert _tick_labels(view, z, 0) == z and _tick_labels(view, r, 1) == r
+        notes = " ".join(view.notes)
+        root = float(re.search(r"root \u00d8 (\d+\.\d+)", notes).group(1))
+        assert abs(root - 26.177) <= spec["tolerance"]
+        assert re.search(r"crest \u00d8 27\.0", notes)
+        assert "P 1.500" in notes
+        flanks = [float(a) for a in re.findall(r"(\d+\.\d)\u00b0", notes)]
+        assert len(flanks) == 3 and all(abs(a - 30.0) < 0.5 for a in flanks[:2]) and abs(flanks[2] - 60) < 1.0
+        texts = [t for t, _ in I.text_actors(view.plotter)]
+        assert any(t.startswith("root \u00d8") for t in texts) and any(t.startswith("flanks") for t in texts)
+        # a groove at angle 0 at Z-3.0: at radius 13.3 its half width is (13.3 - 13.0885) tan 30 = 0.12
+        rc_groove, rc_tooth, rc_core, rc_air = (view.pixel(-3.0, 13.3), view.pixel(-3.75, 13.3),
+                                                view.pixel(-3.75, 12.6), view.pixel(-3.75, 13.8))
+        img = _check_png(view.png())
+    except BaseException:
+        view.plotter.close()
+        raise
+    assert _near(img, rc_groove, _rgb(I.REMOVED_COLOR))
+    assert _near(img, rc_tooth, _rgb(I.PART_COLOR))
+    assert _near(img, rc_core, _rgb(I.PART_COLOR))
+    assert _near(img, rc_air, np.array([255.0, 255, 255]))
+
+
+# ---------------------------------------------------------------------------------------------
+# mill: top view by floor, deviation per face
+# ---------------------------------------------------------------------------------------------
+def test_top_view_colours_floors(slot_deep):
+    view = I.top_view(slot_deep)
+    try:
+        assert view.notes == ["floor Z 0.000", "floor Z \u22123.050"]  # the top and the slot floor
+        x, y = view.ticks["X mm"], view.ticks["Y mm"]
+        assert 0.0 in x and 60.0 in x and 0.0 in y and 40.0 in y
+        assert _tick_labels(view, x, 0) == x and _tick_labels(view, y, 1) == y
+        rc_floor, rc_top, rc_out = view.pixel(15.3, 20.3), view.pixel(45.3, 20.3), view.pixel(30.3, -1.5)
+        img = _check_png(view.png())
+    except BaseException:
+        view.plotter.close()
+        raise
+    floor, top = img[rc_floor], img[rc_top]
+    assert np.abs(floor - top).max() > 60  # two floors, two clearly different colours
+    for c in (floor, top):
+        assert c.max() - c.min() > 40  # coloured, not grey or white
+    assert _near(img, rc_out, np.array([255.0, 255, 255]))
+
+
+def test_deviation_per_face(slot_deep):
+    from cutsim.stock.measure import load_solid
+
+    spec = [c for c in slot_deep.setup.checks if c["kind"] == "design"][0]
+    view = I.deviation_view(slot_deep, load_solid(spec["path"]), spec)
+    try:
+        mesh = view.mesh
+        d = np.asarray(mesh.cell_data["deviation (unclipped) mm"])
+        assert len(d) == mesh.n_cells and "deviation mm" in mesh.cell_data  # cell data: one value per face
+        nrm = np.asarray(mesh.compute_normals(cell_normals=True, point_normals=False).cell_data["Normals"])
+        cen = np.asarray(mesh.cell_centers().points)
+        floor = (nrm[:, 2] > 0.99) & (np.abs(cen[:, 2] + 3.05) < 1e-6)
+        assert np.count_nonzero(floor) >= 2
+        assert np.allclose(d[floor], -0.05, atol=1e-5)  # a uniform gouge: one value, no gradient
+        walls = (np.abs(nrm[:, 2]) < 0.01) & (np.abs(cen[:, 1] - 16.0) < 1e-6) & (cen[:, 2] > -2.9)
+        assert np.count_nonzero(walls) >= 1
+        assert np.all(np.abs(d[walls]) < 1e-6)  # the slot's wall is on the design: zero
+        lim = I.DEV_K * spec["max_deviation"]
+        assert view.ticks["deviation mm"][0] == pytest.approx(-lim) and view.ticks["deviation mm"][-1] == pytest.approx(lim)
+        assert any(n.startswith("worst gouge \u22120.050 mm") and "OUT OF TOL" in n for n in view.notes)
+        img = _check_png(view.png())
+    except BaseException:
+        view.plotter.close()
+        raise
     del img
+
+
+def test_render_images_reports_progress(multipass):
+    calls = []
+    captions = {}
+    out = I.render_images(multipass, lambda s, i, n: calls.append((s, i, n)), captions)
+    assert list(out) == ["iso.png", "section.png", "thread-1.png"] == list(captions)
+    assert calls == [("images", 0, 3), ("images", 1, 3), ("images", 2, 3), ("images", 3, 3)]
+    assert all(captions.values())
