@@ -207,17 +207,21 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
                           tolerance=tol, triangles=part.num_tri())
     result = Result(setup, prog, pl, stock, part, report)
     if checks and setup.checks:  # evaluated on the finished part; records in report.json
-        report["checks"] = run_checks(setup, result)
+        report["checks"] = run_checks(setup, result, progress)
     return result
 
 
-def run_checks(setup: Setup, result: "Result") -> list[dict]:
-    """Evaluate the setup's [[check]] tables on ``result`` (records as in report.json)."""
+def run_checks(setup: Setup, result: "Result", progress: Callable[[str, int, int], None] | None = None
+               ) -> list[dict]:
+    """Evaluate the setup's [[check]] tables on ``result`` (records as in report.json);
+    ``progress("checks", i, n)`` before each check and once at the end."""
     from cutsim.reports.checks import check_design, evaluate
     from cutsim.stock.measure import load_solid
 
     out = []
-    for spec in setup.checks:
+    for k, spec in enumerate(setup.checks):
+        if progress:
+            progress("checks", k, len(setup.checks))
         design = None
         if spec["kind"] == "design":
             try:
@@ -228,4 +232,6 @@ def run_checks(setup: Setup, result: "Result") -> list[dict]:
             out.append(check_design(spec, result, design))
             continue
         out.append(evaluate(spec, result))
+    if progress:
+        progress("checks", len(setup.checks), len(setup.checks))
     return out

@@ -32,29 +32,71 @@ _ENV_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EACCES, errno.EPERM, errno.EROF
 
 
 class _Progress:
-    """Progress on stderr for runs longer than about a second (tqdm bars, one per stage)."""
+    """Progress on stderr for the stages of a run (``progress(stage, i, n)``: step i of n) that last
+    longer than DELAY seconds. On a terminal: a tqdm bar per stage. Otherwise (a log, a pipe, CI):
+    plain single lines ``cutsim: STAGE i/n`` at most once every INTERVAL seconds per stage and a
+    last ``cutsim: STAGE n/n done`` for a stage that printed a line, no control characters."""
 
-    def __init__(self, enabled: bool):
+    DELAY = 1.0
+    INTERVAL = 5.0
+
+    def __init__(self, enabled: bool, stream=None, tty: bool | None = None):
         self.enabled = enabled
+        self.stream = stream if stream is not None else sys.stderr
+        if tty is None:
+            try:
+                tty = bool(self.stream.isatty())
+            except (AttributeError, ValueError, OSError):
+                tty = False
+        self.tty = tty
         self.bars = {}
+        self.lines = {}  # stage -> [start time, time of the last line or None]
         self.t0 = time.monotonic()
 
     def __call__(self, stage: str, i: int, n: int) -> None:
         if not self.enabled:
             return
+        if not self.tty:
+            self._line(stage, i, n)
+            return
         from tqdm import tqdm
 
         bar = self.bars.get(stage)
         if bar is None:
-            bar = self.bars[stage] = tqdm(total=n, desc=stage, file=sys.stderr, delay=1.0, leave=False,
+            bar = self.bars[stage] = tqdm(total=n, desc=stage, file=self.stream, delay=self.DELAY, leave=False,
                                           unit="step", dynamic_ncols=True)
-        bar.update(i - bar.n)
+        bar.update(max(0, i - bar.n))
         if i >= n:
             bar.close()
+            del self.bars[stage]
+
+    def _line(self, stage: str, i: int, n: int) -> None:
+        now = time.monotonic()
+        st = self.lines.get(stage)
+        if st is None or (i == 0 and st[1] is None):
+            st = self.lines[stage] = [now, None]
+        done = i >= n
+        if done:
+            if st[1] is not None:
+                self._write(f"{PROG}: {stage} {n}/{n} done ({now - st[0]:.1f} s)")
+            del self.lines[stage]
+            return
+        if now - st[0] >= self.DELAY and (st[1] is None or now - st[1] >= self.INTERVAL):
+            st[1] = now
+            self._write(f"{PROG}: {stage} {i}/{n}")
+
+    def _write(self, text: str) -> None:
+        try:
+            self.stream.write(text + "\n")
+            self.stream.flush()
+        except (OSError, ValueError):
+            pass
 
     def close(self):
         for bar in self.bars.values():
             bar.close()
+        self.bars = {}
+        self.lines = {}
 
 
 class _Terminated(KeyboardInterrupt):
@@ -225,9 +267,11 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
             from cutsim.reports.html import report_html
             from cutsim.reports.images import render_images  # pyvista only when asked
 
-            pngs = render_images(result)
+            captions = {}
+            pngs = render_images(result, progress, captions)
             files.update(pngs)
-            files["report.html"] = report_html(result.report, pngs)
+            files["report.html"] = report_html(result.report, pngs, captions=captions, setup=result.setup,
+                                               order=list(pngs))
         out.commit(files)
         progress.close()
         rep = result.report
