@@ -1,0 +1,162 @@
+"""report.html: what a reader needs at a glance (verdict, units, setup, checks linked to their setup
+line, warnings without absolute machine paths, versions), self-contained, and clean in a real
+browser (headless Chromium: no console errors, every image decodes, a non-blank page)."""
+import base64
+import io
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cutsim
+from cutsim.reports.html import report_html
+
+HERE = Path(__file__).parent / "checks"
+
+
+def _png(w=8, h=6, color=(200, 30, 30)):
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.new("RGB", (w, h), color).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def _report(setup, program_path, checks=None, warnings=None):
+    return {"program": "multipass.nc", "dialect": "cnc8x6",
+            "machine": {"kind": "lathe", "diameter_programming": True, "m03": "ccw"}, "tolerance": 0.01,
+            "blocks": 12, "moves": 30, "stock_volume": 16000.5, "part_volume": 15900.25, "removed_volume": 100.25,
+            "cycle_time_s": 1.657, "final_position": [30.0, 0.0, 5.0], "last_cut_position": None,
+            "triangles": 1234, "warnings": warnings or [], "checks": checks or []}
+
+
+def _check(name, line, passed, measured=26.18):
+    return {"name": name, "kind": "thread", "line": line, "passed": passed, "details": {},
+            "items": [{"quantity": "root_diameter", "expected": 26.177, "measured": measured, "tolerance": 0.03,
+                       "unit": "mm", "passed": passed},
+                      {"quantity": "hand", "expected": "right", "measured": "right", "tolerance": None, "unit": "",
+                       "passed": True}]}
+
+
+def test_summary_setup_checks_warnings(tmp_path, monkeypatch):
+    setup = cutsim.load_setup(str(HERE / "multipass.toml"))
+    setup_lines = (HERE / "multipass.toml").read_text().splitlines()
+    line = next(i for i, s in enumerate(setup_lines, 1) if s.strip() == "[[check]]")
+    monkeypatch.chdir(HERE.parent)  # the run's directory: tests/
+    prog = str(HERE / "multipass.nc")  # absolute, as a user may give it
+    w = {"line": 7, "column": 3, "program": prog, "message": "feed F0 ignored"}
+    html = report_html(_report(setup, prog, [_check("M27 thread", line, False, 26.25)], [w]),
+                       {"b.png": _png(), "a.png": _png(color=(0, 0, 200))}, captions={"b.png": "the B view"},
+                       setup=setup, order=["b.png", "a.png"]).decode("utf-8")
+    # verdict and units
+    assert "FAIL: 1 of 1 check(s) failed (M27 thread)" in html
+    assert re.search(r"<td>cycle time</td><td[^>]*>1\.657 \(0:01\.7 min:s\)</td><td>s</td>", html)
+    assert re.search(r"<td>removed volume</td><td[^>]*>100\.250</td><td>mm\u00b3</td>", html)
+    assert re.search(r"<td>chordal tolerance</td><td[^>]*>0\.01</td><td>mm</td>", html)
+    # setup: stock, tools, tolerance; the setup file's lines with anchors, the check links to its line
+    assert "revolved profile (r, z) mm: (0, 0), (13.5, 0)" in html
+    assert re.search(r"<td>T9</td><td>thread</td><td>included angle 60\u00b0, nose radius 0 mm</td>", html)
+    assert f'<a href="#setup-L{line}">multipass.toml:{line}</a>' in html
+    assert f'<span id="setup-L{line}"><span class="ln">{line}</span>[[check]]</span>' in html
+    assert html.count('<span id="setup-L') == len(setup_lines)
+    # measured - expected with a true minus sign, and the failed row marked
+    assert "<td class=\"num\">0.073</td>" in html and "FAIL</td>" in html
+    # warnings: the program relative to the run's directory, never the machine's absolute path
+    assert "checks/multipass.nc:7:3: warning: feed F0 ignored" in html
+    assert str(HERE) not in html and os.path.abspath("/") + "work" not in html
+    # images in the given order with captions, inlined; versions
+    imgs = re.findall(r'<img alt="([^"]+)"[^>]*width="(\d+)" height="(\d+)" src="data:image/png;base64,([^"]+)"',
+                      html)
+    assert [(n, w_, h_) for n, w_, h_, _ in imgs] == [("b.png", "8", "6"), ("a.png", "8", "6")]
+    assert base64.b64decode(imgs[0][3]) == _png()
+    assert "<b>b.png</b>: the B view" in html
+    import manifold3d  # noqa: F401
+    from importlib import metadata
+
+    assert f"cutsim {cutsim.__version__}" in html and f"manifold3d {metadata.version('manifold3d')}" in html
+    assert "<script" not in html and "http://" not in html and "https://" not in html
+
+
+def test_passed_and_deterministic():
+    setup = cutsim.load_setup(str(HERE / "multipass.toml"))
+    rep = _report(setup, "multipass.nc", [_check("M27 thread", 26, True)])
+    a = report_html(rep, {"x.png": _png()}, setup=setup)
+    assert a == report_html(rep, {"x.png": _png()}, setup=setup)  # same input, same bytes
+    assert "PASS: all 1 check(s) passed" in a.decode()
+    none = report_html(_report(setup, "multipass.nc")).decode()
+    assert "no checks in the setup" in none and "<h2 id=\"images\">" not in none
+
+
+def test_html_escapes():
+    rep = _report(None, "x", [_check("<b>&", 3, True)])
+    html = report_html(rep).decode()
+    assert "&lt;b&gt;&amp;" in html and "<b>&" not in html
+
+
+# ---------------------------------------------------------------------------------------------
+def _chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome", "chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def _headless(args, timeout=120):
+    exe = _chromium()
+    base = [exe, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-extensions",
+            "--hide-scrollbars", "--allow-file-access-from-files", f"--user-data-dir={args[0]}"]
+    return subprocess.run(base + args[1:], capture_output=True, text=True, timeout=timeout)
+
+
+CHECKER = """<script>
+window.addEventListener('load', function () {
+  var out = [];
+  document.querySelectorAll('img').forEach(function (im) {
+    out.push(im.alt + ' ' + (im.complete ? 1 : 0) + ' ' + im.naturalWidth + 'x' + im.naturalHeight);
+  });
+  var p = document.createElement('pre'); p.id = 'cutsim-check'; p.textContent = out.join('\\n');
+  document.body.appendChild(p);
+});
+</script>"""
+
+
+@pytest.mark.browser
+@pytest.mark.skipif(_chromium() is None, reason="no chromium binary (apt-get install chromium)")
+def test_report_in_chromium(tmp_path):
+    pytest.importorskip("pyvista")
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(HERE / "multipass.nc"), "--setup",
+                           str(HERE / "multipass.toml"), "--out", str(out), "--images", "-q"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    page = out / "report.html"
+    # 1. the page as shipped: a screenshot, and no console message of level error or warning
+    shot = tmp_path / "shot.png"
+    r = _headless([str(tmp_path / "profile1"), "--enable-logging=stderr", "--v=0", "--window-size=1200,3000",
+                   f"--screenshot={shot}", page.as_uri()])
+    assert shot.exists(), r.stderr[-2000:]
+    console = [ln for ln in r.stderr.splitlines() if "CONSOLE" in ln or "Uncaught" in ln
+               or "Failed to load resource" in ln or "Not allowed to load" in ln]
+    assert console == [], console
+    from PIL import Image
+
+    img = np.asarray(Image.open(shot).convert("RGB"), dtype=float)
+    assert np.mean(np.any(img < 240, axis=2)) > 0.05 and img.std() > 10  # not blank
+    # 2. the same markup plus a checker script: every image decoded at its full size
+    probe = tmp_path / "probe.html"
+    probe.write_text(page.read_text().replace("</body>", CHECKER + "</body>"))
+    r = _headless([str(tmp_path / "profile2"), "--dump-dom", "--virtual-time-budget=5000", probe.as_uri()])
+    m = re.search(r'<pre id="cutsim-check">(.*?)</pre>', r.stdout, re.S)
+    assert m, r.stderr[-2000:]
+    rows = m.group(1).strip().splitlines()
+    names = sorted(p.name for p in out.glob("*.png"))
+    assert sorted(row.split()[0] for row in rows) == names
+    for row in rows:
+        name, complete, size = row.split()
+        assert complete == "1" and size == "1024x768", row
