@@ -361,9 +361,10 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
 
 # -- work estimates --------------------------------------------------------------------------------
 # Measured peak memory per counted triangle: about 600 bytes for a screw sweep built and
-# subtracted from a bar (extrude + warp of 4M triangles: 2.3 GB), about 400 bytes for a thread
-# whose turns overlap 11 deep (10.9M counted: 4.2 GB). Used for the message only.
-BYTES_PER_TRIANGLE = 500
+# subtracted from a bar (extrude + warp of 4M triangles: 2.3 GB), 650 for a thread whose turns
+# overlap 6 deep (lead 0.045 over 22 mm, 3.4M counted: 2.19 GB), 400 for one 11 deep (lead 0.025,
+# 10.9M counted: 4.2 GB). Used for the message only.
+BYTES_PER_TRIANGLE = 600
 
 
 class Work:

@@ -16,7 +16,6 @@ import cutsim
 from conftest import EXAMPLES
 from cutsim import CutsimError
 from cutsim.kinematics.paths import segment_angle
-from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
 
 LATHE = EXAMPLES / "cnc8x6-lathe"
 
@@ -136,15 +135,6 @@ kind = "endmill"
 diameter = 10.0
 length = 25.0
 """
-
-
-def test_default_limit_keeps_the_shipped_examples():
-    """Every shipped example runs at its own tolerance under the default limit."""
-    assert DEFAULT_MAX_TRIANGLES >= 1_000_000
-    for nc in sorted(EXAMPLES.glob("*/*.nc")):
-        setup = cutsim.load_setup(str(nc.with_suffix(".toml")))
-        assert setup.max_triangles == DEFAULT_MAX_TRIANGLES
-    # (the examples themselves run in test_examples.py with this default)
 
 
 def test_nan_start_is_refused_and_report_is_strict_json(tmp_path):
