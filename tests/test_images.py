@@ -229,3 +229,42 @@ def test_render_images_reports_progress(multipass):
     assert list(out) == ["iso.png", "section.png", "thread-1.png"] == list(captions)
     assert calls == [("images", 0, 3), ("images", 1, 3), ("images", 2, 3), ("images", 3, 3)]
     assert all(captions.values())
+
+
+# ---------------------------------------------------------------------------------------------
+# progress: plain lines when stderr is not a terminal
+# ---------------------------------------------------------------------------------------------
+def test_progress_lines_without_a_terminal(monkeypatch):
+    import cutsim.cli as cli
+
+    clock = [100.0]
+    monkeypatch.setattr(cli.time, "monotonic", lambda: clock[0])
+    buf = io.StringIO()
+    prog = cli._Progress(True, stream=buf, tty=False)
+    prog("sweeps", 0, 120)
+    clock[0] += 0.5
+    prog("sweeps", 10, 120)  # under a second: nothing yet
+    clock[0] += 0.6
+    prog("sweeps", 40, 120)  # 1.1 s: the first line
+    for k in range(41, 60):  # 19 calls within 1.9 s: no line (at most one every 5 s)
+        clock[0] += 0.1
+        prog("sweeps", k, 120)
+    clock[0] += 3.2
+    prog("sweeps", 90, 120)  # 5.1 s after the first line
+    prog("sweeps", 120, 120)
+    prog("checks", 0, 2)  # a short stage prints nothing
+    prog("checks", 2, 2)
+    assert buf.getvalue().splitlines() == ["cutsim: sweeps 40/120", "cutsim: sweeps 90/120",
+                                           "cutsim: sweeps 120/120 done (6.2 s)"]
+
+
+def test_cli_progress_in_a_log(tmp_path):
+    """stderr to a pipe: single plain lines for the image stage (several seconds), no \\r or ESC."""
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(HERE / "multipass.nc"), "--setup",
+                           str(HERE / "multipass.toml"), "--out", str(tmp_path / "o"), "--images"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "\r" not in proc.stderr and "\x1b" not in proc.stderr
+    lines = proc.stderr.splitlines()
+    assert re.fullmatch(r"cutsim: images 3/3 done \(\d+\.\d s\)", [ln for ln in lines if "images" in ln][-1])
+    assert all(re.fullmatch(r"cutsim: \w[\w ]* \d+/\d+( done \(\d+\.\d s\))?", ln) for ln in lines[:-1]), lines
