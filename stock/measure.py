@@ -451,6 +451,37 @@ def _probe_points(man) -> np.ndarray:
                            0.5 * (t[:, 2] + t[:, 0])])
 
 
+def _farthest(pts: np.ndarray, v: np.ndarray, f: np.ndarray) -> tuple[float, int]:
+    """The largest distance from the points to the triangle mesh (v, f) and the index of that
+    point. Exact closest-point queries in VTK's static cell locator (a BVH of bins, C++, one call
+    for all points); VTK is imported here only, so the core imports without it. Without VTK: the
+    numpy/scipy search of ``_point_triangle_distance``."""
+    try:
+        from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+        from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
+        from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+        from vtkmodules.vtkFiltersCore import vtkImplicitPolyDataDistance
+    except ImportError:  # pragma: no cover - VTK comes with pyvista; kept for a core-only install
+        d, _n, _i = _point_triangle_distance(pts, v[f], max_only=True)
+        k = int(np.argmax(d))
+        return float(d[k]), k
+    poly = vtkPolyData()
+    vp = vtkPoints()
+    vp.SetData(numpy_to_vtk(np.ascontiguousarray(v, dtype=np.float64), deep=True))
+    poly.SetPoints(vp)
+    cells = vtkCellArray()
+    cells.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 3 * len(f) + 1, 3, dtype=np.int64), deep=True),
+                  numpy_to_vtkIdTypeArray(np.ascontiguousarray(f, dtype=np.int64).ravel(), deep=True))
+    poly.SetPolys(cells)
+    dist = vtkImplicitPolyDataDistance()
+    dist.SetInput(poly)
+    out = vtkDoubleArray()
+    dist.FunctionValue(numpy_to_vtk(np.ascontiguousarray(pts, dtype=np.float64), deep=True), out)
+    d = np.abs(vtk_to_numpy(out))  # signed by VTK's normals; only the size is used
+    k = int(np.argmax(d))
+    return float(d[k]), k
+
+
 def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
     """Gouge and excess of ``part`` against ``design`` (both manifolds, same frame).
 
@@ -458,32 +489,39 @@ def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
     removed); excess volume: part material outside the design. The worst deviation is the largest
     distance from a vertex of the gouge or excess solids to the surface on the other side (for a
     gouge: design points inside the design to the part surface; for excess: part points to the
-    design surface), with its location and sign (negative = gouge)."""
+    design surface), with its location and sign (negative = gouge).
+
+    One boolean in the usual case: ``part.split(design)`` gives part & design and the excess at
+    once; the part lies in the stock, so the gouge volume is vol(design & stock) - vol(part &
+    design). The gouge solid itself (for its probe points) is built only when that is positive."""
     target = design ^ stock if stock is not None else design
-    gouge = target - part
-    excess = part - design
-    out = {"gouge_volume": max(0.0, float(gouge.volume())), "excess_volume": max(0.0, float(excess.volume())),
+    inside, excess = part.split(design)
+    gouge_vol = float(target.volume()) - float(inside.volume())
+    out = {"gouge_volume": max(0.0, gouge_vol), "excess_volume": max(0.0, float(excess.volume())),
            "worst_deviation": 0.0, "worst_location": None}
-    dv, df = _mesh(design)
-    pv_, pf = _mesh(part)
     cands = []
     if not excess.is_empty():
+        dv, df = _mesh(design)
         ev = _probe_points(excess)
         ev = ev[:: max(1, len(ev) // max_points)]
-        d, _n, _i = _point_triangle_distance(ev, dv[df], max_only=True)
-        k = int(np.argmax(d))
-        cands.append((float(d[k]), ev[k]))
-    if not gouge.is_empty():
-        gv = _probe_points(gouge)
-        gv = gv[:: max(1, len(gv) // max_points)]
-        d, _n, _i = _point_triangle_distance(gv, pv_[pf], max_only=True)
-        k = int(np.argmax(d))
-        cands.append((-float(d[k]), gv[k]))
+        d, k = _farthest(ev, dv, df)
+        cands.append((d, ev[k]))
+    if gouge_vol > GOUGE_EPS:
+        gouge = target - part
+        if not gouge.is_empty():
+            pv_, pf = _mesh(part)
+            gv = _probe_points(gouge)
+            gv = gv[:: max(1, len(gv) // max_points)]
+            d, k = _farthest(gv, pv_, pf)
+            cands.append((-d, gv[k]))
     if cands:
         d, loc = max(cands, key=lambda c: abs(c[0]))
         out["worst_deviation"] = d
         out["worst_location"] = [float(v) for v in loc]
     return out
+
+
+GOUGE_EPS = 1e-9  # mm^3: a smaller gouge volume is rounding (the gouge solid is not built)
 
 
 def signed_deviation(part, design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
