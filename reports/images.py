@@ -658,7 +658,14 @@ def _iso(p, result, caption, name="iso.png", notes=None, zoom=0.95) -> View:
     p.add_mesh(_stock_outline(result), color="#555555", line_width=1.0, opacity=0.6, reset_camera=False)
     b = result.stock.bounding_box()
     ticks = _iso_axes(p, b)
-    p.view_isometric()
+    if result.setup.machine.kind == "lathe":
+        # as the part sits in the lathe: the spindle axis (Z) across, X up, seen from the operator's
+        # side, Z growing to the right (the chuck on the left), a little from above and from the face end
+        c = np.array([(b[0] + b[3]) / 2, (b[1] + b[4]) / 2, (b[2] + b[5]) / 2])
+        d = np.array([0.45, 1.0, 0.35])
+        p.camera_position = [tuple(c + 1000.0 * d / np.linalg.norm(d)), tuple(c), (1.0, 0.0, 0.0)]
+    else:
+        p.view_isometric()
     p.reset_camera()
     p.camera.zoom(zoom)
     return View(name, caption, p, ticks, notes or [])
@@ -687,7 +694,7 @@ def iso_view(result) -> View:
                    reset_camera=False)
         cap = "Isometric view: floors in their top-view colours, walls grey; the stock's outline in grey."
     else:
-        p.add_mesh(part, color=PART_COLOR, smooth_shading=False, specular=0.2, reset_camera=False)
+        p.add_mesh(part, color=PART_COLOR, smooth_shading=False, specular=0.3, ambient=0.3, reset_camera=False)
         cap = "Isometric view of the part with the stock's outline."
     return _iso(p, result, cap)
 
