@@ -17,7 +17,8 @@ from . import canon
 from .canon import Src
 from .errors import CutsimError
 from .modal import PLANE_AXES
-from .sinumerik import COORD_LIMIT, range_message
+from .sinumerik_lang import (COORD_LIMIT, Call, Frame, Goto, Num, Repeat, Ret, SubCall, SubprogramMissing, Word,
+                             range_message)
 
 SIDE_STEP = 1.0  # pocket/slot roughing: radial step between concentric paths, x tool radius
 INNER_LOOP = 0.9  # the innermost roughing path lies this many tool radii inside the final one
@@ -331,9 +332,10 @@ CYCLES = set(SPECS)
 
 
 class Cycle:
-    def __init__(self, m, name: str, args, src: Src, line):
-        self.m, self.name, self.src, self.line = m, name, src, line.line
-        self.col = next((s.col for s in line.stmts if s.kind == "call" and s.a == name), 1)
+    """One cycle call: its parameters by name (checked against SPECS) and the motion helpers."""
+
+    def __init__(self, m, name: str, args, src: Src, col: int):
+        self.m, self.name, self.src, self.line, self.col = m, name, src, src.line, col
         spec = SPECS[name]
         if len(args) > len(spec):
             raise m.error(self.line, args[len(spec)][1], f"{name} takes at most {len(spec)} parameters, not {len(args)}")
@@ -371,9 +373,6 @@ class Cycle:
                 raise self.err(f"{n} is written without a sign (got {self.v[n]:g})")
 
     # -- motion helpers --------------------------------------------------------------------------
-    def p3(self, p, z):
-        return (p[0], p[1], z)
-
     def rapid(self, p, z):
         if self._here(p, z):
             return
@@ -651,8 +650,6 @@ def _plunge_mode(cy, tens, allowed):
 def _loops_for(units, fal, build_rough, build_fin):
     rough = build_rough() if units in (0, 1) else []
     fin = build_fin() if (units == 2 or (units == 0 and fal > 0)) else []
-    if units == 1 and fal == 0:
-        pass
     return rough, fin
 
 
@@ -949,34 +946,55 @@ def cycle71(cy: Cycle):
 
 
 # ---------------------------------------------------------------------------------------------
-def contour_elements(m, name: str, cy: Cycle):
-    """The contour named by _KNAME (a subprogram or "START:END" labels) as (start, elements, the
-    Src of each element) in the XY plane; its blocks run in a sandbox that emits nothing."""
-    from .sinumerik import Frame
+@dataclass
+class ModalState:
+    """What running a contour's blocks in a sandbox changes on the machine, copied before and put
+    back after (contour_elements)."""
+    pos: list
+    absolute: bool
+    plane: str
+    motion: int
+    feed: float
+    per_rev: bool
+    records: list
+    comp_buf: list | None
+    warned_feed: bool
+    executed: int
+
+    @classmethod
+    def of(cls, m) -> ModalState:
+        return cls(list(m.pos), m.absolute, m.plane, m.motion, m.feed, m.per_rev, m.program.records, m.comp_buf,
+                   m._warned_feed, m.executed)
+
+    def restore(self, m) -> None:
+        m.pos, m.absolute, m.plane, m.motion, m.feed, m.per_rev = (list(self.pos), self.absolute, self.plane,
+                                                                  self.motion, self.feed, self.per_rev)
+        m.program.records, m.comp_buf, m._warned_feed, m.executed = (self.records, self.comp_buf, self.warned_feed,
+                                                                     self.executed)
+
+
+def contour_lines(m, name: str, cy: Cycle):
+    """The unit and the lines of the contour named by _KNAME: a subprogram or "START:END" labels."""
     name = name.strip()
     if not name:
         raise cy.err("_KNAME is empty: name the contour (subprogram or \"START:END\" labels)")
     if ":" in name:
         l1, l2 = [s.strip().upper() for s in name.split(":", 1)]
-        unit = None
-        for u in [m.main, *m.subs.values()]:
-            if l1 in u.labels and l2 in u.labels:
-                unit = u
-                break
-        if unit is None:
-            raise cy.err(f"contour {name}: the labels {l1} and {l2} are not both in the program")
-        lines = unit.lines[unit.labels[l1]:unit.labels[l2] + 1]
-    else:
-        try:
-            unit = m.find_sub(name.upper(), cy.line, cy.col)
-        except CutsimError as e:
-            if "is not defined" not in e.message:
-                raise  # a NAME.spf that is a directory, unreadable or too large
-            raise cy.err(f"contour {name} not found (no subprogram and no \"START:END\" labels of that name)") from None
-        lines = unit.lines
-    saved = (list(m.pos), m.absolute, m.plane, m.motion, m.feed, m.per_rev, m.program.records, m.comp_buf,
-             m._warned_feed, m.executed)
-    recs = []
+        for unit in [m.main, *m.subs.values()]:
+            if l1 in unit.labels and l2 in unit.labels:
+                return unit, unit.lines[unit.labels[l1]:unit.labels[l2] + 1]
+        raise cy.err(f"contour {name}: the labels {l1} and {l2} are not both in the program")
+    try:
+        unit = m.find_sub(name.upper(), cy.line, cy.col)
+    except SubprogramMissing:
+        raise cy.err(f"contour {name} not found (no subprogram and no \"START:END\" labels of that name)") from None
+    return unit, unit.lines
+
+
+def contour_records(m, unit, lines, cy: Cycle) -> list:
+    """Run the contour's blocks in a sandbox: their records, with the machine's state put back."""
+    saved = ModalState.of(m)
+    recs: list = []
     m.program.records = recs
     m.comp_buf = None
     m.feed = m.feed or 1.0
@@ -985,20 +1003,27 @@ def contour_elements(m, name: str, cy: Cycle):
         for ln in lines:
             if not ln.stmts:
                 continue
-            if any(st.kind == "ret" for st in ln.stmts):  # RET ends a contour subprogram
+            if any(isinstance(st, Ret) for st in ln.stmts):  # RET ends a contour subprogram
                 break
             for st in ln.stmts:
-                if st.kind in ("call", "sub", "goto", "repeat", "ret") or (
-                        st.kind == "word" and st.a in ("G",) and st.b[0] == "num" and st.b[1] in (41, 42)):
+                if isinstance(st, (Call, SubCall, Goto, Repeat)) or (
+                        isinstance(st, Word) and st.address == "G" and isinstance(st.value, Num)
+                        and st.value.value in (41, 42)):
                     raise m.error(ln.line, st.col, f"a contour for {cy.name} holds only G blocks (no jumps, calls or G41/G42)")
             m.block(ln, fr, [fr])
             if m.plane != "XY":
                 raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in G17 (XY)")
     finally:
-        (pos, m.absolute, m.plane, m.motion, m.feed, m.per_rev, m.program.records, m.comp_buf,
-         m._warned_feed, m.executed) = saved
-        m.pos = pos
-    motions = [r for r in recs if isinstance(r, canon.MOTIONS)]
+        saved.restore(m)
+    return recs
+
+
+def contour_elements(m, name: str, cy: Cycle):
+    """The contour named by _KNAME (a subprogram or "START:END" labels) as (start, elements, the
+    Src of each element) in the XY plane; its blocks run in a sandbox that emits nothing."""
+    unit, lines = contour_lines(m, name, cy)
+    name = name.strip()
+    motions = [r for r in contour_records(m, unit, lines, cy) if isinstance(r, canon.MOTIONS)]
     if not motions:
         raise cy.err(f"contour {name} has no moves")
     start = (motions[0].end[0], motions[0].end[1])
@@ -1104,12 +1129,14 @@ RUNNERS = {"SLOT1": slot1, "SLOT2": slot2, "POCKET1": pocket1, "POCKET2": pocket
            "POCKET4": pocket4, "CYCLE71": cycle71, "CYCLE72": cycle72}
 
 
-def run_cycle(m, name: str, args, src: Src, line) -> None:
+def run_cycle(m, name: str, args, src: Src, col: int) -> None:
+    """Run the cycle ``name`` called at ``src`` (column ``col``) with evaluated ``args``
+    [(value or None, column)] on the machine ``m`` (a Sinumerik interpreter)."""
     if m.comp_buf is not None:
-        raise m.error(line.line, 1, f"{name} cannot run with radius compensation G41/G42 on: program G40 first")
+        raise m.error(src.line, 1, f"{name} cannot run with radius compensation G41/G42 on: program G40 first")
     if m.plane != "XY":
-        raise m.error(line.line, 1, f"{name} is simulated in the G17 plane only")
-    cy = Cycle(m, name, args, src, line)
+        raise m.error(src.line, 1, f"{name} is simulated in the G17 plane only")
+    cy = Cycle(m, name, args, src, col)
     motion = m.motion
     RUNNERS[name](cy)
     m.motion = motion
