@@ -110,11 +110,19 @@ def main():
                   f"batch's own job process times; speed-up vs bare {ref / r['wall']:.2f}")
             r["overhead_per_job_s"] = over
             r["scheduling_overhead_per_job_s"] = sched
-    sums = [r.pop("summary") for r in results.values() if "summary" in r]
+    sums = [(m, r.pop("summary")) for m, r in results.items() if "summary" in r]
     if len(sums) > 1:
-        same = all(s == sums[0] for s in sums[1:])
+        same = all(s == sums[0][1] for _, s in sums[1:])
         print(f"summaries of the batch modes identical: {same}")
         results["summaries_identical"] = same
+        for m, s in sums[1:]:  # which jobs differ (e.g. cutsim's source changed between the runs)
+            a = {j["name"]: j for j in sums[0][1]["jobs"]}
+            diff = sorted(j["name"] for j in s["jobs"] if a.get(j["name"]) != j)
+            if diff:
+                fields = sorted({k for n in diff for k in a[n] if a[n][k] != next(
+                    j for j in s["jobs"] if j["name"] == n)[k]})
+                print(f"  {m} vs {sums[0][0]}: {len(diff)} jobs differ ({', '.join(diff[:5])}{' ...' if len(diff) > 5 else ''}) "
+                      f"in {', '.join(fields)}")
     if args.json:
         Path(args.json).write_text(json.dumps({"jobs": len(jobs), "load_start": load0, "results": results}, indent=1))
 
