@@ -210,16 +210,16 @@ def _p3(p, n, plane):
     return (v[0], v[1], v[2])
 
 
-def compensate_records(m, buf, d, plane, has_departure, comp_src):
-    """Records between G41/G42 and G40 -> compensated records. The first motion is the approach
-    (a straight move to the offset start of the contour), the G40 block's motion the departure."""
-    a, b, nidx = PLANE_AXES[plane]
-    motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS)]
-    if len(motions) < 2 or abs(d) < EPS:
-        return list(buf)
-    first = motions[0]
-    last = motions[-1] if has_departure and len(motions) >= 3 else None
-    body = [k for k in motions[1:] if k != last]
+def _motion_like(r, start, end, feed=None):
+    """A straight record like ``r`` (rapid or feed) from ``start`` to ``end``."""
+    if isinstance(r, canon.Rapid):
+        return canon.Rapid(r.src, start, end, r.diameter)
+    return canon.Feed(r.src, start, end, r.diameter, r.feed if feed is None else feed, r.per_rev)
+
+
+def _contour_of(m, buf, body, plane):
+    """The compensated body's records as 2D elements and, for each, the index of its record
+    (moves along the tool axis only are left out)."""
     elems, owner = [], []
     for k in body:
         r = buf[k]
@@ -232,6 +232,39 @@ def compensate_records(m, buf, d, plane, has_departure, comp_src):
         else:
             elems.append(("L", _p2(r.start, plane), _p2(r.end, plane)))
         owner.append(k)
+    return elems, owner
+
+
+def _pieces(r, pieces, plane, nidx):
+    """The offset elements of one record, its tool-axis travel spread over them by length."""
+    out = []
+    total = sum(length(e) for e in pieces)
+    z0, z1 = r.start[nidx], r.end[nidx]
+    run = 0.0
+    feed = getattr(r, "feed", 0.0)
+    for e in pieces:
+        za = z0 + (z1 - z0) * (run / total if total > 0 else 0)
+        run += length(e)
+        zb = z0 + (z1 - z0) * (run / total if total > 0 else 1)
+        s3, e3 = _p3(e[1], za, plane), _p3(e[2], zb, plane)
+        if e[0] == "L":
+            out.append(_motion_like(r, s3, e3, feed))
+        else:
+            out.append(canon.Arc(r.src, s3, e3, r.diameter, _p3(e[3], za, plane), plane, e[4], False, feed,
+                                 getattr(r, "per_rev", False)))
+    return out
+
+
+def compensate_records(m, buf, d, plane, has_departure, comp_src):
+    """Records between G41/G42 and G40 -> compensated records. The first motion is the approach
+    (a straight move to the offset start of the contour), the G40 block's motion the departure."""
+    nidx = PLANE_AXES[plane][2]
+    motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS)]
+    if len(motions) < 2 or abs(d) < EPS:
+        return list(buf)
+    first = motions[0]
+    last = motions[-1] if has_departure and len(motions) >= 3 else None
+    elems, owner = _contour_of(m, buf, [k for k in motions[1:] if k != last], plane)
     if not elems:
         return list(buf)
     try:
@@ -249,50 +282,17 @@ def compensate_records(m, buf, d, plane, has_departure, comp_src):
             out.append(r)
             continue
         if k == first:
-            p = chain[0][0][1]
-            end = _p3(p, r.end[nidx], plane)
-            cls = canon.Rapid if isinstance(r, canon.Rapid) else None
-            if cls:
-                out.append(canon.Rapid(r.src, r.start, end, r.diameter))
-            else:
-                out.append(canon.Feed(r.src, r.start, end, r.diameter, r.feed, r.per_rev))
-            cur = end
+            new = [_motion_like(r, r.start, _p3(chain[0][0][1], r.end[nidx], plane))]
         elif k == last:
-            if isinstance(r, canon.Rapid):
-                out.append(canon.Rapid(r.src, cur, r.end, r.diameter))
-            else:
-                out.append(canon.Feed(r.src, cur, r.end, r.diameter, r.feed, r.per_rev))
-            cur = r.end
+            new = [_motion_like(r, cur, r.end)]
         elif k in by_owner:
-            pieces = by_owner[k]
-            total = sum(length(e) for e in pieces)
-            z0, z1 = r.start[nidx], r.end[nidx]
-            run = 0.0
-            for e in pieces:
-                za = z0 + (z1 - z0) * (run / total if total > 0 else 0)
-                run += length(e)
-                zb = z0 + (z1 - z0) * (run / total if total > 0 else 1)
-                s3, e3 = _p3(e[1], za, plane), _p3(e[2], zb, plane)
-                feed = getattr(r, "feed", 0.0)
-                if e[0] == "L":
-                    if isinstance(r, canon.Rapid):
-                        out.append(canon.Rapid(r.src, s3, e3, r.diameter))
-                    else:
-                        out.append(canon.Feed(r.src, s3, e3, r.diameter, feed, r.per_rev))
-                else:
-                    c3 = _p3(e[3], za, plane)
-                    out.append(canon.Arc(r.src, s3, e3, r.diameter, c3, plane, e[4], False, feed,
-                                         getattr(r, "per_rev", False)))
-                cur = e3
+            new = _pieces(r, by_owner[k], plane, nidx)
         else:  # a move along the tool axis only: done where the tool stands
             end = list(cur)
             end[nidx] = r.end[nidx]
-            end = (end[0], end[1], end[2])
-            if isinstance(r, canon.Rapid):
-                out.append(canon.Rapid(r.src, cur, end, r.diameter))
-            else:
-                out.append(canon.Feed(r.src, cur, end, r.diameter, getattr(r, "feed", 0.0), getattr(r, "per_rev", False)))
-            cur = end
+            new = [_motion_like(r, cur, (end[0], end[1], end[2]), getattr(r, "feed", 0.0))]
+        out.extend(new)
+        cur = new[-1].end
     return out
 
 
