@@ -652,5 +652,9 @@ def load_setup(path: str) -> Setup:
         if where:
             line, col = line or int(where.group(1)), col or int(where.group(2))
             msg = msg[:where.start()]
+        end = re.search(r"\s*\(at end of document\)$", msg)
+        if end or not line:  # the error is where the text ends
+            msg = msg[:end.start()] + " (at the end of the file)" if end else msg
+            line, col = text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
         raise CutsimError(path, line, col, f"not valid TOML: {msg}") from None
     return _Loader(path, text).load(data)

@@ -227,3 +227,11 @@ def test_big_revolve_profile_over_the_limit(tmp_path):
                         f'shape = "revolve"\nprofile = {pts}') + "\n[simulation]\nmax_triangles = 100000\n"
     e = error(tmp_path, text)
     assert (e.line, e.col) == _at(text, "profile") and "max_triangles" in e.message
+
+
+def test_toml_error_at_the_end_of_the_file(tmp_path):
+    # tomllib gives no position for errors at the end of the document: the end of the text is it
+    e = error(tmp_path, "[machi")
+    assert (e.line, e.col) == (1, 7) and "not valid TOML" in e.message
+    e = error(tmp_path, '[machine]\nkind = "lathe"\nx = [1,\n')
+    assert (e.line, e.col) == (4, 1)
