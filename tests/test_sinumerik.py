@@ -11,7 +11,7 @@ import pytest
 import cutsim
 from cutsim import CutsimError
 from cutsim.interp import InterpConfig, interpret
-from cutsim.interp import canon
+from cutsim.interp import canon, sinumerik_cycles
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "sinumerik"
 
@@ -228,6 +228,32 @@ def test_cycle72_contour_from_a_subprogram_and_a_file(tmp_path):
         # with a quarter circle about the corner (20, 0); straight approach and retract of 5
         assert [tuple(round(v, 6) for v in m.end[:2]) for m in cuts] == [(0, -5), (20, -5), (25, 0), (25, 20), (25, 25)]
         assert all(m.src.line == 3 for m in cuts)
+
+
+def test_cycle72_contour_file_errors_are_its_own(tmp_path):
+    """Only a name that is neither a PROC nor a NAME.spf is "contour not found"; an error inside
+    the contour's file is reported at its own file and line."""
+    main = "T1 D1 M6\nF100\nCYCLE72(\"{}\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 42, 1, 5, 0, 1, 5)\nM30\n"
+    (tmp_path / "kont3.spf").write_text("G17 G90\nG1 X0 Y0\nG1 X20 Y=\nM17\n")
+    with pytest.raises(CutsimError) as e:
+        moves(main.format("KONT3"), name=str(tmp_path / "main.mpf"))
+    assert (e.value.program, e.value.line, e.value.col) == (str(tmp_path / "kont3.spf"), 3, 10)
+    assert "expression expected" in e.value.message
+    with pytest.raises(CutsimError) as e:
+        moves(main.format("KONT4"), name=str(tmp_path / "main.mpf"))
+    assert (e.value.line, e.value.col) == (3, 1) and "contour KONT4 not found" in e.value.message
+
+
+def test_cycle72_unexpected_errors_are_not_turned_into_contour_messages(monkeypatch):
+    """A fault inside the contour code (injected here) is not reported as a contour problem: it
+    propagates, and the CLI reports it as an internal error (exit 3)."""
+    def broken(*args):
+        raise ZeroDivisionError("injected")
+    monkeypatch.setattr(sinumerik_cycles, "contour_records", broken)
+    text = ("T1 D1 M6\nF100\nCYCLE72(\"KONT\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 42, 1, 5, 0, 1, 5)\nM30\n"
+            "PROC KONT\nG17 G90\nG1 X0 Y0\nG1 X20\nRET\n")
+    with pytest.raises(ZeroDivisionError):
+        moves(text)
 
 
 def test_slot1_oscillating_infeed_ramps():
