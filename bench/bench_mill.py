@@ -14,6 +14,14 @@ Cases (each run in its own process, so the peak memory is its own):
 - baseline: the pocket with the fast path and the merged hull runs switched off (a hull per move,
   all unioned in the batch).
 
+Issue 13 (``--issue13``): the 11k-move pocket through ``cutsim simulate`` (STL and report written)
+against the floor for the same exact solid: the tool-centre polyline offset by the radius with
+round joins (pyclipper, arcs at the same fraction of the tolerance as stock/mill.py), one
+extrude, one subtract, the STL; the removed volume of both against the analytic area x depth
+(the rectangle grown by r less the scallops at the pass ends). Target: <= 3.0x the floor,
+|error| <= 0.1 mm^3. Then the scaling: pockets of 10k, 100k and 1M moves, time per move and
+peak memory (target: flat within 1.3x, <= 2 GB at 1M).
+
 Targets (issue 4): pocket <= 0.2 ms/move at 10k and >= 10x faster than the baseline; raster
 <= 2 ms/move; doubling the moves costs <= 2.2x the time; peak memory <= 2 GB at 50k.
 """
@@ -119,6 +127,104 @@ def waterline(n: int) -> tuple[str, str]:
     return "\n".join(lines) + "\n", setup
 
 
+def pocket_exact(n: int) -> float:
+    """Analytic removed volume of ``pocket(n)``: a disc of radius 3 swept along the zig-zag over
+    [0, w] x [0, h] (passes 0.5 apart), 2 mm deep: (w h + 2 r (w + h) + pi r^2 - scallops) x 2."""
+    side = math.sqrt(n * 2 * 0.5)
+    per_pass = max(1, round(side / 2.0))
+    passes = max(1, n // (per_pass + 1))
+    w, h, r, hh = per_pass * 2.0, (passes - 1) * 0.5, 3.0, 0.25
+    prim = lambda t: (t * math.sqrt(r * r - t * t) + r * r * math.asin(t / r)) / 2  # noqa: E731
+    scallop = 2 * (r * hh - prim(hh))
+    return (w * h + 2 * r * (w + h) + math.pi * r * r - (passes - 1) * scallop) * 2.0
+
+
+def run_cli(n: int) -> dict:
+    """``cutsim simulate`` of pocket(n): parse, plan, sweep, subtract, part.stl and report.json."""
+    from cutsim.cli import run_simulate
+
+    text, setup_text = pocket(n)
+    with tempfile.TemporaryDirectory() as d:
+        sp, pp = os.path.join(d, "setup.toml"), os.path.join(d, "p.nc")
+        with open(sp, "w") as f:
+            f.write(setup_text)
+        with open(pp, "w") as f:
+            f.write(text)
+        t0 = time.perf_counter()
+        rc = run_simulate(pp, sp, os.path.join(d, "out"), POCKET_TOL, quiet=True)
+        dt = time.perf_counter() - t0
+        with open(os.path.join(d, "out", "report.json")) as f:
+            rep = json.load(f)
+    return {"case": "cli", "rc": rc, "moves": n, "total_s": dt, "removed": rep["removed_volume"],
+            "error": rep["removed_volume"] - pocket_exact(n),
+            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def run_floor(n: int) -> dict:
+    """The least work for the same solid: polyline offset, extrude, subtract, binary STL."""
+    import manifold3d as m3d
+    import numpy as np
+    import pyclipper
+
+    from cutsim.stock.mill import ARC_FRACTION, GRID
+
+    text, _ = pocket(n)
+    t0 = time.perf_counter()
+    pts, x, y = [], 0.0, 0.0
+    for line in text.splitlines()[2:-1]:  # the moves at Z-2 (after the plunge at X0 Y0)
+        for word in line.split():
+            if word[0] == "X":
+                x = float(word[1:])
+            elif word[0] == "Y":
+                y = float(word[1:])
+        pts.append((x, y))
+    pl = np.array([(0.0, 0.0)] + pts)
+    side = math.sqrt(n * 2 * 0.5)
+    w = max(1, round(side / 2.0)) * 2.0
+    hmax = float(pl[:, 1].max())
+    stock = m3d.Manifold.cube((w + 20, hmax + 20, 10.0)).translate((-10.0, -10.0, -10.0))
+    off = pyclipper.PyclipperOffset()
+    off.ArcTolerance = ARC_FRACTION * POCKET_TOL * GRID
+    off.AddPath(np.round(pl * GRID).astype(np.int64), pyclipper.JT_ROUND, pyclipper.ET_OPENROUND)
+    reg = m3d.CrossSection([np.asarray(p, dtype=float) / GRID for p in off.Execute(3.0 * GRID)], m3d.FillRule.Positive)
+    b = stock.bounding_box()
+    stock = stock.refine_to_length(max(b[3] - b[0], b[4] - b[1]) / 64)
+    part = stock - m3d.Manifold.extrude(reg, 20.0).translate((0.0, 0.0, -2.0))
+    mesh = part.to_mesh()
+    v = np.asarray(mesh.vert_properties, dtype=np.float32)[:, :3]
+    f_ = np.asarray(mesh.tri_verts, dtype=np.int64)
+    tri = v[f_]
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-30)
+    rec = np.zeros(len(f_), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"], rec["v"] = nrm, tri
+    with tempfile.TemporaryDirectory() as d:
+        with open(os.path.join(d, "part.stl"), "wb") as fh:
+            fh.write(b"floor".ljust(80, b" ") + np.uint32(len(f_)).tobytes() + rec.tobytes())
+    dt = time.perf_counter() - t0
+    removed = stock.volume() - part.volume()
+    return {"case": "floor", "moves": n, "total_s": dt, "removed": removed, "error": removed - pocket_exact(n),
+            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def issue13() -> None:
+    nice = f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}"
+    fl, cl = sub("floor", 11000), sub("cli", 11000)
+    print(f"11k-move pocket ({cl['moves']} moves), {nice}")
+    for r in (fl, cl):
+        print(f"  {r['case']:6} {r['total_s']:7.2f} s  removed {r['removed']:.4f} mm^3  error vs analytic "
+              f"{r['error']:+.4f} mm^3  peak {r['peak_mb']:.0f} MB")
+    ratio = cl["total_s"] / fl["total_s"]
+    print(f"  cutsim / floor: {ratio:.2f}x ({'within' if ratio <= 3.0 else 'OVER'} the 3.0x target)")
+    rows = [sub("pocket", n) for n in (10_000, 100_000, 1_000_000)]
+    print(f"scaling ({' '.join(f'{x:.2f}' for x in os.getloadavg())} load average after)")
+    print(f"{'moves':>8} {'interp s':>9} {'plan s':>7} {'remove s':>9} {'total s':>8} {'us/move':>8} {'peak MB':>8}")
+    for r in rows:
+        print(f"{r['moves']:8d} {r['interp_s']:9.2f} {r['plan_s']:7.2f} {r['remove_s']:9.2f} {r['total_s']:8.2f} "
+              f"{1000 * r['ms_per_move']:8.1f} {r['peak_mb']:8.0f}")
+    print(f"time per move 1M / 10k: {rows[-1]['ms_per_move'] / rows[0]['ms_per_move']:.2f}x")
+
+
 def run_case(kind: str, n: int, baseline: bool) -> dict:
     import cutsim
     from cutsim.interp import InterpConfig, interpret
@@ -165,10 +271,16 @@ def main() -> None:
     ap.add_argument("--case", nargs=2)
     ap.add_argument("--as-baseline", action="store_true")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--issue13", action="store_true")
     ap.add_argument("--baseline", type=int, nargs="*", default=[5000])
     a = ap.parse_args()
     if a.case:
-        print(json.dumps(run_case(a.case[0], int(a.case[1]), a.as_baseline)))
+        k, n = a.case[0], int(a.case[1])
+        out = run_cli(n) if k == "cli" else run_floor(n) if k == "floor" else run_case(k, n, a.as_baseline)
+        print(json.dumps(out))
+        return
+    if a.issue13:
+        issue13()
         return
     sizes = [5000, 10000] if a.quick else [5000, 10000, 20000, 50000]
     rows = [sub("pocket", n) for n in sizes]

@@ -38,12 +38,20 @@ def is_flat(tool: ToolSpec) -> bool:
 
 def is_constant_z(path: SpatialPath) -> bool:
     z = path.points[:, 2]
+    if len(z) <= 16:  # most moves: plain floats are several times cheaper than two reductions
+        zl = z.tolist()
+        return max(zl) - min(zl) <= Z_EPS
     return float(z.max() - z.min()) <= Z_EPS
 
 
 def batchable(path: SpatialPath) -> bool:
-    """A feed move the fast path sweeps exactly: flat end mill, constant Z."""
-    return not path.rapid and not path.tool.is_lathe_tool and is_flat(path.tool) and is_constant_z(path)
+    """A feed move the fast path sweeps exactly: flat end mill, constant Z. Asked several times per
+    move by the removal; the answer is kept on the (immutable) path."""
+    b = path.__dict__.get("_batchable")
+    if b is None:
+        b = not path.rapid and not path.tool.is_lathe_tool and is_flat(path.tool) and is_constant_z(path)
+        object.__setattr__(path, "_batchable", b)  # not a field: equality and replace() ignore it
+    return b
 
 
 def stadiums(pts: np.ndarray, r: float, tol: float, p1: np.ndarray | None = None) -> np.ndarray:
@@ -127,23 +135,28 @@ class Level:
     tool: ToolSpec
     z: float
     tol: float
-    lines: list = field(default_factory=list)  # polylines: lists of (k, 2) pieces, each continuing the last
+    moves: list = field(default_factory=list)  # each move's tip polyline (k, 3), in order
     _region: m3d.CrossSection | None = None
 
     def add(self, pts: np.ndarray) -> None:
-        """Adds one move's tip polyline; a move that starts where the last one ended continues its
-        polyline (its first point is dropped), so the join between them is round, as swept."""
-        xy = np.asarray(pts, dtype=float)[:, :2]
-        if self.lines:
-            last = self.lines[-1][-1][-1]
-            if abs(xy[0, 0] - last[0]) <= JOIN_EPS and abs(xy[0, 1] - last[1]) <= JOIN_EPS:
-                if len(xy) > 1:
-                    self.lines[-1].append(xy[1:])
-                return
-        self.lines.append([xy])
+        self.moves.append(pts)
 
     def polylines(self) -> list[np.ndarray]:
-        return [np.concatenate(pl) for pl in self.lines]
+        """The XY polylines of the level: a move that starts where the one before it ended (within
+        JOIN_EPS) continues its polyline, so the join between them is round, as swept."""
+        if not self.moves:
+            return []
+        lens = np.fromiter((len(m) for m in self.moves), dtype=np.int64, count=len(self.moves))
+        xy = np.concatenate(self.moves)[:, :2]
+        ends = np.cumsum(lens)
+        starts = ends - lens
+        cont = np.all(np.abs(xy[starts[1:]] - xy[ends[:-1] - 1]) <= JOIN_EPS, axis=1)
+        keep = np.ones(len(xy), dtype=bool)
+        keep[starts[1:][cont]] = False  # a continuing move's first point is the last one's end
+        new = np.zeros(len(xy), dtype=bool)
+        new[starts[1:][~cont]] = True  # a move that does not continue starts a new polyline
+        cuts = np.flatnonzero(new[keep])
+        return np.split(xy[keep], cuts)
 
     @property
     def starts(self) -> list[np.ndarray]:
