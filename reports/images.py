@@ -702,19 +702,78 @@ def iso_view(result) -> View:
 # ------------------------------------------------------------------------------------------------
 # deviation
 # ------------------------------------------------------------------------------------------------
-def face_deviation(part, design) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def face_deviation(part, design, progress=None, chunk: int = 2000
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Part mesh (vertices, faces), per face the signed distance from its centroid to the design
-    surface (positive outside the design: excess; negative inside: gouge) and the centroids."""
+    surface (positive outside the design: excess; negative inside: gouge) and the centroids.
+    Computed in chunks of ``chunk`` faces with ``progress("deviation", i, n)`` (faces done)."""
     from cutsim.stock.measure import _point_triangle_distance
 
     pv_, pf = _arrays(part)
     dv, df = _arrays(design)
     tri = dv[df]
     cen = pv_[pf].mean(axis=1)
-    d, q, k = _point_triangle_distance(cen, tri)
+    n = len(cen)
+    d, q, k = np.zeros(n), np.zeros((n, 3)), np.zeros(n, dtype=np.int64)
+    for i in range(0, n, chunk):
+        if progress:
+            progress("deviation", i, n)
+        if len(tri) * min(chunk, n - i) > 500_000:
+            d[i:i + chunk], q[i:i + chunk], k[i:i + chunk] = _nearest_on_triangles(cen[i:i + chunk], tri)
+        else:
+            d[i:i + chunk], q[i:i + chunk], k[i:i + chunk] = _point_triangle_distance(cen[i:i + chunk], tri)
+    if progress:
+        progress("deviation", n, n)
     nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     side = np.einsum("ij,ij->i", cen - q, nrm[k])
     return pv_, pf, np.where(side < 0, -d, d), cen
+
+
+def _nearest_on_triangles(pts: np.ndarray, tri: np.ndarray):
+    """Exact nearest point on the triangles for every point, in numpy without a Python loop per
+    point (a deviation map asks for every face of the part): the distance to the triangles of
+    the 8 nearest triangle centroids bounds it, and only triangles whose bounding box, grown by
+    that bound, holds the point can be nearer."""
+    from scipy.spatial import cKDTree
+
+    from cutsim.stock.measure import _closest_on_triangles
+
+    n, m = len(pts), len(tri)
+    cen = tri.mean(axis=1)
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    best = np.full(n, np.inf)
+    near = np.zeros_like(pts)
+    idx = np.zeros(n, dtype=np.int64)
+
+    def test(pi, ti):
+        """Distances of the pairs (point pi, triangle ti); keep the best per point."""
+        for s in range(0, len(pi), 400_000):
+            a, b = pi[s:s + 400_000], ti[s:s + 400_000]
+            t = tri[b]
+            qq = _closest_on_triangles(pts[a], t[:, 0], t[:, 1], t[:, 2], t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+            dd = np.linalg.norm(qq - pts[a], axis=1)
+            order = np.lexsort((dd, a))  # per point the nearest first
+            a, dd, qq, b = a[order], dd[order], qq[order], b[order]
+            first = np.concatenate([[True], a[1:] != a[:-1]])
+            a, dd, qq, b = a[first], dd[first], qq[first], b[first]
+            better = dd < best[a]
+            best[a[better]], near[a[better]], idx[a[better]] = dd[better], qq[better], b[better]
+
+    kk = min(8, m)
+    _, cnear = cKDTree(cen).query(pts, k=kk)
+    test(np.repeat(np.arange(n), kk), np.asarray(cnear).reshape(n, kk).ravel())
+    order = np.lexsort((pts[:, 1], np.floor(pts[:, 0] / max(1e-9, float(np.ptp(pts[:, 0])) / 64.0))))
+    for i in range(0, n, 256):  # spatially compact groups of points: first the boxes near the group
+        g = order[i:i + 256]
+        p, r = pts[g], best[g] + 1e-9
+        cols = np.flatnonzero(np.all((lo <= p.max(axis=0) + r.max()) & (hi >= p.min(axis=0) - r.max()), axis=1))
+        if not len(cols):
+            continue
+        inside = np.all((p[:, None, :] >= lo[cols][None] - r[:, None, None])
+                        & (p[:, None, :] <= hi[cols][None] + r[:, None, None]), axis=2)
+        pi, ti = np.nonzero(inside)
+        test(g[pi], cols[ti])
+    return best, near, idx
 
 
 def _deviation_cmap(k: float):
@@ -731,10 +790,10 @@ def _deviation_cmap(k: float):
     return ListedColormap(blues + ["#dcefd5", "#dcefd5"] + reds), 2 * n
 
 
-def deviation_view(result, design, spec=None) -> View:
+def deviation_view(result, design, spec=None, progress=None) -> View:
     """Each face of the part coloured by its signed distance to ``design`` (a manifold)."""
+    v, f, d, cen = face_deviation(result.part, design, progress)
     p = _plotter()
-    v, f, d, cen = face_deviation(result.part, design)
     tol = None
     if spec is not None and spec.get("max_deviation") is not None:
         tol = float(spec["max_deviation"])
@@ -797,7 +856,7 @@ def views(result, progress=None):
         makers.append(top_view)
     designs = [c for c in checks if c["kind"] == "design"]
     if designs:
-        makers.append(lambda r: deviation_view(r, load_solid(designs[0]["path"]), designs[0]))
+        makers.append(lambda r: deviation_view(r, load_solid(designs[0]["path"]), designs[0], progress))
     n = len(makers)
     for i, make in enumerate(makers):
         if progress:

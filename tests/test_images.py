@@ -268,3 +268,22 @@ def test_cli_progress_in_a_log(tmp_path):
     lines = proc.stderr.splitlines()
     assert re.fullmatch(r"cutsim: images 3/3 done \(\d+\.\d s\)", [ln for ln in lines if "images" in ln][-1])
     assert all(re.fullmatch(r"cutsim: \w[\w ]* \d+/\d+( done \(\d+\.\d s\))?", ln) for ln in lines[:-1]), lines
+
+
+def test_nearest_on_triangles_is_exact():
+    """The deviation map's pruned nearest-triangle search finds the same distances as trying every
+    triangle (small sizes: cutsim.stock.measure's brute force), for a mix of large and small
+    triangles and points on, near and far from them."""
+    from cutsim.stock.measure import _point_triangle_distance
+
+    rng = np.random.default_rng(7)
+    small = rng.uniform(0, 50, (600, 1, 3)) + rng.normal(0, 0.8, (600, 3, 3))
+    big = rng.uniform(-20, 70, (20, 3, 3))
+    tri = np.concatenate([small, big])
+    on = tri[rng.integers(0, len(tri), 300)].mean(axis=1)  # centroids: distance 0
+    pts = np.concatenate([on, on + rng.normal(0, 0.01, on.shape), rng.uniform(-30, 80, (200, 3))])
+    ref = _point_triangle_distance(pts, tri)[0]
+    assert len(pts) * len(tri) <= 500_000  # the reference tries every triangle
+    got = I._nearest_on_triangles(pts, tri)[0]
+    assert np.allclose(got, ref, rtol=0, atol=1e-12)
+    assert np.all(got[:300] < 1e-12)
