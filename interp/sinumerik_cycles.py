@@ -30,7 +30,18 @@ NUM_LIMIT = 1000  # SLOT1/SLOT2 NUM
 
 
 # ---------------------------------------------------------------------------------------------
-# 2D elements: ("L", p0, p1) or ("A", p0, p1, centre, cw)
+# 2D elements of a path in the working plane
+@dataclass(frozen=True)
+class Elem:
+    """A straight line (kind "L") or an arc (kind "A", with its centre and sense) from ``start``
+    to ``end``."""
+    kind: str
+    start: tuple[float, float]
+    end: tuple[float, float]
+    centre: tuple[float, float] | None = None
+    cw: bool = False
+
+
 def _sub(p, q):
     return (p[0] - q[0], p[1] - q[1])
 
@@ -57,32 +68,32 @@ def _dot(u, v):
 
 
 def tangent(e, at_end: bool):
-    if e[0] == "L":
-        return _unit(_sub(e[2], e[1]))
-    p = e[2] if at_end else e[1]
-    rv = _unit(_sub(p, e[3]))
-    return (rv[1], -rv[0]) if e[4] else (-rv[1], rv[0])
+    if e.kind == "L":
+        return _unit(_sub(e.end, e.start))
+    p = e.end if at_end else e.start
+    rv = _unit(_sub(p, e.centre))
+    return (rv[1], -rv[0]) if e.cw else (-rv[1], rv[0])
 
 
 def sweep(e) -> float:
     """Angle an arc turns through, radians, in (0, 2 pi]."""
-    a0 = math.atan2(e[1][1] - e[3][1], e[1][0] - e[3][0])
-    a1 = math.atan2(e[2][1] - e[3][1], e[2][0] - e[3][0])
-    d = (a0 - a1) if e[4] else (a1 - a0)
+    a0 = math.atan2(e.start[1] - e.centre[1], e.start[0] - e.centre[0])
+    a1 = math.atan2(e.end[1] - e.centre[1], e.end[0] - e.centre[0])
+    d = (a0 - a1) if e.cw else (a1 - a0)
     d %= 2 * math.pi
     return d if d > 1e-12 else 2 * math.pi
 
 
 def length(e) -> float:
-    if e[0] == "L":
-        return _norm(_sub(e[2], e[1]))
-    return _norm(_sub(e[1], e[3])) * sweep(e)
+    if e.kind == "L":
+        return _norm(_sub(e.end, e.start))
+    return _norm(_sub(e.start, e.centre)) * sweep(e)
 
 
 def reverse(elems):
     out = []
     for e in reversed(elems):
-        out.append(("L", e[2], e[1]) if e[0] == "L" else ("A", e[2], e[1], e[3], not e[4]))
+        out.append(Elem("L", e.end, e.start) if e.kind == "L" else Elem("A", e.end, e.start, e.centre, not e.cw))
     return out
 
 
@@ -93,34 +104,34 @@ class OffsetError(ValueError):
 
 
 def _offset_elem(e, d, idx):
-    if e[0] == "L":
+    if e.kind == "L":
         n = _left(tangent(e, False))
-        return ("L", (e[1][0] + d * n[0], e[1][1] + d * n[1]), (e[2][0] + d * n[0], e[2][1] + d * n[1]))
-    c = e[3]
-    r = _norm(_sub(e[1], c))
-    r2 = r + d if e[4] else r - d  # the left of a CCW arc is its centre
+        return Elem("L", (e.start[0] + d * n[0], e.start[1] + d * n[1]), (e.end[0] + d * n[0], e.end[1] + d * n[1]))
+    c = e.centre
+    r = _norm(_sub(e.start, c))
+    r2 = r + d if e.cw else r - d  # the left of a CCW arc is its centre
     if r2 <= 1e-6:
         raise OffsetError(idx, f"the tool radius {abs(d):g} does not fit the arc of radius {r:g} (concave side)")
 
     def sc(p):
         return (c[0] + (p[0] - c[0]) * r2 / r, c[1] + (p[1] - c[1]) * r2 / r)
-    return ("A", sc(e[1]), sc(e[2]), c, e[4])
+    return Elem("A", sc(e.start), sc(e.end), c, e.cw)
 
 
 def _intersections(e1, e2):
     """Intersections of the carriers (infinite line / full circle) of two elements."""
-    if e1[0] == "L" and e2[0] == "L":
-        d1, d2 = _sub(e1[2], e1[1]), _sub(e2[2], e2[1])
+    if e1.kind == "L" and e2.kind == "L":
+        d1, d2 = _sub(e1.end, e1.start), _sub(e2.end, e2.start)
         den = _cross(d1, d2)
         if abs(den) < 1e-14:
             return []
-        t = _cross(_sub(e2[1], e1[1]), d2) / den
-        return [(e1[1][0] + t * d1[0], e1[1][1] + t * d1[1])]
-    if e1[0] == "A" and e2[0] == "L":
+        t = _cross(_sub(e2.start, e1.start), d2) / den
+        return [(e1.start[0] + t * d1[0], e1.start[1] + t * d1[1])]
+    if e1.kind == "A" and e2.kind == "L":
         return _intersections(e2, e1)
-    if e1[0] == "L":
-        c, r = e2[3], _norm(_sub(e2[1], e2[3]))
-        p, d = e1[1], _unit(_sub(e1[2], e1[1]))
+    if e1.kind == "L":
+        c, r = e2.centre, _norm(_sub(e2.start, e2.centre))
+        p, d = e1.start, _unit(_sub(e1.end, e1.start))
         f = _sub(p, c)
         b = _dot(f, d)
         disc = b * b - (_dot(f, f) - r * r)
@@ -128,8 +139,8 @@ def _intersections(e1, e2):
             return []
         s = math.sqrt(max(disc, 0.0))
         return [(p[0] + (-b + k * s) * d[0], p[1] + (-b + k * s) * d[1]) for k in (-1, 1)]
-    c1, r1 = e1[3], _norm(_sub(e1[1], e1[3]))
-    c2, r2 = e2[3], _norm(_sub(e2[1], e2[3]))
+    c1, r1 = e1.centre, _norm(_sub(e1.start, e1.centre))
+    c2, r2 = e2.centre, _norm(_sub(e2.start, e2.centre))
     dd = _norm(_sub(c2, c1))
     if dd < 1e-12 or dd > r1 + r2 + 1e-9 or dd < abs(r1 - r2) - 1e-9:
         return []
@@ -141,14 +152,14 @@ def _intersections(e1, e2):
 
 
 def _with_end(e, p, at_end: bool):
-    if e[0] == "L":
-        return ("L", e[1], p) if at_end else ("L", p, e[2])
-    return ("A", e[1], p, e[3], e[4]) if at_end else ("A", p, e[2], e[3], e[4])
+    if e.kind == "L":
+        return Elem("L", e.start, p) if at_end else Elem("L", p, e.end)
+    return Elem("A", e.start, p, e.centre, e.cw) if at_end else Elem("A", p, e.end, e.centre, e.cw)
 
 
 def _check_trim(orig, new, idx):
-    if orig[0] == "L":
-        if _dot(_sub(new[2], new[1]), _sub(orig[2], orig[1])) <= 0:
+    if orig.kind == "L":
+        if _dot(_sub(new.end, new.start), _sub(orig.end, orig.start)) <= 0:
             raise OffsetError(idx, "the contour element is too short for the tool radius (bottleneck)")
     elif sweep(new) > sweep(orig) + 1e-7 and sweep(orig) < 2 * math.pi - 1e-9:
         raise OffsetError(idx, "the contour arc is too short for the tool radius (bottleneck)")
@@ -164,21 +175,21 @@ def offset_chain(elems, d):
     out = []
     for i in range(len(offs)):
         if i + 1 < len(offs):
-            q1, q2 = offs[i][2], offs[i + 1][1]
+            q1, q2 = offs[i].end, offs[i + 1].start
             if _norm(_sub(q1, q2)) > 1e-7:
                 t1, t2 = tangent(elems[i], True), tangent(elems[i + 1], False)
                 turn = _cross(t1, t2)
                 if _norm(_sub(q1, q2)) < 0.01 and _dot(t1, t2) > 0.9999:
                     # tangent within the rounding of the written coordinates: bridge the gap
                     out.append((offs[i], i))
-                    out.append((("L", q1, q2), i + 1))
+                    out.append((Elem("L", q1, q2), i + 1))
                     continue
                 convex = (turn < 0) if d > 0 else (turn > 0)
                 if abs(turn) < 1e-12:
                     convex = _dot(t1, t2) < 0  # reversal: go round the end
                 if convex:
-                    v = elems[i][2]
-                    offs_arc = ("A", q1, q2, v, d > 0)
+                    v = elems[i].end
+                    offs_arc = Elem("A", q1, q2, v, d > 0)
                     out.append((offs[i], i))
                     out.append((offs_arc, i + 1))
                     continue
@@ -228,9 +239,9 @@ def _contour_of(m, buf, body, plane):
         if isinstance(r, canon.Arc):
             if r.full_turn:
                 raise m.error(r.src.line, r.src.col, "a full circle under G41/G42 is not supported: split it in two arcs")
-            elems.append(("A", _p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise))
+            elems.append(Elem("A", _p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise))
         else:
-            elems.append(("L", _p2(r.start, plane), _p2(r.end, plane)))
+            elems.append(Elem("L", _p2(r.start, plane), _p2(r.end, plane)))
         owner.append(k)
     return elems, owner
 
@@ -246,11 +257,11 @@ def _pieces(r, pieces, plane, nidx):
         za = z0 + (z1 - z0) * (run / total if total > 0 else 0)
         run += length(e)
         zb = z0 + (z1 - z0) * (run / total if total > 0 else 1)
-        s3, e3 = _p3(e[1], za, plane), _p3(e[2], zb, plane)
-        if e[0] == "L":
+        s3, e3 = _p3(e.start, za, plane), _p3(e.end, zb, plane)
+        if e.kind == "L":
             out.append(_motion_like(r, s3, e3, feed))
         else:
-            out.append(canon.Arc(r.src, s3, e3, r.diameter, _p3(e[3], za, plane), plane, e[4], False, feed,
+            out.append(canon.Arc(r.src, s3, e3, r.diameter, _p3(e.centre, za, plane), plane, e.cw, False, feed,
                                  getattr(r, "per_rev", False)))
     return out
 
@@ -282,7 +293,7 @@ def compensate_records(m, buf, d, plane, has_departure, comp_src):
             out.append(r)
             continue
         if k == first:
-            new = [_motion_like(r, r.start, _p3(chain[0][0][1], r.end[nidx], plane))]
+            new = [_motion_like(r, r.start, _p3(chain[0][0].start, r.end[nidx], plane))]
         elif k == last:
             new = [_motion_like(r, cur, r.end)]
         elif k in by_owner:
@@ -392,12 +403,12 @@ class Cycle:
     def run_elem(self, e, z, f):
         if f and f > 0:
             self.m.feed = f
-        if e[0] == "L":
-            if self._here(e[2], z):
+        if e.kind == "L":
+            if self._here(e.end, z):
                 return
-            self.m.linear(self.src, (e[2][0], e[2][1], z))
+            self.m.linear(self.src, (e.end[0], e.end[1], z))
         else:
-            self.m.arc(self.src, (e[2][0], e[2][1], z), (e[3][0], e[3][1], z), e[4])
+            self.m.arc(self.src, (e.end[0], e.end[1], z), (e.centre[0], e.centre[1], z), e.cw)
 
     def pos2(self):
         return (self.m.pos[0], self.m.pos[1])
@@ -467,13 +478,13 @@ def rounded_rect_loop(a, b, cr, centre, ang):
             continue
         g0, g1 = _rot(cur, ang, centre), _rot(nxt, ang, centre)
         if s[0] == "L" or cr <= 1e-9:
-            pts.append(("L", g0, g1))
+            pts.append(Elem("L", g0, g1))
         else:
-            pts.append(("A", g0, g1, _rot(s[2], ang, centre), False))
+            pts.append(Elem("A", g0, g1, _rot(s[2], ang, centre), False))
         cur = nxt
     if not pts:  # a point: the tool only plunges
         g = _rot((0.0, -b), ang, centre)
-        pts.append(("L", g, g))
+        pts.append(Elem("L", g, g))
     return pts
 
 
@@ -485,13 +496,13 @@ def arc_slot_loop(rad, rho, t0, t1, centre):
     def P(r, t):
         return (centre[0] + r * math.cos(t), centre[1] + r * math.sin(t))
     e0, e1 = P(rad, t0), P(rad, t1)
-    out = [("A", P(rad - rho, tm), P(rad - rho, t0), centre, True)]
+    out = [Elem("A", P(rad - rho, tm), P(rad - rho, t0), centre, True)]
     if rho > 1e-9:
-        out.append(("A", P(rad - rho, t0), P(rad + rho, t0), e0, False))
-    out.append(("A", P(rad + rho, t0), P(rad + rho, t1), centre, False))
+        out.append(Elem("A", P(rad - rho, t0), P(rad + rho, t0), e0, False))
+    out.append(Elem("A", P(rad + rho, t0), P(rad + rho, t1), centre, False))
     if rho > 1e-9:
-        out.append(("A", P(rad + rho, t1), P(rad - rho, t1), e1, False))
-    out.append(("A", P(rad - rho, t1), P(rad - rho, tm), centre, True))
+        out.append(Elem("A", P(rad + rho, t1), P(rad - rho, t1), e1, False))
+    out.append(Elem("A", P(rad - rho, t1), P(rad - rho, tm), centre, True))
     return out
 
 
@@ -557,7 +568,7 @@ def cut_region(cy: Cycle, rtp, safe, top, bottom, loops_rough, loops_fin, mid, m
     final loop. ``loops_*`` are lists of CCW/CW element lists, inside first."""
     rough_levels = cy.levels(top, bottom + fald, mid) if loops_rough else []
     fin_levels = cy.levels(top, bottom, midf if midf > 0 else mid) if loops_fin else []
-    first = (loops_rough or loops_fin)[0][0][1] if (loops_rough or loops_fin) else None
+    first = (loops_rough or loops_fin)[0][0].start if (loops_rough or loops_fin) else None
     if first is None:
         return
     cy.start(rtp, first)
@@ -567,25 +578,25 @@ def cut_region(cy: Cycle, rtp, safe, top, bottom, loops_rough, loops_fin, mid, m
         _plunge(cy, loops_rough[0], z_prev, lv, plunge, ffd, top, helix)
         for k, loop in enumerate(loops_rough):
             if k:
-                cy.feed_to(loop[0][1], lv, ffp1)
+                cy.feed_to(loop[0].start, lv, ffp1)
             for e in loop:
                 cy.run_elem(e, lv, ffp1)
-        cy.feed_to(loops_rough[0][0][1], lv, ffp1)
+        cy.feed_to(loops_rough[0][0].start, lv, ffp1)
         z_prev = lv
     if fald > 0 and loops_rough:  # floor allowance: clear the floor at the final depth
         _plunge(cy, loops_rough[0], z_prev, bottom, 1, ffd, top, None)
         for k, loop in enumerate(loops_rough):
             if k:
-                cy.feed_to(loop[0][1], bottom, ffp1)
+                cy.feed_to(loop[0].start, bottom, ffp1)
             for e in loop:
                 cy.run_elem(e, bottom, ffp1)
-        cy.feed_to(loops_rough[0][0][1], bottom, ffp1)
+        cy.feed_to(loops_rough[0][0].start, bottom, ffp1)
         z_prev = bottom
     for lv in fin_levels:
         loop = loops_fin[-1]
         if loops_rough:
-            cy.feed_to(loop[0][1], cy.m.pos[2], ffp2)
-            cy.feed_to(loop[0][1], lv, ffd)
+            cy.feed_to(loop[0].start, cy.m.pos[2], ffp2)
+            cy.feed_to(loop[0].start, lv, ffd)
         else:
             _plunge(cy, loop, z_prev, lv, plunge, ffd, top, None)
         for e in loop:
@@ -596,7 +607,7 @@ def cut_region(cy: Cycle, rtp, safe, top, bottom, loops_rough, loops_fin, mid, m
 
 
 def _plunge(cy: Cycle, loop, z_prev, z, mode, ffd, top, helix):
-    p = loop[0][1]
+    p = loop[0].start
     if mode == 0:  # vertical: G0 only down to where the material begins, the infeed itself at FFD
         cy.rapid(p, max(z_prev, z))
         cy.feed_to(p, z, ffd)
@@ -620,10 +631,10 @@ def _plunge(cy: Cycle, loop, z_prev, z, mode, ffd, top, helix):
         cy.feed_to(p, z, ffd)
     elif mode == 3:  # oscillate along the first straight piece of the innermost path
         e = loop[0]
-        if e[0] == "L" and length(e) > 1e-3:
+        if e.kind == "L" and length(e) > 1e-3:
             zm = (z_prev + z) / 2
-            cy.feed_to(e[2], max(zm, z), ffd)
-            cy.feed_to(e[1], z, ffd)
+            cy.feed_to(e.end, max(zm, z), ffd)
+            cy.feed_to(e.start, z, ffd)
         else:
             cy.feed_to(p, z, ffd)
     else:  # vertical with G1
@@ -1033,10 +1044,10 @@ def contour_elements(m, name: str, cy: Cycle):
         if isinstance(r, canon.Arc):
             if r.full_turn:
                 raise contour_error(cy, r.src, "a full circle in the contour is not supported: split it in two arcs")
-            elems.append(("A", s, e, (r.center[0], r.center[1]), r.clockwise))
+            elems.append(Elem("A", s, e, (r.center[0], r.center[1]), r.clockwise))
             srcs.append(r.src)
         elif _norm(_sub(e, s)) > 1e-9:
-            elems.append(("L", s, e))
+            elems.append(Elem("L", s, e))
             srcs.append(r.src)
     if not elems:
         raise cy.err(f"contour {name} has a start point but no elements")
@@ -1089,7 +1100,7 @@ def cycle72(cy: Cycle):
     for k, (pth, lv, f) in enumerate(passes):
         app = _approach(pth, side, int(cy["_AS1"]) % 10 if cy["_AS1"] else 1, cy["_LP1"], True, cy)
         dep = _approach(pth, side, int(cy["_AS2"]) % 10 if cy["_AS2"] else 1, cy["_LP2"], False, cy)
-        s = app[0][1] if app else pth[0][1]
+        s = app[0].start if app else pth[0].start
         if k == 0:
             cy.start(cy["_RTP"], s)
         else:
@@ -1108,13 +1119,13 @@ def _approach(pth, side, kind, lp, start: bool, cy: Cycle):
     if lp <= 0:
         return []
     e = pth[0] if start else pth[-1]
-    p = e[1] if start else e[2]
+    p = e.start if start else e.end
     t = tangent(e, not start)
     if kind not in (1, 2, 3):
         raise cy.err(f"approach/retract mode must be 1 (straight), 2 (quarter circle) or 3 (semicircle), got {kind}")
     if kind == 1 or side == 0:
         q = (p[0] - lp * t[0], p[1] - lp * t[1]) if start else (p[0] + lp * t[0], p[1] + lp * t[1])
-        return [("L", q, p)] if start else [("L", p, q)]
+        return [Elem("L", q, p)] if start else [Elem("L", p, q)]
     n = _left(t) if side > 0 else (t[1], -t[0])  # towards the tool side, away from the contour
     c = (p[0] + lp * n[0], p[1] + lp * n[1])
     cw = side < 0
@@ -1122,7 +1133,7 @@ def _approach(pth, side, kind, lp, start: bool, cy: Cycle):
         q = (c[0] - lp * t[0], c[1] - lp * t[1]) if start else (c[0] + lp * t[0], c[1] + lp * t[1])
     else:
         q = (c[0] + lp * n[0], c[1] + lp * n[1])
-    return [("A", q, p, c, cw)] if start else [("A", p, q, c, cw)]
+    return [Elem("A", q, p, c, cw)] if start else [Elem("A", p, q, c, cw)]
 
 
 RUNNERS = {"SLOT1": slot1, "SLOT2": slot2, "POCKET1": pocket1, "POCKET2": pocket2, "POCKET3": pocket3,
