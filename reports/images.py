@@ -169,7 +169,8 @@ class _Chart:
     widened to fill it, rulers with round ticks along the bottom and the left (and optionally a
     second scale on the right)."""
 
-    def __init__(self, p, box, margins=(95, 95, 70, 80), plane_z: float = 0.0, anchor_v0: bool = False):
+    def __init__(self, p, box, margins=(95, 95, 70, 80), plane_z: float = 0.0, anchor_v0: bool = False,
+                 widen_v: bool = True):
         self.p = p
         self.z = plane_z
         u0, u1, v0, v1 = box
@@ -177,6 +178,8 @@ class _Chart:
         aw, ah = WIDTH - ml - mr, HEIGHT - mb - mt
         s = min(aw / max(u1 - u0, 1e-9), ah / max(v1 - v0, 1e-9))
         du, dv = (aw / s - (u1 - u0)) / 2, (ah / s - (v1 - v0)) / 2
+        if not widen_v:  # a long slender part: the frame hugs it, the page stays white around it
+            dv = 0.0
         if anchor_v0:  # keep v0 (the axis of a lathe section) at the bottom: widen upwards only
             v0, v1 = v0 + dv, v1 + dv
         self.box = (u0 - du, u1 + du, v0 - dv, v1 + dv)
@@ -362,8 +365,11 @@ def section_view(result) -> View:
     pb = result.part.bounding_box()
     z0, z1 = min(sb[2], pb[2]), max(sb[5], pb[5])
     rmax = max(abs(v) for v in (sb[0], sb[1], sb[3], sb[4], pb[0], pb[1], pb[3], pb[4]))
-    mz, mr = 0.06 * (z1 - z0) + 0.5, 0.12 * rmax + 0.5
-    ch = _Chart(p, (z0 - mz, z1 + mz, 0.0, rmax + mr), margins=(80, 80, 70, 85), anchor_v0=True)
+    mz = 0.06 * (z1 - z0) + 0.5
+    s_est = (WIDTH - 160) / (z1 - z0 + 2 * mz)  # px per mm when the length fills the width
+    mr = 0.12 * rmax + 0.5 + 64.0 / s_est  # room above the part for the checks' brackets
+    ch = _Chart(p, (z0 - mz, z1 + mz, 0.0, rmax + mr), margins=(80, 80, 70, 85), anchor_v0=True,
+                widen_v=False)
     part, stock, removed = _lathe_sections(result)
     ch.fill(part, PART_COLOR)
     ch.fill(removed, REMOVED_COLOR, dz=0.1)
@@ -804,11 +810,11 @@ def deviation_view(result, design, spec=None, progress=None) -> View:
     part.cell_data["deviation mm"] = np.clip(d, -lim, lim)
     cmap, n = _deviation_cmap(DEV_K)
     p.add_mesh(part, scalars="deviation mm", cmap=cmap, n_colors=n, clim=(-lim, lim), smooth_shading=False,
+               ambient=0.35, diffuse=0.7,
                reset_camera=False,
-               scalar_bar_args={"color": "black", "vertical": True, "fmt": "%.3f", "n_labels": n + 1,
-                                "title": f"deviation mm (\u00b1{DEV_K:g} tol)", "position_x": 0.86,
-                                "position_y": 0.12, "height": 0.72, "width": 0.05, "label_font_size": 12,
-                                "title_font_size": 13})
+               scalar_bar_args={"color": "black", "fmt": "%.3f", "n_labels": n + 1,
+                                "title": " ", "position_x": 0.45, "position_y": 0.83, "height": 0.07, "width": 0.52, "vertical": False,
+                                "label_font_size": 12, "title_font_size": 13})
     notes = []
     pts, labels = [], []
     if len(d):
@@ -826,8 +832,9 @@ def deviation_view(result, design, spec=None, progress=None) -> View:
                            point_size=14, render_points_as_spheres=True, shape_color="white", shape_opacity=0.85,
                            always_visible=True, reset_camera=False, name="worst")
     within = float(np.mean(np.abs(d) <= tol)) if len(d) else 1.0
-    p.add_text(f"{spec['name'] if spec else 'design'}: faces within \u00b1{tol:g} mm: {100 * within:.1f} %"
-               f"   (scale clipped at \u00b1{lim:g} mm)", position=(12, HEIGHT - 30), font_size=12, color="black")
+    p.add_text(f"{spec['name'] if spec else 'design'}: deviation from the design per face, mm; "
+               f"{100 * within:.1f} % of the faces within \u00b1{tol:g} mm", position=(12, HEIGHT - 28),
+               font_size=11, color="black")
     view = _iso(p, result, f"Deviation from the design per face (centroid to design surface): blue gouge, red "
                 f"excess, pale green within the tolerance \u00b1{tol:g} mm; the scale stops at \u00b1{lim:g} mm.",
                 name="deviation.png", notes=notes, zoom=0.85)
