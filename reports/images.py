@@ -220,6 +220,9 @@ class _Chart:
         tp.SetColor(*_rgb(color))
         tp.SetFontFamilyToArial()
         tp.SetBold(bold)
+        if bold:  # annotations stay readable over the drawing
+            tp.SetBackgroundColor(1.0, 1.0, 1.0)
+            tp.SetBackgroundOpacity(0.85)
         {"left": tp.SetJustificationToLeft, "center": tp.SetJustificationToCentered,
          "right": tp.SetJustificationToRight}[halign]()
         {"top": tp.SetVerticalJustificationToTop, "center": tp.SetVerticalJustificationToCentered,
