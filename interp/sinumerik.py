@@ -202,7 +202,7 @@ class Sinumerik(ModalMachine):
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
         self.main, self.subs = split_units(self.name, text)
-        stack = [Frame(self.main, 0)]
+        stack = [Frame(self.main, pc=0)]
         ended = False
         last_line = 1
         while stack and not ended:
@@ -218,8 +218,6 @@ class Sinumerik(ModalMachine):
                 continue
             if fr.pc >= len(fr.unit.lines):
                 stack.pop()
-                if fr.kind == "unit" and stack:
-                    continue
                 if fr.kind == "repeat" and stack:
                     stack[-1].pc = fr.ret
                 continue
@@ -523,7 +521,8 @@ class Sinumerik(ModalMachine):
             if b < a:
                 raise self.error(line, st.col, f"REPEAT {st.start} {st.end}: the end label comes before the start")
             stop = b + 1
-        stack.append(Frame(fr.unit, a, stop, a, cur + 1, int(n), "repeat", fr.calls))
+        stack.append(Frame(fr.unit, pc=a, stop=stop, restart=a, ret=cur + 1, count=int(n), kind="repeat",
+                           calls=fr.calls))
         return True
 
 
@@ -549,7 +548,8 @@ class Sinumerik(ModalMachine):
         if len(stack) > 16:
             raise self.error(src.line, col, "subprograms nested deeper than 16 levels (recursion?)")
         calls = stack[-1].calls + ((src.program, src.line),)
-        stack.append(Frame(unit, 0, len(unit.lines), 0, stack[-1].pc, n, "unit", calls))
+        stack.append(Frame(unit, pc=0, stop=len(unit.lines), restart=0, ret=stack[-1].pc, count=n, kind="unit",
+                           calls=calls))
 
     # -- motion ----------------------------------------------------------------------------------
     def axis_targets(self, words: dict[str, Value]) -> dict[int, float]:

@@ -1010,7 +1010,7 @@ def contour_records(m, unit, lines, cy: Cycle) -> list:
     m.comp_buf = None
     m.feed = m.feed or 1.0
     try:
-        fr = Frame(unit, 0)
+        fr = Frame(unit, pc=0)
         for ln in lines:
             if not ln.stmts:
                 continue
