@@ -43,6 +43,9 @@ def main(argv=None) -> int:
     ap.add_argument("--minimize", type=int, default=15, help="failure groups to minimise (largest first)")
     ap.add_argument("--confirm-hangs", type=float, default=0.0,
                     help="re-run hangs (up to 10) with this longer timeout to tell slow from endless")
+    ap.add_argument("--time-limit", type=float, default=0.0,
+                    help="stop starting new cases after this many seconds (then write the results)")
+    ap.add_argument("--min-budget", type=int, default=100, help="runs per minimisation")
     ap.add_argument("--kinds", default="", help="only these case kinds (comma list: example,grammar,setup,cli)")
     a = ap.parse_args(argv)
 
@@ -54,6 +57,9 @@ def main(argv=None) -> int:
 
     def cases():
         for i in range(a.start, a.start + a.cases):
+            if a.time_limit and time.monotonic() - t0 > a.time_limit:
+                print(f"time limit: stopping before case {i}", flush=True)
+                return
             c = F.make_case(a.seed, i, seeds)
             if kinds is None or c.kind in kinds:
                 yield c
@@ -129,6 +135,25 @@ def main(argv=None) -> int:
                                   "detail": res["detail"][:300]}
         long_runner.close()
 
+    def write_summary():
+        summary = {
+            "seed": a.seed, "start": a.start, "cases": n, "jobs": a.jobs, "timeout_s": a.timeout,
+            "elapsed_s": round(elapsed, 1), "cases_per_s": round(n / elapsed, 2) if elapsed else None,
+            "counts": dict(sorted(counts.items())),
+            "failures": sum(v for k, v in counts.items() if k in F.FAILURES),
+            "by_kind": {k: dict(sorted(v.items())) for k, v in sorted(by_kind.items())},
+            "by_dialect": {k: dict(sorted(v.items())) for k, v in sorted(by_dialect.items())},
+            "mean_cpu_s": {k: round(sum(v) / len(v), 4) for k, v in sorted(times.items()) if v},
+            "slow_cases": sorted(slow, reverse=True)[:30],
+            "groups": [{k: v for k, v in g.items() if k != "cases"} | {"case_indices": [i for _, i in g["cases"]]}
+                       for g in ordered],
+        }
+        (out / "summary.json").write_text(json.dumps(summary, indent=1, default=str))
+        return summary
+
+    write_summary()  # before the minimisation (which may take minutes)
+    print(f"{n} cases in {elapsed:.0f} s: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())), flush=True)
+
     # minimise the largest groups
     min_dir = out / "minimal"
     shutil.rmtree(min_dir, ignore_errors=True)
@@ -137,7 +162,7 @@ def main(argv=None) -> int:
             continue  # every trial would take the full timeout
         idx = g["cases"][0][1]
         c = F.make_case(a.seed, idx, seeds)
-        m = F.minimize(runner, c, g["class"], g["signature"])
+        m = F.minimize(runner, c, g["class"], g["signature"], budget=a.min_budget)
         res = next(iter(runner.run([m])))[1]
         d = min_dir / f"{slug(g['signature'])}"
         F.write_reproducer(m, res, str(d))
@@ -145,19 +170,7 @@ def main(argv=None) -> int:
                         "class": res["cls"]}
     runner.close()
 
-    summary = {
-        "seed": a.seed, "start": a.start, "cases": n, "jobs": a.jobs, "timeout_s": a.timeout,
-        "elapsed_s": round(elapsed, 1), "cases_per_s": round(n / elapsed, 2) if elapsed else None,
-        "counts": dict(sorted(counts.items())),
-        "failures": sum(v for k, v in counts.items() if k in F.FAILURES),
-        "by_kind": {k: dict(sorted(v.items())) for k, v in sorted(by_kind.items())},
-        "by_dialect": {k: dict(sorted(v.items())) for k, v in sorted(by_dialect.items())},
-        "mean_cpu_s": {k: round(sum(v) / len(v), 4) for k, v in sorted(times.items()) if v},
-        "slow_cases": sorted(slow, reverse=True)[:30],
-        "groups": [{k: v for k, v in g.items() if k != "cases"} | {"case_indices": [i for _, i in g["cases"]]}
-                   for g in ordered],
-    }
-    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=str))
+    summary = write_summary()
     print(f"\n{n} cases in {elapsed:.0f} s ({summary['cases_per_s']}/s), seed {a.seed}")
     for k in F.CLASSES:
         if counts.get(k):
