@@ -21,8 +21,9 @@ def _fmt(v, nd: int = 6) -> str:
         return "\u2014"
     if isinstance(v, bool):
         return "yes" if v else "no"
-    if isinstance(v, float):
-        return f"{v:.{nd}g}"
+    if isinstance(v, (int, float)):
+        s = f"{v:.{nd}g}" if isinstance(v, float) else str(v)
+        return s.replace("-", "\u2212")  # a true minus sign, as in the images
     return str(v)
 
 
@@ -77,6 +78,11 @@ def _summary(report: dict) -> list[tuple[str, str, str]]:
 
 
 def _stock_text(stock, setup_dir: str) -> str:
+    return _stock_words(stock, setup_dir).replace("-", "\u2212") if stock.shape != "mesh" else \
+        _stock_words(stock, setup_dir)
+
+
+def _stock_words(stock, setup_dir: str) -> str:
     s = stock.shape
     if s == "cylinder":
         return f"cylinder \u00d8{stock.diameter:g} mm, Z {stock.z[0]:g} \u2026 {stock.z[1]:g} mm"
@@ -162,7 +168,7 @@ def report_html(report: dict, images: dict[str, bytes] | None = None, *, caption
                     and it.get("tolerance") is not None:
                 diff = float(m) - float(e)
             items.append({"quantity": it["quantity"], "expected": _fmt(e), "measured": _fmt(m),
-                          "diff": "" if diff is None else _fmt(round(diff, 6)).replace("-", "\u2212"),
+                          "diff": "" if diff is None else _fmt(round(diff, 6)),
                           "tolerance": "" if it["tolerance"] is None else f"\u00b1{_fmt(it['tolerance'])}",
                           "unit": it["unit"].replace("mm^3", "mm\u00b3"), "passed": it["passed"]})
         rows.append({"name": c["name"], "kind": c["kind"], "line": c.get("line", 0), "rows": items})

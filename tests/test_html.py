@@ -59,7 +59,7 @@ def test_summary_setup_checks_warnings(tmp_path, monkeypatch):
     assert re.search(r"<td>removed volume</td><td[^>]*>100\.250</td><td>mm\u00b3</td>", html)
     assert re.search(r"<td>chordal tolerance</td><td[^>]*>0\.01</td><td>mm</td>", html)
     # setup: stock, tools, tolerance; the setup file's lines with anchors, the check links to its line
-    assert "revolved profile (r, z) mm: (0, 0), (13.5, 0)" in html
+    assert "revolved profile (r, z) mm: (0, 0), (13.5, 0), (13.5, \u22128)" in html
     assert re.search(r"<td>T9</td><td>thread</td><td>included angle 60\u00b0, nose radius 0 mm</td>", html)
     assert f'<a href="#setup-L{line}">multipass.toml:{line}</a>' in html
     assert f'<span id="setup-L{line}"><span class="ln">{line}</span>[[check]]</span>' in html
