@@ -317,7 +317,7 @@ class Sinumerik(ModalMachine):
         end = self.settings(src, blk, motion)
         self.comp_on(new_comp, src, line)
         self.move(ln, src, blk.words, motion)
-        if new_comp is not None and new_comp[0] == 40 and self.comp_buf is not None:
+        if new_comp == 40 and self.comp_buf is not None:
             self.flush_comp(src, line)
         if self.calls(blk, src, line, stack):
             return False
@@ -387,8 +387,8 @@ class Sinumerik(ModalMachine):
             raise self.error(line, st.col, range_message(st.address, v, lo, hi, unit))
         blk.words[st.address] = Value(v, st.mode, st.col)
 
-    def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, tuple[int, int] | None]:
-        """The block's G codes: the motion (G0..G3) it names, and G40/G41/G42 (code, column)."""
+    def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, int | None]:
+        """Apply the block's modal G codes; the motion (G0..G3) and the G40/G41/G42 it names."""
         motion = None
         new_comp = None
         for code, col in gs:
@@ -401,7 +401,7 @@ class Sinumerik(ModalMachine):
             elif self.common_g(code):
                 pass
             elif code in (40, 41, 42):
-                new_comp = (code, col)
+                new_comp = code
         return motion, new_comp
 
     def settings(self, src: Src, blk: Block, motion: int | None) -> bool:
@@ -445,17 +445,17 @@ class Sinumerik(ModalMachine):
         self.tool_no = self.tool_pre
         self.tool(src, self.tool_pre, self.d_no)
 
-    def comp_on(self, new_comp: tuple[int, int] | None, src: Src, line: int) -> None:
+    def comp_on(self, new_comp: int | None, src: Src, line: int) -> None:
         """G41/G42 switched on: start buffering before the approach move."""
-        if new_comp is None or new_comp[0] not in (41, 42):
+        if new_comp not in (41, 42):
             return
-        if self.comp_buf is not None and self.comp != new_comp[0]:
+        if self.comp_buf is not None and self.comp != new_comp:
             self.flush_comp(None, line)
         if self.comp_buf is None:
             if self.tool_radius() <= 0:
-                self.warn(src, f"G{new_comp[0]} with tool radius 0 (no tool radius known for D{self.d_no}): "
+                self.warn(src, f"G{new_comp} with tool radius 0 (no tool radius known for D{self.d_no}): "
                           "the path is not offset")
-            self.comp = new_comp[0]
+            self.comp = new_comp
             self.comp_buf = []
             self.comp_src = src
 
