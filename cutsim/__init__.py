@@ -28,8 +28,12 @@ def __getattr__(name):  # the pytest helpers, loaded on first use (cutsim.testin
         import cutsim.testing
 
         return getattr(cutsim.testing, name)
+    if name == "batch":  # a callable module: cutsim.batch(jobs, out=None, client=None, **options)
+        import cutsim.batch
+
+        return cutsim.batch
     raise AttributeError(f"module 'cutsim' has no attribute {name!r}")
-__all__ = ["CutsimError", "Result", "Setup", "load_setup", "read_program", "simulate", "__version__",
+__all__ = ["CutsimError", "Result", "batch", "Setup", "load_setup", "read_program", "simulate", "__version__",
            "assert_thread", "assert_matches_design", "assert_checks_pass"]
 
 

@@ -77,7 +77,7 @@ class _Progress:
             st = self.lines[stage] = [now, None]
         done = i >= n
         if done:
-            if st[1] is not None:
+            if st[1] is not None or now - st[0] >= self.DELAY:  # a stage that took a while: its time
                 self._write(f"{PROG}: {stage} {n}/{n} done ({now - st[0]:.1f} s)")
             del self.lines[stage]
             return
@@ -327,6 +327,11 @@ def _stock(setup):
     from cutsim.stock import build_stock
 
     return build_stock(setup.stock, setup.tolerance, setup.path)
+
+
+from cutsim.batch import batch_command  # noqa: E402  (cutsim batch; docs/batch.md)
+
+main.add_command(batch_command)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -13,6 +13,7 @@ import json
 import math
 import os
 import shutil
+import subprocess
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -267,3 +268,9 @@ def test_bad_csv_manifest(tmp_path):
     m.write_text("program,tolerance\na.nc,0.1\nb.nc,fine\n")
     r = CliRunner().invoke(batch_command, [str(m), "--out", str(tmp_path / "out")])
     assert r.exit_code == 2 and r.output == f"{m}:3:6: error: tolerance: 'fine' is not a number\n", r.output
+
+
+def test_batch_is_a_cutsim_command():
+    """`cutsim batch` is reachable from the main command line (not only as batch_command)."""
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "batch", "--help"], capture_output=True, text=True)
+    assert proc.returncode == 0 and "MANIFEST" in proc.stdout, proc.stderr
