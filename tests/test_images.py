@@ -254,8 +254,11 @@ def test_progress_lines_without_a_terminal(monkeypatch):
     prog("sweeps", 120, 120)
     prog("checks", 0, 2)  # a short stage prints nothing
     prog("checks", 2, 2)
+    prog("images", 0, 1)  # a long stage of one step: its time when done
+    clock[0] += 2.5
+    prog("images", 1, 1)
     assert buf.getvalue().splitlines() == ["cutsim: sweeps 40/120", "cutsim: sweeps 90/120",
-                                           "cutsim: sweeps 120/120 done (6.2 s)"]
+                                           "cutsim: sweeps 120/120 done (6.2 s)", "cutsim: images 1/1 done (2.5 s)"]
 
 
 def test_cli_progress_in_a_log(tmp_path):
