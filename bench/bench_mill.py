@@ -3,6 +3,8 @@
     python bench/bench_mill.py                 # the full table (several minutes on 2 cores)
     python bench/bench_mill.py --quick         # 5k/10k only (pocket and raster)
     python bench/bench_mill.py --baseline 5000 # also the slow path (one hull per move, no 2.5D fast path)
+    python bench/bench_mill.py --issue13       # 11k pocket vs its floor, 10k/100k/1M scaling
+    python bench/bench_mill.py --design        # design compare on a 26k-triangle pocket
 
 Cases (each run in its own process, so the peak memory is its own):
 - pocket N: a zig-zag pocket at one Z, a 6 mm flat end mill, passes 0.5 mm apart, every pass
@@ -225,6 +227,31 @@ def issue13() -> None:
     print(f"time per move 1M / 10k: {rows[-1]['ms_per_move'] / rows[0]['ms_per_move']:.2f}x")
 
 
+def design_compare() -> None:
+    """compare_design on a ~26k-triangle pocket (300 moves, tolerance 0.002) against the same
+    pocket 0.05 mm shallower: once with a gouge (part deeper than the design), once with excess."""
+    import cutsim
+    from cutsim.stock.measure import compare_design
+
+    parts = []
+    for depth in ("-2", "-1.95"):
+        text, setup = pocket(300)
+        with tempfile.TemporaryDirectory() as d:
+            with open(os.path.join(d, "s.toml"), "w") as f:
+                f.write(setup)
+            with open(os.path.join(d, "p.nc"), "w") as f:
+                f.write(text.replace("Z-2 F1000", f"Z{depth} F1000"))
+            parts.append(cutsim.simulate(os.path.join(d, "p.nc"), os.path.join(d, "s.toml"), tolerance=POCKET_TOL))
+    a, b = parts
+    print(f"design compare, part {a.part.num_tri()} / design {b.part.num_tri()} triangles, load average "
+          f"{' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    for name, part, design in (("gouge", a, b), ("excess", b, a)):
+        t = time.perf_counter()
+        c = compare_design(part.part, design.part, part.stock)
+        print(f"  {name:6} {time.perf_counter() - t:6.2f} s  gouge {c['gouge_volume']:.4f} excess {c['excess_volume']:.4f} "
+              f"worst {c['worst_deviation']:+.5f} (expected -+0.05 and about 24.2 mm^3)")
+
+
 def run_case(kind: str, n: int, baseline: bool) -> dict:
     import cutsim
     from cutsim.interp import InterpConfig, interpret
@@ -272,6 +299,7 @@ def main() -> None:
     ap.add_argument("--as-baseline", action="store_true")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--issue13", action="store_true")
+    ap.add_argument("--design", action="store_true")
     ap.add_argument("--baseline", type=int, nargs="*", default=[5000])
     a = ap.parse_args()
     if a.case:
@@ -281,6 +309,9 @@ def main() -> None:
         return
     if a.issue13:
         issue13()
+        return
+    if a.design:
+        design_compare()
         return
     sizes = [5000, 10000] if a.quick else [5000, 10000, 20000, 50000]
     rows = [sub("pocket", n) for n in sizes]
