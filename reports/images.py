@@ -626,8 +626,8 @@ def top_view(result) -> View:
     st = _stock_outline(result)
     p.add_mesh(st, color="#555555", line_width=1.0, reset_camera=False)
     ch.axes("X mm", "Y mm", grid=False)
-    ch.title(f"{result.report.get('program', '')}: top view, colour = depth from the stock top Z "
-             f"{_num(ztop)} to the deepest floor Z {_num(zbot)}")
+    ch.title(f"{result.report.get('program', '')}: top view, colour = Z over the cut depth, stock top "
+             f"{_num(ztop, 2)} to deepest floor {_num(zbot, 2)}")
     del pv
     return View("top.png", "Top view: every face coloured by its height over the cut depth range (stock top to "
                 "the deepest floor), one colour per distinct floor; walls light grey.", p, ch.ticks, notes,

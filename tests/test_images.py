@@ -290,3 +290,31 @@ def test_nearest_on_triangles_is_exact():
     got = I._nearest_on_triangles(pts, tri)[0]
     assert np.allclose(got, ref, rtol=0, atol=1e-12)
     assert np.all(got[:300] < 1e-12)
+
+
+def test_top_view_many_levels_is_continuous():
+    """More flat levels than MAX_FLOORS (16 steps 0.5 + 0.7 k deep): one continuous scale over the
+    cut depth, each face's Z as cell data."""
+    import types
+
+    from manifold3d import Manifold
+
+    stock = Manifold.cube((100, 20, 20)).translate((0, 0, -20))
+    part = stock
+    depths = [0.5 + 0.7 * k for k in range(16)]
+    for k, dz in enumerate(depths):
+        part = part - Manifold.cube((6, 10, dz)).translate((2 + 6 * k, 5, -dz))
+    setup = cutsim.load_setup(str(HERE / "slot.toml"))
+    res = types.SimpleNamespace(setup=setup, part=part, stock=stock, report={"program": "stairs", "tolerance": 0.01})
+    view = I.top_view(res)
+    try:
+        z = np.asarray(view.mesh.cell_data["Z mm"])
+        nrm = np.asarray(view.mesh.compute_normals(cell_normals=True, point_normals=False).cell_data["Normals"])
+        levels = sorted({round(float(v), 6) for v in z[nrm[:, 2] > 0.99]})
+        assert levels == sorted([round(-d, 6) for d in depths] + [0.0])
+        rc_deep, rc_shallow = view.pixel(2 + 6 * 15 + 3, 10), view.pixel(2 + 3, 10)
+        img = _check_png(view.png())
+    except BaseException:
+        view.plotter.close()
+        raise
+    assert np.abs(img[rc_deep] - img[rc_shallow]).max() > 60
