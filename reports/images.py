@@ -311,7 +311,7 @@ class _Chart:
     def title(self, s):
         self.p.add_text(s, position=(12, HEIGHT - 28), font_size=11, color="black")
 
-    def legend(self, items, y_px: float = HEIGHT - 52):
+    def legend(self, items, y_px: float = HEIGHT - 44):
         """Colour swatches with labels along the top right: [(label, color)]."""
         widths = [7.0 * len(label) + 22 for label, _ in items]
         x = WIDTH - 14 - sum(widths) - 16 * max(0, len(items) - 1)
