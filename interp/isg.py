@@ -15,13 +15,44 @@ from .canon import Src
 from .errors import CutsimError
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                     fmt_count, iter_lines, parse_number)
-from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
+from .core import Code, Interpreter, Step
+from .modal import AXES, InterpConfig
 
 LETTERS = set("NGMXYZIJKFSTDL")
-KNOWN_G = {0, 1, 2, 3, 17, 18, 19, 33, 51, 52, 90, 91, 94, 95}
+# The dialect's codes: {code: Code(modal group, addresses it takes, meaning)} (core.Code).
+G_CODES = {
+    0: Code("motion", "XYZ", "rapid"),
+    1: Code("motion", "XYZF", "linear feed"),
+    2: Code("motion", "XYZIJKF", "clockwise arc, centre I/J/K from the start"),
+    3: Code("motion", "XYZIJKF", "counter-clockwise arc, centre I/J/K from the start"),
+    17: Code("plane", "", "plane XY"),
+    18: Code("plane", "", "plane ZX"),
+    19: Code("plane", "", "plane YZ"),
+    33: Code("motion", "XYZIJK", "thread, lead on I/J/K (mm/rev)"),
+    51: Code("diameter", "", "diameter programming on (lathe)"),
+    52: Code("diameter", "", "diameter programming off"),
+    90: Code("dist", "", "absolute"),
+    91: Code("dist", "", "incremental"),
+    94: Code("feed", "", "feed per minute"),
+    95: Code("feed", "", "feed per revolution"),
+}
 # M codes: stops, program end, spindle, tool change, coolant, subprogram end (the others have no
 # geometric effect).
-KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 29, 30}
+M_CODES = {
+    0: Code("stop", "", "program stop"),
+    1: Code("stop", "", "optional stop"),
+    2: Code("end", "", "program end"),
+    3: Code("spindle", "S", "spindle clockwise"),
+    4: Code("spindle", "S", "spindle counter-clockwise"),
+    5: Code("spindle", "", "spindle stop (after the motion)"),
+    6: Code("tool", "TD", "tool change"),
+    7: Code("coolant", "", "coolant"),
+    8: Code("coolant", "", "coolant"),
+    9: Code("coolant", "", "coolant off"),
+    17: Code("end", "", "subprogram end"),
+    29: Code("end", "", "subprogram end"),
+    30: Code("end", "", "program end"),
+}
 LEADS = {"I": "X", "J": "Y", "K": "Z"}
 MIN_LEAD = 0.0001  # mm/rev: the programming resolution
 MAX_CALL_DEPTH = 20  # local subprograms open at once (LL inside LL ...)
@@ -231,13 +262,14 @@ def _header(name: str, lineno: int, indent: int, text: str) -> Section:
     return sec
 
 
-class Isg(ModalMachine):
+class Isg(Interpreter):
+    G_CODES = G_CODES
+    M_CODES = M_CODES
+
     def __init__(self, name: str, cfg: InterpConfig):
         super().__init__(name, cfg)
-        self.motion = 0
         self.lead: tuple[float, str] | None = None  # (mm per revolution, axis letter)
         self.offset = 0.0  # S.OFFSET, degrees
-        self.executed = 0
         self.ended = False
         self.last_block: IsgBlock | None = None
 
@@ -279,10 +311,7 @@ class Isg(ModalMachine):
     def section(self, sec: Section, calls: tuple, stack: tuple) -> None:
         """Execute a program body; returns at M29/M17, sets ``self.ended`` at M30/M02."""
         for b in sec.blocks:
-            self.executed += 1
-            if self.executed > self.cfg.max_blocks:
-                raise self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed "
-                                 "(the limit is [simulation] max_blocks)")
+            self.count_block(b)
             self.last_block = b
             try:
                 ret = self.block(b, calls, stack)
@@ -317,73 +346,63 @@ class Isg(ModalMachine):
                              f"({chain} -> {target}); the limit of open subprogram calls is {MAX_CALL_DEPTH}")
         self.section(sec, calls + ((self.name, b.line),), stack + (target,))
 
-    # -- one block -------------------------------------------------------------------------------
+    # -- one block (core.Interpreter.execute runs the steps in order) --------------------------------
     def block(self, b: IsgBlock, calls: tuple, stack: tuple) -> bool:
         """Execute one block; True when it returns from a subprogram."""
         src = Src(self.name, b.line, 1, b.label, calls)
-        gs, ms, words = self.split_words(b.words)
-        motion = None
-        codes, _ = self.g_codes(b.line, gs, KNOWN_G, lambda code: "diameter")
-        for code, g in codes:
-            if code in (0, 1, 2, 3, 33):
-                motion = code
-            elif self.common_g(code):
-                pass
-            elif code in (51, 52):
-                if self.cfg.machine_kind != "lathe":
-                    raise self.error(b.line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
-                self.set_diameter(code == 51)
+        return bool(self.execute(b, src, (calls, stack)).result)
 
-        codes = self.m_codes(b.line, ms, KNOWN_M)
-        direction = self.spindle_code(b.line, [(c, m.col) for c, m in codes])
-        end_prog = end_sub = None
-        for code, m in codes:
-            if code in (2, 30, 17, 29):
-                if end_prog or end_sub:
-                    raise self.error(b.line, m.col, "two program-end M codes in one block")
-                if code in (2, 30):
-                    end_prog = m
-                else:
-                    end_sub = m
+    def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
+        if row.group == "diameter":  # G51/G52 act at once
+            if self.cfg.machine_kind != "lathe":
+                raise self.error(st.block.line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
+            self.set_diameter(code == 51)
 
-        speed = words.pop("S", None)
+    def check_m(self, st: Step, ms: list[Word]) -> None:
+        super().check_m(st, ms)
+        ends = [(c, m) for c, m in st.m if self.M_CODES[c].group == "end"]
+        if len(ends) > 1:
+            raise self.error(st.block.line, ends[1][1].col, "two program-end M codes in one block")
+
+    def convert_settings(self, st: Step) -> None:
+        b, words = st.block, st.words
+        speed = st.speed = words.pop("S", None)
         if speed is not None and speed.value < 0:
             raise self.error(b.line, speed.col, "spindle speed S must not be negative")
         # M03/M04 act before the motion of their block, M05 after it.
-        if direction != 0 and (direction is not None or speed is not None):
-            self.spindle(src, direction, None if speed is None else speed.value)
-        if "T" in words:
-            t = words.pop("T")
-            if t.value != int(t.value) or t.value < 0:
-                raise self.error(b.line, t.col, f"tool number T{t.raw} must be a whole number")
-            d = words.pop("D", None)
-            self.tool(src, int(t.value), None if d is None else self.whole(b.line, d, "offset number"))
-        elif "D" in words:
-            self.whole(b.line, words.pop("D"), "offset number")  # no tool change: no geometric effect
+        if st.direction != 0 and (st.direction is not None or speed is not None):
+            self.spindle(st.src, st.direction, None if speed is None else speed.value)
+        self.tool_words(st, lambda t: self.tool_number(b, t))
 
-        for w in b.offsets:
+    def tool_number(self, b: IsgBlock, t: Word) -> int:
+        if t.value != int(t.value) or t.value < 0:
+            raise self.error(b.line, t.col, f"tool number T{t.raw} must be a whole number")
+        return int(t.value)
+
+    def convert_nonmodal(self, st: Step) -> None:
+        for w in st.block.offsets:
             if not 0.0 <= w.value < 360.0:
-                raise self.error(b.line, w.col, f"S.OFFSET={w.raw} is outside the spindle's modulo range "
+                raise self.error(st.block.line, w.col, f"S.OFFSET={w.raw} is outside the spindle's modulo range "
                                  "(0 <= offset < 360 degrees)")
             self.offset = w.value
 
-        if motion is not None:
-            self.motion = motion
-        threading = self.motion == 33
-        if "F" in words:
-            f = words.pop("F")
-            if threading:
-                raise self.error(b.line, f.col, "F has no meaning while G33 is active: the lead is programmed "
+    def convert_feed(self, st: Step) -> None:
+        if "F" in st.words:
+            f = st.words.pop("F")
+            if self.motion == 33:
+                raise self.error(st.block.line, f.col, "F has no meaning while G33 is active: the lead is programmed "
                                  "on I, J or K (mm per revolution) and the feed follows from the spindle speed")
             if f.value <= 0:
-                raise self.error(b.line, f.col, "feed F must be positive")
+                raise self.error(st.block.line, f.col, "feed F must be positive")
             self.feed = f.value
 
+    def convert_motion(self, st: Step) -> None:
+        b, src, words, motion = st.block, st.src, st.words, st.motion
         axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
         values = {i: w.value for i, w in axis_words.items()}
         cols = {i: w.col for i, w in axis_words.items()}
         centre = {a: words.pop(a) for a in "IJK" if a in words}
-        if threading:
+        if self.motion == 33:
             self.thread_block(b, src, motion, centre, values, cols)
         elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
             self.circle(b, src, centre, values, cols)
@@ -395,21 +414,28 @@ class Isg(ModalMachine):
                 end = self.target(values)
                 self.check_position(b.line, end, cols)
                 (self.rapid if self.motion == 0 else self.linear)(src, end)
-        if direction == 0:
-            self.spindle(src, 0, None if speed is None else speed.value)
+
+    def convert_end(self, st: Step) -> None:
+        """M05, the subprogram call, then the program or subprogram end; ``st.result`` is True when
+        the block returns from a subprogram (or the program ended)."""
+        b, src = st.block, st.src
+        calls, stack = st.context
+        if st.direction == 0:
+            self.spindle(src, 0, None if st.speed is None else st.speed.value)
         if b.call is not None:
             self.call(b, calls, stack)
             if self.ended:
-                return True
-        if end_prog is not None:
+                st.result = True
+                return
+        ends = [(c, m) for c, m in st.m if self.M_CODES[c].group == "end"]
+        if ends and self.M_CODES[ends[0][0]].meaning == "program end":
             self.end(src)
             self.ended = True
-            return True
-        if end_sub is not None:
+            st.result = True
+        elif ends:
             if not stack:  # parse() rejects M29 in the main program; kept for safety
-                raise self.error(b.line, end_sub.col, f"M{end_sub.raw} outside a subprogram")
-            return True
-        return False
+                raise self.error(b.line, ends[0][1].col, f"M{ends[0][1].raw} outside a subprogram")
+            st.result = True
 
     # -- G33 -------------------------------------------------------------------------------------
     def thread_block(self, b: IsgBlock, src: Src, motion, leads: dict[str, Word], values: dict[int, float],
@@ -444,24 +470,10 @@ class Isg(ModalMachine):
     # -- circles ---------------------------------------------------------------------------------
     def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float],
                cols: dict[int, int]) -> None:
-        a, c, normal = PLANE_AXES[self.plane]
-        names = {0: "I", 1: "J", 2: "K"}
-        if not any(names[i] in words for i in (a, c)):
-            raise self.error(b.line, 1, f"circle needs its centre ({names[a]}/{names[c]}, relative to the start)")
-        if names[normal] in words:
-            raise self.error(b.line, words[names[normal]].col, f"{names[normal]} is not in the plane {self.plane} of the circle")
-        centre = list(self.pos)
-        for i in (a, c):
-            w = words.get(names[i])
-            if w is not None:
-                # I/J/K are increments from the start; I is a radius even in diameter mode
-                centre[i] = self.pos[i] + w.value * (2.0 if (i == 0 and self.diameter) else 1.0)
+        centre = self.centre_words(b.line, words, ", relative to the start")
         end = self.target(values)
         self.check_position(b.line, end, cols)
-        self.arc(src, end, (centre[0], centre[1], centre[2]), self.motion == 2)
-
-    def error(self, line: int, col: int, message: str) -> CutsimError:
-        return CutsimError(self.name, line, col, message)
+        self.arc(src, end, centre, self.motion == 2)
 
 
 def _ends_program(b: IsgBlock) -> bool:

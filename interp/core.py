@@ -1,0 +1,217 @@
+"""The shared block executor of the word-address dialects (CNC8x6, ISG) and the geometry every
+dialect computes the same way (arc centre from I/J/K, arc sweep angle, the executed-block guard).
+
+A dialect is a table of its G and M codes, ``{code: Code(modal group, words, meaning)}`` (compare
+CAMotics' ``Codes.cpp`` rows), plus the few hooks where it truly differs. ``Interpreter.execute``
+runs one block in a fixed order, as LinuxCNC's rs274ngc ``read_* -> check_* -> convert_*`` does:
+
+1. ``read_words``        the block's words with their values (CNC8x6: R parameters substituted)
+2. ``check_g``           G words: known (table), one per modal group; then applied in block order:
+                         motion codes select the motion, distance/feed/plane modes switch, the
+                         dialect's own codes go to ``g_code`` (default: noted by meaning)
+3. ``standalone``        a block that is complete after its G codes (CNC8x6 G98) stops here
+4. ``check_m``           M words: known (table); the spindle direction (two in one block refused)
+5. ``convert_settings``  spindle, tool and the other non-motion words, before the motion
+6. ``convert_nonmodal``  the dialect's non-motion codes (CNC8x6 G73/G10/G09, ISG S.OFFSET)
+7. the motion mode       the block's motion code becomes modal
+8. ``convert_feed``      F
+9. ``convert_motion``    the move itself
+10. ``convert_end``      what acts after the move (ISG M05 and subprogram calls; program ends)
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from .canon import Src, Vec3
+from .lexer import Block, Word
+from .modal import PLANE_AXES, ModalMachine
+
+# Groups every dialect has and the executor applies itself (ModalMachine.common_g).
+MOTION = "motion"
+COMMON_GROUPS = ("dist", "feed", "plane")
+CENTRE_WORDS = {0: "I", 1: "J", 2: "K"}  # axis index -> its arc-centre offset address
+
+
+@dataclass(frozen=True)
+class Code:
+    """One row of a dialect table: the code's modal group (codes of one group exclude each other
+    in a block; a code alone in its group gets a group of its own), the addresses it takes besides
+    the words every block may carry, and what it means."""
+
+    group: str
+    words: str
+    meaning: str
+
+
+@dataclass
+class Step:
+    """One block on its way through ``Interpreter.execute``."""
+
+    block: Block
+    src: Src
+    words: dict[str, Word]  # the words that are neither G nor M, by letter (consumed as they act)
+    motion: int | None = None  # the block's motion code
+    g: dict[str, Word] = field(default_factory=dict)  # the dialect's own G codes: meaning -> word
+    groups: dict[str, Word] = field(default_factory=dict)  # modal group -> its G word
+    m: list[tuple[int, Word]] = field(default_factory=list)
+    direction: int | None = None  # spindle: +1, -1, 0 (M3/M4/M5), None without one
+    speed: Word | None = None  # S, once convert_settings took it
+    context: object = None  # the dialect's run-loop state for this block (ISG: the call stack)
+    done: bool = False  # the block ended early (standalone)
+    result: object = None  # what the dialect's hooks hand back to its run loop
+
+
+def arc_centre(pos, plane: str, diameter: bool, offsets: dict[int, float]) -> list[float]:
+    """The absolute centre of an arc whose centre is given incrementally from the start ``pos``
+    (I/J/K: axis index -> value) in ``plane``. I is a radius even in diameter mode, so it counts
+    twice on the X (diameter) value."""
+    a, c, _ = PLANE_AXES[plane]
+    centre = list(pos)
+    for i in (a, c):
+        if i in offsets:
+            centre[i] = pos[i] + offsets[i] * (2.0 if (i == 0 and diameter) else 1.0)
+    return centre
+
+
+def sweep_degrees(start, end, centre, plane: str, clockwise: bool, diameter: bool) -> float:
+    """The angle (degrees, in (0, 360]) an arc turns through from ``start`` to ``end`` about
+    ``centre`` in ``plane``; start = end is a full circle. X values are diameters when ``diameter``."""
+    a, c, _ = PLANE_AXES[plane]
+
+    def phys(p, i):
+        return p[i] / 2.0 if (i == 0 and diameter) else p[i]
+
+    a0 = math.atan2(phys(start, c) - phys(centre, c), phys(start, a) - phys(centre, a))
+    a1 = math.atan2(phys(end, c) - phys(centre, c), phys(end, a) - phys(centre, a))
+    d = math.degrees(a1 - a0)
+    if clockwise:
+        d = -d
+    d %= 360.0
+    if d < 1e-9:
+        d = 360.0
+    return d
+
+
+class Interpreter(ModalMachine):
+    """A ModalMachine driven block by block from the dialect's code tables."""
+
+    G_CODES: dict[int, Code] = {}
+    M_CODES: dict[int, Code] = {}
+
+    def __init__(self, name, cfg):
+        super().__init__(name, cfg)
+        self.motion = 0
+        self.executed = 0
+
+    # -- the guard against programs that do not end ------------------------------------------------
+    def count_block(self, b: Block) -> None:
+        """Count one executed block; past ``cfg.max_blocks`` the dialect's ``block_limit`` raises."""
+        self.executed += 1
+        if self.executed > self.cfg.max_blocks:
+            raise self.block_limit(b)
+
+    def block_limit(self, b: Block):
+        return self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed "
+                          "(the limit is [simulation] max_blocks)")
+
+    # -- one block ---------------------------------------------------------------------------------
+    def execute(self, b: Block, src: Src, context: object = None) -> Step:
+        gs, ms, words = self.split_words(self.read_words(b))
+        st = Step(b, src, words, context=context)
+        self.check_g(st, gs)
+        if self.standalone(st):
+            st.done = True
+            return st
+        self.check_m(st, ms)
+        self.convert_settings(st)
+        self.convert_nonmodal(st)
+        if st.motion is not None:
+            self.motion = st.motion
+        self.convert_feed(st)
+        self.convert_motion(st)
+        self.convert_end(st)
+        return st
+
+    def read_words(self, b: Block) -> list[Word]:
+        return b.words
+
+    def check_g(self, st: Step, gs: list[Word]) -> None:
+        """Every G word known to the table and alone in its modal group (errors at its column), then
+        applied in block order."""
+        line = st.block.line
+        codes = []
+        for g in gs:
+            row = self.G_CODES.get(int(g.value)) if g.value == int(g.value) else None
+            if row is None:
+                raise self.error(line, g.col, f"unknown G code G{g.raw}")
+            if row.group in st.groups:
+                raise self.error(line, g.col, f"G{g.raw} conflicts with G{st.groups[row.group].raw} in the same block")
+            st.groups[row.group] = g
+            codes.append((int(g.value), row, g))
+        for code, row, g in codes:
+            if row.group == MOTION:
+                st.motion = code
+            elif row.group in COMMON_GROUPS:
+                self.common_g(code)
+            else:
+                self.g_code(st, code, row, g)
+
+    def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
+        """A G code of the dialect's own (not motion, distance, feed or plane): noted by meaning."""
+        st.g[row.meaning] = g
+
+    def standalone(self, st: Step) -> bool:
+        return False
+
+    def check_m(self, st: Step, ms: list[Word]) -> None:
+        for m in ms:
+            if m.value != int(m.value) or int(m.value) not in self.M_CODES:
+                raise self.error(st.block.line, m.col, f"unknown M code M{m.raw}")
+            st.m.append((int(m.value), m))
+        st.direction = self.spindle_code(st.block.line, [(c, m.col) for c, m in st.m])
+
+    def m_meaning(self, st: Step, meaning: str) -> list[Word]:
+        """The block's M words whose table row means ``meaning``."""
+        return [m for c, m in st.m if self.M_CODES[c].meaning == meaning]
+
+    def convert_settings(self, st: Step) -> None:
+        raise NotImplementedError
+
+    def convert_nonmodal(self, st: Step) -> None:
+        pass
+
+    def convert_feed(self, st: Step) -> None:
+        raise NotImplementedError
+
+    def convert_motion(self, st: Step) -> None:
+        raise NotImplementedError
+
+    def convert_end(self, st: Step) -> None:
+        pass
+
+    # -- pieces the hooks share --------------------------------------------------------------------
+    def tool_words(self, st: Step, tool_number) -> None:
+        """T (with its D) changes the tool; D alone only names an offset (no geometric effect).
+        ``tool_number(word)`` checks and returns the tool number."""
+        words, line = st.words, st.block.line
+        if "T" in words:
+            t = words.pop("T")
+            number = tool_number(t)
+            d = words.pop("D", None)
+            self.tool(st.src, number, None if d is None else self.whole(line, d, "offset number"))
+        elif "D" in words:
+            self.whole(line, words.pop("D"), "offset number")
+
+    def centre_words(self, line: int, words: dict[str, Word], hint: str = "") -> Vec3:
+        """The centre of a G2/G3 block from I/J/K (incremental from the start): at least one in the
+        plane, none on its normal (errors at the word or at column 1)."""
+        a, c, normal = PLANE_AXES[self.plane]
+        if not any(CENTRE_WORDS[i] in words for i in (a, c)):
+            raise self.error(line, 1, f"circle needs its centre ({CENTRE_WORDS[a]}/{CENTRE_WORDS[c]}{hint})")
+        nw = CENTRE_WORDS[normal]
+        if nw in words:
+            raise self.error(line, words[nw].col, f"{nw} is not in the plane {self.plane} of the circle")
+        offsets = {i: words[CENTRE_WORDS[i]].value for i in (a, c) if CENTRE_WORDS[i] in words}
+        centre = arc_centre(self.pos, self.plane, self.diameter, offsets)
+        return (centre[0], centre[1], centre[2])
