@@ -13,14 +13,45 @@ from .canon import Ramp, Src
 from .errors import CutsimError
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                     check_range, digits_end, fmt_count, foreign_digit, iter_lines, parse_number, read_whole)
-from .modal import AXES, PLANE_AXES, InterpConfig, ModalMachine
+from .core import Code, Interpreter, Step, sweep_degrees
+from .modal import AXES, InterpConfig
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
 COMMENT_CHARS = '"\u201c\u201d\u201e\u00cd\u0148'
 LETTERS = set("GMSTDFXYZIJKERLQ")
-KNOWN_G = {0, 1, 2, 3, 9, 10, 17, 18, 19, 33, 73, 90, 91, 94, 95, 98}
+# The dialect's codes: {code: Code(modal group, addresses it takes, meaning)} (core.Code). The
+# helix and jump codes are each a group of their own.
+G_CODES = {
+    0: Code("motion", "XYZ", "rapid"),
+    1: Code("motion", "XYZF", "linear feed"),
+    2: Code("motion", "XYZIJKF", "clockwise arc (helix with G09), centre I/J/K from the start"),
+    3: Code("motion", "XYZIJKF", "counter-clockwise arc (helix with G09), centre I/J/K from the start"),
+    9: Code("helix on", "", "helix on"),
+    10: Code("helix pitch", "XYZ", "helix pitch"),
+    17: Code("plane", "", "plane XY"),
+    18: Code("plane", "", "plane ZX"),
+    19: Code("plane", "", "plane YZ"),
+    33: Code("motion", "XYZFIJE", "thread: lead F, start angle I, runout J, lead-in E"),
+    73: Code("jump", "LQ", "jump"),
+    90: Code("dist", "", "absolute"),
+    91: Code("dist", "", "incremental"),
+    94: Code("feed", "", "feed per minute"),
+    95: Code("feed", "", "feed per revolution"),
+    98: Code("helix off", "", "helix off"),
+}
 # M words: spindle, program end, stops, coolant and gear ranges (the last ones have no geometric effect).
-KNOWN_M = {0, 1, 2, 3, 4, 5, 8, 9, 30, 41, 42, 43, 44}
+M_CODES = {
+    0: Code("stop", "", "program stop"),
+    1: Code("stop", "", "optional stop"),
+    2: Code("end", "", "program end"),
+    3: Code("spindle", "S", "spindle clockwise"),
+    4: Code("spindle", "S", "spindle counter-clockwise"),
+    5: Code("spindle", "", "spindle stop"),
+    8: Code("coolant", "", "coolant on"),
+    9: Code("coolant", "", "coolant off"),
+    30: Code("end", "", "program end"),
+    **{m: Code("gear", "", f"gear range {m - 40}") for m in (41, 42, 43, 44)},
+}
 MAX_DIRECT_LEAD = 99.99
 MIN_LEAD = 0.001  # mm/rev
 RESERVED_PARAMS = (0, 80)
@@ -133,11 +164,13 @@ def decode_angle_code(value: float) -> tuple[int, int, float]:
     return sign, int(digits[2]), int(digits[3:]) / 1000.0
 
 
-class Cnc8x6(ModalMachine):
+class Cnc8x6(Interpreter):
+    G_CODES = G_CODES
+    M_CODES = M_CODES
+
     def __init__(self, name: str, cfg: InterpConfig):
         super().__init__(name, cfg)
         self.params: dict[int, float] = dict(cfg.parameters)
-        self.motion = 0
         self.lead: float | None = None
         self.helix_on = False
         self.helix_pitch: float | None = None
@@ -151,14 +184,13 @@ class Cnc8x6(ModalMachine):
             if b.label:
                 labels.setdefault(int(b.label[1:]), idx)
         self.check_loops(blocks, labels)
-        loops: dict[int, int] = {}  # G73 block index -> repeats still to do (first armed = outermost)
+        self.blocks = blocks
+        self.loops: dict[int, int] = {}  # G73 block index -> repeats still to do (first armed = outermost)
+        loops = self.loops
         pc = 0
-        executed = 0
         while pc < len(blocks):
             b = blocks[pc]
-            executed += 1
-            if executed > self.cfg.max_blocks:
-                self.too_many_blocks(blocks, list(loops), b)
+            self.count_block(b)
             jump, ended = self.block(b, labels, pc)
             if ended:
                 break
@@ -176,7 +208,7 @@ class Cnc8x6(ModalMachine):
             if self.after_ramp is not None and self.after_ramp[1] == 1:
                 src = self.after_ramp[0]
                 raise self.error(src.line, src.col, "a thread with runout or lead-in must be followed by an empty block")
-        self.program.blocks = executed
+        self.program.blocks = self.executed
         self.program.final_position = tuple(self.pos)
         return self.program
 
@@ -200,13 +232,14 @@ class Cnc8x6(ModalMachine):
                          f"G73 loops would execute {fmt_count(total)} blocks ({_describe(chain)}), more than the limit of "
                          f"{limit:,} set by [simulation] max_blocks; treated as a program that does not end")
 
-    def too_many_blocks(self, blocks: list[Block], active: list[int], b: Block):
+    def block_limit(self, b: Block):
         """The runtime guard (loops the static count cannot see: L or Q from a parameter). Points at
         the outermost active G73."""
+        blocks, active = self.blocks, list(self.loops)
         limit = self.cfg.max_blocks
         if not active:
-            raise self.error(b.line, b.col, f"the program executes more than the limit of {limit:,} blocks "
-                             "set by [simulation] max_blocks")
+            return self.error(b.line, b.col, f"the program executes more than the limit of {limit:,} blocks "
+                              "set by [simulation] max_blocks")
         chain = []
         for idx in active:
             g = blocks[idx]
@@ -214,28 +247,41 @@ class Cnc8x6(ModalMachine):
             q = g.find("Q")
             chain.append(Jump(idx, idx, q[0].raw if q else "?", g.line, gw.col))
         outer = chain[0]
-        raise self.error(outer.line, outer.col,
-                         f"G73 loops ({_describe(chain)}) execute more than the limit of {limit:,} blocks set by "
-                         "[simulation] max_blocks; treated as a program that does not end")
+        return self.error(outer.line, outer.col,
+                          f"G73 loops ({_describe(chain)}) execute more than the limit of {limit:,} blocks set by "
+                          "[simulation] max_blocks; treated as a program that does not end")
 
-    # -- one block -------------------------------------------------------------------------------
+    # -- one block (core.Interpreter.execute runs the steps in order) --------------------------------
     def block(self, b: Block, labels: dict[int, int], pc: int):
-        src = Src(self.name, b.line, 1, b.label)
-        ramp_rule = self.after_ramp
-        if ramp_rule is not None:
-            g33src, stage = ramp_rule
-            if stage == 1:
-                if not b.empty:
-                    raise self.error(b.line, 1, f"line {g33src.line} cuts a thread with runout or lead-in: "
-                                     "the next block must be empty")
-                self.after_ramp = (g33src, 2)
-                return None, False
-            missing = [a for a in self.machine_axes() if not b.find(a)]
-            if missing:
-                raise self.error(b.line, 1, f"after the empty block that follows the thread at line {g33src.line}, "
-                                 f"this block must program every axis (missing {', '.join(missing)})")
-            self.after_ramp = None
+        """Execute one block: (jump or None, whether the program ended)."""
+        if self.ramp_rule(b):
+            return None, False
+        st = self.execute(b, Src(self.name, b.line, 1, b.label), (labels, pc))
+        if st.done:
+            return None, False
+        return st.jump, st.result
 
+    def ramp_rule(self, b: Block) -> bool:
+        """After a thread with runout or lead-in: an empty block, then one with every axis. True
+        for the empty block (nothing else to do)."""
+        if self.after_ramp is None:
+            return False
+        g33src, stage = self.after_ramp
+        if stage == 1:
+            if not b.empty:
+                raise self.error(b.line, 1, f"line {g33src.line} cuts a thread with runout or lead-in: "
+                                 "the next block must be empty")
+            self.after_ramp = (g33src, 2)
+            return True
+        missing = [a for a in self.machine_axes() if not b.find(a)]
+        if missing:
+            raise self.error(b.line, 1, f"after the empty block that follows the thread at line {g33src.line}, "
+                             f"this block must program every axis (missing {', '.join(missing)})")
+        self.after_ramp = None
+        return False
+
+    def read_words(self, b: Block) -> list[Word]:
+        """The block's R assignments in order, then its words with parameter values substituted."""
         for num, value, col in b.assigns:
             if num in RESERVED_PARAMS:
                 raise self.error(b.line, col, f"R{num:02d} is reserved and cannot be assigned")
@@ -254,81 +300,67 @@ class Cnc8x6(ModalMachine):
                 check_range(self.name, b.line, w.col, f"{w.letter}{w.raw} = {value:g}", value, -lim, lim, unit)
                 w = Word(w.letter, value, w.raw, w.col, w.param)
             values.append(w)
-        gs, ms, words = self.split_words(values)
+        return values
 
-        # G words by modal group
-        motion = None
-        jump = None
-        g10 = g98 = g09 = False
-        codes, groups = self.g_codes(b.line, gs, KNOWN_G, str)
-        for code, g in codes:
-            if code in (0, 1, 2, 3, 33):
-                motion = code
-            elif self.common_g(code):
-                pass
-            elif code == 9:
-                g09 = True
-            elif code == 10:
-                g10 = True
-            elif code == 98:
-                g98 = True
-            elif code == 73:
-                jump = g
-        if g98:
-            if len(b.words) != 1 or b.assigns:
-                raise self.error(b.line, groups["98"].col, "G98 (helix off) must stand alone in its block")
-            self.helix_on = False
-            return None, False
+    def standalone(self, st: Step) -> bool:
+        g98 = st.g.get("helix off")
+        if g98 is None:
+            return False
+        if len(st.block.words) != 1 or st.block.assigns:
+            raise self.error(st.block.line, g98.col, "G98 (helix off) must stand alone in its block")
+        self.helix_on = False
+        return True
 
-        # spindle, tool and the other non-motion words take effect before the motion
-        codes = self.m_codes(b.line, ms, KNOWN_M)
-        direction = self.spindle_code(b.line, [(c, m.col) for c, m in codes])
-        ended = any(c in (2, 30) for c, _ in codes)
+    def convert_settings(self, st: Step) -> None:
+        """Spindle, tool and the other non-motion words take effect before the motion."""
+        b, words = st.block, st.words
         speed = words.pop("S").value if "S" in words else None
         if speed is not None and speed < 0:
             raise self.error(b.line, 1, "spindle speed S must not be negative")
-        if direction is not None or speed is not None:
-            self.spindle(src, direction, speed)
-        if "T" in words:
-            t = words.pop("T")
-            d = words.pop("D", None)
-            self.tool(src, self.whole(b.line, t, "tool number"), None if d is None else self.whole(b.line, d, "offset number"))
-        elif "D" in words:
-            self.whole(b.line, words.pop("D"), "offset number")  # no tool change: no geometric effect
+        if st.direction is not None or speed is not None:
+            self.spindle(st.src, st.direction, speed)
+        self.tool_words(st, lambda t: self.whole(b.line, t, "tool number"))
         words.pop("&", None)  # recorded, no effect (docs/dialects.md)
 
-        if jump is not None:
-            jump = self.parse_jump(b, words, labels, pc, jump)
-
-        if g10:  # trailing-axis pitch for the helix: not a motion
+    def convert_nonmodal(self, st: Step) -> None:
+        """G73 (the jump the run loop takes), G10 (helix pitch), G09 (helix on)."""
+        b, words = st.block, st.words
+        if "jump" in st.g:
+            labels, pc = st.context
+            st.jump = self.parse_jump(b, words, labels, pc, st.g["jump"])
+        g10 = st.g.get("helix pitch")
+        if g10 is not None:  # trailing-axis pitch for the helix: not a motion
             axes = [a for a in AXES if a in words]
             if len(axes) != 1:
-                raise self.error(b.line, groups["10"].col, "G10 takes exactly one axis word: the helix pitch")
+                raise self.error(b.line, g10.col, "G10 takes exactly one axis word: the helix pitch")
             self.helix_pitch = words.pop(axes[0]).value
             self.helix_axis = axes[0]
-            if motion is not None or any(a in words for a in AXES):
-                raise self.error(b.line, groups["10"].col, "G10 sets the helix pitch and cannot move the tool")
-        if g09:
+            if st.motion is not None or any(a in words for a in AXES):
+                raise self.error(b.line, g10.col, "G10 sets the helix pitch and cannot move the tool")
+        g09 = st.g.get("helix on")
+        if g09 is not None:
             if self.helix_pitch is None:
-                raise self.error(b.line, groups["9"].col, "G09 switches the helix on, but no pitch was set with G10")
+                raise self.error(b.line, g09.col, "G09 switches the helix on, but no pitch was set with G10")
             self.helix_on = True
 
-        if motion is not None:
-            self.motion = motion
-        if "F" in words and self.motion != 33:
-            f = words.pop("F")
+    def convert_feed(self, st: Step) -> None:
+        if "F" in st.words and self.motion != 33:  # F of G33 is the lead (thread)
+            f = st.words.pop("F")
             if f.value <= 0:
-                raise self.error(b.line, f.col, "feed F must be positive")
+                raise self.error(st.block.line, f.col, "feed F must be positive")
             self.feed = f.value
 
+    def convert_motion(self, st: Step) -> None:
+        b, src, words, motion = st.block, st.src, st.words, st.motion
         axis_words = {AXES.index(a): words[a] for a in AXES if a in words}
         if self.motion == 33 and (motion == 33 or axis_words):
             self.thread(b, src, words, axis_words)
         elif axis_words or motion in (2, 3):
             values = {i: w.value for i, w in axis_words.items()}
             if self.motion in (0, 1):
+                allowed = G_CODES[self.motion].words
                 for a in "IJKEQL":
-                    if a in words:
+                    if a in words and a not in allowed:
                         raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G0{self.motion} block")
                 end = self.target(values)
                 self.check_position(b.line, end, {i: w.col for i, w in axis_words.items()})
@@ -339,9 +371,11 @@ class Cnc8x6(ModalMachine):
             for a in "IJKE":
                 if a in words:
                     raise self.error(b.line, words[a].col, f"address {a} without a motion")
-        if ended:
-            self.end(src)
-        return jump, ended
+
+    def convert_end(self, st: Step) -> None:
+        st.result = bool(self.m_group(st, "end"))
+        if st.result:
+            self.end(st.src)
 
     def machine_axes(self) -> tuple[str, ...]:
         return ("X", "Z") if self.cfg.machine_kind == "lathe" else ("X", "Y", "Z")
@@ -364,29 +398,17 @@ class Cnc8x6(ModalMachine):
 
     # -- circles and helices ---------------------------------------------------------------------
     def circle(self, b: Block, src: Src, words: dict[str, Word], values: dict[int, float]) -> None:
-        a, c, normal = PLANE_AXES[self.plane]
-        centre = list(self.pos)
-        offsets = {0: "I", 1: "J", 2: "K"}
-        for i in (a, c):
-            w = words.get(offsets[i])
-            if w is not None:
-                # I/J/K are incremental from the start point; I is a radius even in diameter mode
-                centre[i] = self.pos[i] + w.value * (2.0 if (i == 0 and self.diameter) else 1.0)
-        if not any(offsets[i] in words for i in (a, c)):
-            raise self.error(b.line, 1, f"circle needs its centre ({offsets[a]}/{offsets[c]})")
-        if offsets[normal] in words:
-            raise self.error(b.line, words[offsets[normal]].col,
-                             f"{offsets[normal]} is not in the plane {self.plane} of the circle")
+        centre = self.centre_words(b.line, words)
         end = list(self.target(values))
         if self.helix_on:
             ax = AXES.index(self.helix_axis)
             if ax in values:
                 raise self.error(b.line, words[self.helix_axis].col,
                                  f"with the helix on, {self.helix_axis} follows the pitch set by G10 and cannot be programmed")
-            sweep = _sweep_degrees(self.pos, end, centre, (a, c), self.motion == 2, self.diameter)
+            sweep = sweep_degrees(self.pos, end, centre, self.plane, self.motion == 2, self.diameter)
             end[ax] = self.pos[ax] + self.helix_pitch * sweep / 360.0
         self.check_position(b.line, end, {i: words[AXES[i]].col for i in values})
-        self.arc(src, (end[0], end[1], end[2]), (centre[0], centre[1], centre[2]), self.motion == 2)
+        self.arc(src, (end[0], end[1], end[2]), centre, self.motion == 2)
 
     # -- G33 -------------------------------------------------------------------------------------
     def thread(self, b: Block, src: Src, words: dict[str, Word], axis_words: dict[int, Word]) -> None:
@@ -429,7 +451,7 @@ class Cnc8x6(ModalMachine):
             if ew.value > 0:
                 leadin = self.ramp(b, ew, "lead-in", ew.value)
         for a in "KLQ":
-            if a in words:
+            if a in words and a not in G_CODES[33].words:
                 raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G33 block")
         if leadin or runout:
             travel = self.thread_travel(end)
@@ -634,23 +656,6 @@ def _describe(chain: list[Jump]) -> str:
     if len(parts) > 6:
         parts = parts[:3] + ["..."] + parts[-2:]
     return " inside ".join(parts)
-
-
-def _sweep_degrees(start, end, centre, plane_idx, clockwise: bool, diameter: bool) -> float:
-    a, c = plane_idx
-
-    def phys(p, i):
-        return p[i] / 2.0 if (i == 0 and diameter) else p[i]
-
-    a0 = math.atan2(phys(start, c) - phys(centre, c), phys(start, a) - phys(centre, a))
-    a1 = math.atan2(phys(end, c) - phys(centre, c), phys(end, a) - phys(centre, a))
-    d = math.degrees(a1 - a0)
-    if clockwise:
-        d = -d
-    d %= 360.0
-    if d < 1e-9:
-        d = 360.0
-    return d
 
 
 def interpret(name: str, text: str, cfg: InterpConfig) -> canon.Program:

@@ -57,6 +57,7 @@ class Step:
     m: list[tuple[int, Word]] = field(default_factory=list)
     direction: int | None = None  # spindle: +1, -1, 0 (M3/M4/M5), None without one
     speed: Word | None = None  # S, once convert_settings took it
+    jump: object = None  # a jump the block asks the run loop for (CNC8x6 G73: target, repeats, word)
     context: object = None  # the dialect's run-loop state for this block (ISG: the call stack)
     done: bool = False  # the block ended early (standalone)
     result: object = None  # what the dialect's hooks hand back to its run loop
@@ -171,9 +172,9 @@ class Interpreter(ModalMachine):
             st.m.append((int(m.value), m))
         st.direction = self.spindle_code(st.block.line, [(c, m.col) for c, m in st.m])
 
-    def m_meaning(self, st: Step, meaning: str) -> list[Word]:
-        """The block's M words whose table row means ``meaning``."""
-        return [m for c, m in st.m if self.M_CODES[c].meaning == meaning]
+    def m_group(self, st: Step, group: str) -> list[tuple[int, Word]]:
+        """The block's M words (code, word) whose table row is in ``group``."""
+        return [(c, m) for c, m in st.m if self.M_CODES[c].group == group]
 
     def convert_settings(self, st: Step) -> None:
         raise NotImplementedError

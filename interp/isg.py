@@ -360,7 +360,7 @@ class Isg(Interpreter):
 
     def check_m(self, st: Step, ms: list[Word]) -> None:
         super().check_m(st, ms)
-        ends = [(c, m) for c, m in st.m if self.M_CODES[c].group == "end"]
+        ends = self.m_group(st, "end")
         if len(ends) > 1:
             raise self.error(st.block.line, ends[1][1].col, "two program-end M codes in one block")
 
@@ -427,7 +427,7 @@ class Isg(Interpreter):
             if self.ended:
                 st.result = True
                 return
-        ends = [(c, m) for c, m in st.m if self.M_CODES[c].group == "end"]
+        ends = self.m_group(st, "end")
         if ends and self.M_CODES[ends[0][0]].meaning == "program end":
             self.end(src)
             self.ended = True
