@@ -1,38 +1,63 @@
 """Interpreter: program text -> canonical records (see interp/canon.py).
 
-Dialects register here by name; each is a module with ``interpret(name, text, cfg)``.
+The one registry of dialects: ``DIALECTS`` maps a dialect's name (``[machine] dialect`` in a setup)
+to its ``Dialect`` entry: the module that interprets it (``interpret(name, text, cfg)``) and the
+setup defaults that belong to it. The setup loader (cutsim/setup.py) and the CLI read this table;
+a new dialect is one module plus one line here (docs/architecture.md, "How to add a dialect").
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from importlib import import_module
 
 from .canon import Program, transcript
 from .errors import CutsimError
 from .modal import InterpConfig
 
-DIALECTS = {"cnc8x6": "cnc8x6", "isg": "isg", "sinumerik": "sinumerik"}
+
+@dataclass(frozen=True)
+class Dialect:
+    """One registry entry.
+
+    ``module``: the module with ``interpret(name, text, cfg) -> Program``; a name starting with a
+    dot is relative to this package (``".cnc8x6"``), any other is absolute (a plug-in).
+    ``diameter_programming``: on a lathe, whether X values are diameters when the setup does not
+    say (``[machine] diameter_programming``); mills always program radii.
+    ``extensions``: the file extensions its programs and subprograms usually have.
+    """
+
+    module: str
+    diameter_programming: bool
+    extensions: tuple[str, ...]
+    title: str
+
+
+DIALECTS: dict[str, Dialect] = {
+    # CNC8x6 lathes program diameters; ISG and Sinumerik start in radius mode (G52 / DIAMOF) and
+    # switch in the program.
+    "cnc8x6": Dialect(".cnc8x6", True, (".nc",), "MEFI CNC8x6"),
+    "isg": Dialect(".isg", False, (".nc",), "Beckhoff TwinCAT CNC (ISG kernel)"),
+    "sinumerik": Dialect(".sinumerik", False, (".mpf", ".spf", ".nc"), "Siemens Sinumerik 840D"),
+}
 
 
 def available_dialects() -> list[str]:
-    out = []
-    for name, mod in DIALECTS.items():
-        try:
-            import_module(f"{__name__}.{mod}")
-        except ModuleNotFoundError:
-            continue
-        out.append(name)
-    return out
+    """The registered dialects' names. Every entry's module must import: a missing module is a
+    packaging bug and raises (ModuleNotFoundError), it is not silently left out."""
+    return list(DIALECTS)
+
+
+def dialect_module(name: str):
+    """The module interpreting dialect ``name`` (a key of DIALECTS)."""
+    return import_module(DIALECTS[name].module, __name__)
 
 
 def interpret(name: str, text: str, cfg: InterpConfig) -> Program:
     """Interpret a whole program. Raises CutsimError with the file, line and column on bad input."""
     if cfg.dialect not in DIALECTS:
         raise CutsimError(name, 0, 0, f"unknown dialect '{cfg.dialect}'")
-    try:
-        mod = import_module(f"{__name__}.{DIALECTS[cfg.dialect]}")
-    except ModuleNotFoundError:
-        raise CutsimError(name, 0, 0, f"the {cfg.dialect} dialect is not implemented yet") from None
-    return mod.interpret(name, text, cfg)
+    return dialect_module(cfg.dialect).interpret(name, text, cfg)
 
 
-__all__ = ["CutsimError", "InterpConfig", "Program", "interpret", "transcript", "available_dialects"]
+__all__ = ["CutsimError", "Dialect", "DIALECTS", "InterpConfig", "Program", "interpret", "transcript",
+           "available_dialects", "dialect_module"]

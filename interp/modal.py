@@ -103,34 +103,6 @@ class ModalMachine:
                 rest[w.letter] = w
         return gs, ms, rest
 
-    def g_codes(self, line: int, gs: list, known, group_of) -> tuple[list[tuple[int, object]], dict]:
-        """The block's G words as (code, word), each a whole number among ``known``, and the word
-        of each modal group; a second word of one group is an error at its column. Motion (G0-G3,
-        G33), distance (G90/91), feed (G94/95) and plane (G17-19) are groups in every dialect;
-        ``group_of(code)`` names the dialect's others."""
-        codes, groups = [], {}
-        for g in gs:
-            if g.value != int(g.value) or int(g.value) not in known:
-                raise self.error(line, g.col, f"unknown G code G{g.raw}")
-            code = int(g.value)
-            group = ("motion" if code in (0, 1, 2, 3, 33) else "dist" if code in (90, 91)
-                     else "feed" if code in (94, 95) else "plane" if code in PLANES else group_of(code))
-            if group in groups:
-                raise self.error(line, g.col, f"G{g.raw} conflicts with G{groups[group].raw} in the same block")
-            groups[group] = g
-            codes.append((code, g))
-        return codes, groups
-
-    def m_codes(self, line: int, ms: list, known) -> list[tuple[int, object]]:
-        """The block's M words as (code, word), each a whole number among ``known`` (else an error
-        at its column)."""
-        out = []
-        for m in ms:
-            if m.value != int(m.value) or int(m.value) not in known:
-                raise self.error(line, m.col, f"unknown M code M{m.raw}")
-            out.append((int(m.value), m))
-        return out
-
     def spindle_code(self, line: int, codes: list[tuple[int, int]]) -> int | None:
         """The spindle direction the block's M3/M4/M5 set (+1, -1, 0; None without one) from
         (code, column) pairs; two of them in one block are an error at the second."""
