@@ -199,7 +199,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
                                    _Cut(i, mill.check_solids(path, tol, cap), None, lo, hi), path))
     flush()
     for lv in millb.levels():
-        work.add(_prism_triangles(_level_region(lv, work)), lv.src, "this Z level of the end mill")
+        work.add(_prism_triangles(lv.region()), lv.src, "this Z level of the end mill")  # exact 2D outline first
         solid = lv.solid()
         lo, hi = _bbox([solid])
         if _overlap(lo, hi, slo, shi):
@@ -461,31 +461,6 @@ class Work:
 def _ring(tool: ToolSpec, tol: float) -> int:
     """Vertices around a mill's circle at the tolerance."""
     return max(8, math.ceil(2 * math.pi / segment_angle(tool.diameter / 2.0, tol)))
-
-
-LEVEL_CHUNK = 2000  # stadiums per partial union of a Z level
-
-
-def _level_region(lv: mill.Level, work: Work) -> m3d.CrossSection:
-    """The level's 2D region, unioned in chunks of LEVEL_CHUNK consecutive stadiums and then the
-    chunks' regions: the same region as one Clipper union of all stadiums, but that one slows down
-    with the number of edges crossing a scanline (a circular pocket of a 0.05 mm tool, 68k
-    stadiums per level: 48 s in one union, 1.1 s in chunks; the 50k-move bench pocket 11.9 s ->
-    5.5 s). The chunks' vertices are counted as they come (their sum bounds the union's outline
-    from above up to new intersections): a level that would extrude into more than the limit
-    stops before the rest is unioned. Stored as the level's region (``Level.region`` caches it)."""
-    starts, ends = np.concatenate(lv.starts), np.concatenate(lv.ends)
-    r = lv.tool.diameter / 2.0
-    parts, nv = [], 0
-    for i in range(0, len(starts), LEVEL_CHUNK):
-        part = mill.region(list(mill.stadiums(starts[i:i + LEVEL_CHUNK], r, lv.tol, ends[i:i + LEVEL_CHUNK])))
-        parts.append(part)
-        nv += part.num_vert()
-        if work.held + 4 * nv > work.limit:
-            work.add(4 * nv, lv.src, "this Z level of the end mill, counted so far")
-    reg = parts[0] if len(parts) == 1 else m3d.CrossSection.batch_boolean(parts, m3d.OpType.Add)
-    lv._region = reg
-    return reg
 
 
 def _prism_triangles(region: m3d.CrossSection) -> int:
