@@ -110,11 +110,9 @@ class Word:
 class Block:
     line: int
     col: int
-    text: str = ""  # not kept by the scanners (a copy of every line costs memory and is never read)
     label: str = ""  # N word as written, e.g. "N330"
     words: list[Word] = field(default_factory=list)
     assigns: list[tuple[int, float, int]] = field(default_factory=list)  # (R number, value, col)
-    comment: str = ""
 
     @property
     def empty(self) -> bool:
