@@ -197,7 +197,7 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
     tol = tolerance if tolerance is not None else setup.tolerance
     if text is None:
         text = read_program(program)
-    stock = build_stock(setup.stock, tol, setup.path)
+    stock = build_stock(setup.stock, tol, setup.path, max_triangles=setup.max_triangles, where=setup.stock_where)
     start = setup.machine.start if setup.machine.start is not None else default_start(setup, stock)
     prog = interpret(program, text, interp_config(setup, start))
     pl = make_plan(prog, setup.machine, setup.tools, tol)

@@ -326,7 +326,8 @@ def moves(program, setup_path):
 def _stock(setup):
     from cutsim.stock import build_stock
 
-    return build_stock(setup.stock, setup.tolerance, setup.path)
+    return build_stock(setup.stock, setup.tolerance, setup.path, max_triangles=setup.max_triangles,
+                       where=setup.stock_where)
 
 
 from cutsim.batch import batch_command  # noqa: E402  (cutsim batch; docs/batch.md)
