@@ -21,7 +21,7 @@ from . import helix, mill
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from .specs import StockSpec, ToolSpec
 from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, planar_region, screw_sweep, spatial_hulls
-from .tools import lathe_body, lathe_profile, mill_body
+from .tools import check_tool, lathe_body, lathe_profile, mill_body
 
 # A collision smaller than this is numerical noise between two discretisations of one surface.
 MIN_COLLISION_VOLUME = 1e-3  # mm^3
@@ -76,8 +76,10 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
                      np.hypot(shi[0], slo[1])))
     margin = max(10 * tol, 0.05)
     r_clip = rmax + margin
-    nseg = circle_segments(rmax, tol)
     outline = stock_outline(spec)
+    # revolve cuts with the stock's own segment count (its true radius, not the bounding box's
+    # corner): the faces of cut and stock then line up instead of crossing at every segment
+    nseg = circle_segments(float(outline[:, 0].max()) if outline is not None else rmax, tol)
     outline_cs = m3d.CrossSection([outline], m3d.FillRule.Positive) if outline is not None else None
 
     profiles: dict[int, np.ndarray] = {}
@@ -96,6 +98,8 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     def revolve(region: m3d.CrossSection) -> m3d.Manifold:
         return m3d.Manifold.revolve(region, circular_segments=nseg)
 
+    for tool in {id(p.tool): p.tool for p in paths if getattr(p, "tool", None) is not None}.values():
+        check_tool(tool)  # tools built in Python, not through the setup loader, meet the same ranges
     work = Work(max_triangles, stock.num_tri())
     screw_parts = work.estimate(paths, tol, profile, outline, r_clip, margin, float(shi[2]))
 
