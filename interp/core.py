@@ -1,5 +1,6 @@
 """The shared block executor of the word-address dialects (CNC8x6, ISG) and the geometry every
-dialect computes the same way (arc centre from I/J/K, arc sweep angle, the executed-block guard).
+dialect computes the same way: the arc centre from I/J/K and the arc sweep angle (the guard on
+executed blocks is modal.ModalMachine.count_block).
 
 A dialect is a table of its G and M codes, ``{code: Code(modal group, words, meaning)}`` (compare
 CAMotics' ``Codes.cpp`` rows), plus the few hooks where it truly differs. ``Interpreter.execute``
@@ -103,18 +104,6 @@ class Interpreter(ModalMachine):
     def __init__(self, name, cfg):
         super().__init__(name, cfg)
         self.motion = 0
-        self.executed = 0
-
-    # -- the guard against programs that do not end ------------------------------------------------
-    def count_block(self, b: Block) -> None:
-        """Count one executed block; past ``cfg.max_blocks`` the dialect's ``block_limit`` raises."""
-        self.executed += 1
-        if self.executed > self.cfg.max_blocks:
-            raise self.block_limit(b)
-
-    def block_limit(self, b: Block):
-        return self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed "
-                          "(the limit is [simulation] max_blocks)")
 
     # -- one block ---------------------------------------------------------------------------------
     def execute(self, b: Block, src: Src, context: object = None) -> Step:

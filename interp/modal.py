@@ -48,8 +48,21 @@ class ModalMachine:
         self.plane = "ZX" if cfg.machine_kind == "lathe" else "XY"
         self.program = canon.Program(name=name, dialect=cfg.dialect)
         self._warned_feed = False
+        self.executed = 0  # blocks executed (count_block)
 
     # -- helpers ---------------------------------------------------------------------------------
+    def count_block(self, b) -> None:
+        """Count one executed block (anything with a ``line``); past ``cfg.max_blocks`` the error
+        ``block_limit`` builds is raised: the one guard against programs that do not end."""
+        self.executed += 1
+        if self.executed > self.cfg.max_blocks:
+            raise self.block_limit(b)
+
+    def block_limit(self, b) -> CutsimError:
+        """The error for the block that passes ``cfg.max_blocks``; dialects name their loops."""
+        return self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed "
+                          "(the limit is [simulation] max_blocks)")
+
     def error(self, line: int, col: int, message: str) -> CutsimError:
         return CutsimError(self.name, line, col, message)
 
