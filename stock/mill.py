@@ -158,15 +158,6 @@ class Level:
         cuts = np.flatnonzero(new[keep])
         return np.split(xy[keep], cuts)
 
-    @property
-    def starts(self) -> list[np.ndarray]:
-        """Segment starts (one point: the point itself), as ``stadiums`` takes them."""
-        return [pl[:-1] if len(pl) > 1 else pl for pl in self.polylines()]
-
-    @property
-    def ends(self) -> list[np.ndarray]:
-        return [pl[1:] if len(pl) > 1 else pl for pl in self.polylines()]
-
     def region(self) -> m3d.CrossSection:
         if self._region is None:
             self._region = buffer(self.polylines(), self.tool.diameter / 2.0, self.tol)
