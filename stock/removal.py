@@ -17,7 +17,7 @@ import numpy as np
 from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
 
-from . import helix, mill
+from . import helix, mill, threads
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from .specs import StockSpec, ToolSpec
 from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, planar_region, screw_sweep, spatial_hulls
@@ -108,6 +108,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     checks: list[tuple[_Cut, object]] = []
     cap = mill.cap_height(float(shi[2]), tol)
     chain = mill.Chain()
+    screws = threads.ScrewGroups(tol)  # thread cuts, swept grouped by helix after the loop
     arcs: list = []  # [index, path]: consecutive arcs on one helix, joined (stock/helix.py)
 
     def add_cut(index: int, solids: list) -> None:
@@ -151,21 +152,21 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         if not (isinstance(path, SpatialPath) and mill.batchable(path)):
             flush()
         if isinstance(path, ScrewPath):
-            solids, parts = [], []
+            parts = []
             for s0, s1, h in screw_parts.pop(i):
                 prof = clipped_profile(profile(path.tool), h)
                 if not prof.is_empty():
-                    solids.extend(screw_sweep(path, prof, tol, s0, s1))
                     parts.append((s0, s1, prof))
-            if not solids:
+            if not parts:
                 continue
 
             def near(z0, z1, path=path, parts=parts):
                 return [x for s0, s1, prof in parts for x in screw_sweep(path, prof, tol, s0, s1, (z0, z1))]
 
-            lo, hi = _bbox(solids)
-            if _overlap(lo, hi, slo, shi):
-                cuts.append(_Cut(i, solids, None, lo, hi, near))
+            lo, hi = threads.bounds(path, parts)
+            if _overlap(lo, hi, slo, shi):  # swept with its helix's group (stock/threads.py); `near` for the checks
+                screws.add(i, path, parts)
+                cuts.append(_Cut(i, [], None, lo, hi, near, build=list))
         elif isinstance(path, PlanarPath):
             pts = path.points
             h = r_clip - float(pts[:, 0].min())
@@ -202,6 +203,10 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
                     checks.append((cut if path.tool.is_lathe_tool else
                                    _Cut(i, mill.check_solids(path, tol, cap), None, lo, hi), path))
     flush()
+    if screws:  # index n: never an "earlier cut" for the checks, which use each pass's own `near`
+        grouped = screws.solids()
+        if grouped:
+            cuts.append(_Cut(n, grouped, None, *_bbox(grouped)))
     for lv in millb.levels():
         work.add(_prism_triangles(lv.region()), lv.src, "this Z level of the end mill")  # exact 2D outline first
         solid = lv.solid()
