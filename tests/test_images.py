@@ -208,7 +208,10 @@ def test_deviation_per_face(slot_deep):
         cen = np.asarray(mesh.cell_centers().points)
         floor = (nrm[:, 2] > 0.99) & (np.abs(cen[:, 2] + 3.05) < 1e-6)
         assert np.count_nonzero(floor) >= 2
-        assert np.allclose(d[floor], -0.05, atol=1e-5)  # a uniform gouge: one value, no gradient
+        # a uniform gouge: one value, no gradient. A floor face by the slot's round end may meet the
+        # design's coarser end arc diagonally: sqrt(0.05^2 + tol^2) - 0.05 <= tol^2 / 0.1 = 1e-3 at tol 0.01
+        assert np.allclose(d[floor], -0.05, atol=1e-3)
+        assert np.median(d[floor]) == pytest.approx(-0.05, abs=1e-6)
         walls = (np.abs(nrm[:, 2]) < 0.01) & (np.abs(cen[:, 1] - 16.0) < 1e-6) & (cen[:, 2] > -2.9)
         assert np.count_nonzero(walls) >= 1
         assert np.all(np.abs(d[walls]) < 1e-6)  # the slot's wall is on the design: zero

@@ -70,12 +70,14 @@ def test_raising_max_triangles_is_the_setting_named(tmp_path):
 
 
 def test_screw_estimate_matches_the_built_sweep():
-    """The estimate before building equals the built sweep's triangles within 1 %."""
-    from cutsim.stock import removal, sweeps
+    """The estimate before building equals the built sweep's triangles within 1 % (each pass swept
+    on its own: grouping passes on one helix is switched off for this count)."""
+    from cutsim.stock import removal, sweeps, threads
 
     setup = cutsim.load_setup(str(LATHE / "multipass.toml"))
     built = []
     orig = sweeps.screw_sweep
+    orig_motion = threads.motion
 
     def counting(*a, **k):
         out = orig(*a, **k)
@@ -91,11 +93,13 @@ def test_screw_estimate_matches_the_built_sweep():
             estimates.append(tris)
         return add(self, tris, src, what)
 
-    removal.screw_sweep, removal.Work.add = counting, recording
+    removal.screw_sweep, threads.screw_sweep, removal.Work.add = counting, counting, recording
+    threads.motion = lambda path: None
     try:
         cutsim.simulate(str(LATHE / "multipass.nc"), setup)
     finally:
-        removal.screw_sweep, removal.Work.add = orig, add
+        removal.screw_sweep, threads.screw_sweep, removal.Work.add = orig, orig, add
+        threads.motion = orig_motion
     assert len(estimates) == 3 and len(built) == 3
     for est, n in zip(estimates, built):
         assert abs(est - n) <= 0.01 * n
