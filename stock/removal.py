@@ -333,6 +333,19 @@ def _iter_screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: fl
         s0 = s1
 
 
+def _check_axis(path: ScrewPath, profile: np.ndarray) -> None:
+    """A spindle-synchronised cut keeps the whole tool on one side of the spindle axis: a tool that
+    reaches the axis (a lead-in ramping past it, a profile reaching behind its control point)
+    sweeps no solid a lathe could cut; it is an error at the move's line, not a folded solid."""
+    r = float(np.min(path.pose(np.array(path.breakpoints()))[0]))
+    inner = r + float(np.min(profile[:, 0]))
+    if inner <= 0.0:
+        raise CutsimError(path.src.program, path.src.line, path.src.col,
+                          f"the tool reaches the spindle axis in this thread cut: its innermost point comes to "
+                          f"radius {inner:.4f} mm (tool point at radius {r:.4f} mm); a spindle-synchronised "
+                          f"cut must keep the whole tool on one side of the axis")
+
+
 def drop_debris(part: m3d.Manifold) -> m3d.Manifold:
     """Remove zero-volume shells that coincident faces of nested cuts can leave behind; pieces with
     real volume (a part cut loose from the bar) stay."""
@@ -431,6 +444,7 @@ class Work:
                 continue
             flush_arc()
             if isinstance(path, ScrewPath):
+                _check_axis(path, profile(path.tool))
                 pieces, tris = [], 0
                 for piece in _iter_screw_pieces(path, profile(path.tool), outline, r_clip, margin):
                     pieces.append(piece)

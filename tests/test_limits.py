@@ -231,3 +231,39 @@ def test_fine_tolerance_on_a_huge_bar_is_refused_at_its_key(tmp_path):
     assert "[stock] diameter" in e.value.message and "max_triangles" in e.value.message
     line = setup.read_text().splitlines().index("diameter = 200000.0") + 1
     assert e.value.line == line
+
+
+AXIS_SETUP = """
+[machine]
+kind = "lathe"
+dialect = "cnc8x6"
+[machine.constants]
+8 = 160000
+[stock]
+shape = "cylinder"
+diameter = 7.7
+z = [-9.0, 0.0]
+[[tool]]
+kind = "profile"
+points = [[0.0, 0.0], [1.74, 7.55], [-1.74, 7.55]]
+"""
+
+
+@pytest.mark.parametrize("x, fails", [("X6.324", True), ("X12.", False)])
+def test_thread_tool_reaching_the_spindle_axis_is_an_error(tmp_path, x, fails):
+    """A 60 degree lead-in of E2 moves the tool point in by 2 tan 60 = 3.464 mm of radius: from
+    X6.324 (radius 3.162) that is past the axis, and the profile reaches 1.74 mm behind its point.
+    Exit 2 at the G33 line instead of a folded (inside-out) solid; from X12 it stays clear."""
+    (tmp_path / "s.toml").write_text(AXIS_SETUP)
+    (tmp_path / "p.nc").write_text(f"N10 G00 G95 T1 S1000 M03\nN40 G00 {x} Z2.733\nN45 G33 Z-6.697 F8 E2.\nN50\n")
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(tmp_path / "p.nc"), "--setup",
+                           str(tmp_path / "s.toml"), "--out", str(tmp_path / "out"), "--tolerance", "0.05", "-q"],
+                          capture_output=True, text=True)
+    if fails:
+        assert proc.returncode == 2, proc.stderr
+        assert "p.nc:3:1: error: the tool reaches the spindle axis" in proc.stderr
+        r = 6.324 / 2 - 2 * math.tan(math.radians(60))
+        assert f"tool point at radius {r:.4f} mm" in proc.stderr
+        assert not (tmp_path / "out").exists()
+    else:
+        assert proc.returncode == 0, proc.stderr
