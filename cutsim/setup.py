@@ -13,6 +13,7 @@ import stat
 import tomllib
 from dataclasses import dataclass, field
 
+from cutsim.interp import DIALECTS  # the registry: names and each dialect's setup defaults
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.modal import MAX_BLOCKS
 from cutsim.kinematics.machine import MachineSpec
@@ -20,10 +21,6 @@ from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
 from cutsim.stock.specs import StockSpec, ToolSpec
 
 KINDS = ("lathe", "mill")
-DIALECTS = ("cnc8x6", "isg", "sinumerik")
-# Diameter programming when the setup does not say: CNC8x6 lathes program diameters; ISG and
-# Sinumerik start in radius mode (G52 / DIAMOF) and switch in the program.
-DEFAULT_DIAMETER = {"cnc8x6": True, "isg": False, "sinumerik": False}
 TOOL_KEYS = {
     "thread": {"angle", "tip_radius", "height", "thickness"},
     "turning": {"angle", "tip_radius", "height", "thickness"},
@@ -201,7 +198,8 @@ class _Loader:
         m = _Reader(self, data["machine"], "machine")
         kind = m.get("kind", str, check=lambda v: v in KINDS, why=f"must be one of {', '.join(KINDS)}")
         dialect = m.get("dialect", str, check=lambda v: v in DIALECTS, why=f"must be one of {', '.join(DIALECTS)}")
-        diam = m.get("diameter_programming", bool, DEFAULT_DIAMETER[dialect] if kind == "lathe" else False)
+        # when the setup does not say: the registry's default on a lathe (interp.DIALECTS), radii on a mill
+        diam = m.get("diameter_programming", bool, DIALECTS[dialect].diameter_programming if kind == "lathe" else False)
         m03 = m.get("m03", str, "positive", check=lambda v: v in ("positive", "negative"), why="must be positive or negative")
         start = m.get("start", list, None)
         if start is not None:

@@ -72,3 +72,19 @@ def test_toy_dialect_errors_come_from_the_shared_executor(toy):
     with pytest.raises(CutsimError) as e:
         interpret("p.toy", "G33 Z1\n", cfg)
     assert (e.value.line, e.value.col) == (1, 1) and e.value.message == "unknown G code G33"
+
+
+def test_toy_dialect_simulates_with_its_registry_defaults(toy, tmp_path):
+    """Through cutsim.simulate: the setup accepts the registered name, and X is a diameter because
+    the registry entry says so (the setup leaves diameter_programming out). The groove at X26 leaves
+    a 26 mm diameter along it and the 30 mm bar beyond it."""
+    import cutsim
+
+    setup = tmp_path / "toy.toml"
+    setup.write_text(f'[machine]\nkind = "lathe"\ndialect = "{toy}"\nstart = [40, 0, 10]\n\n'
+                     '[stock]\nshape = "cylinder"\ndiameter = 30.0\nz = [-40.0, 0.0]\n\n'
+                     '[[tool]]\nnumber = 9\nkind = "thread"\ntip_radius = 0.0\n\n[simulation]\ntolerance = 0.01\n')
+    assert cutsim.load_setup(str(setup)).machine.diameter_programming is True
+    res = cutsim.simulate("groove.toy", str(setup), text=PROGRAM)
+    assert res.diameters_at(-10.0) == pytest.approx(26.0, abs=0.02)  # X26 on the diameter, within the chords
+    assert res.diameters_at(-30.0) == pytest.approx(30.0, abs=0.02)  # never cut
