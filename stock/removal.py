@@ -8,7 +8,7 @@ i.e. from the stock minus the earlier cuts that overlap it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Callable
 
 import manifold3d as m3d
@@ -100,6 +100,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
 
     for tool in {id(p.tool): p.tool for p in paths if getattr(p, "tool", None) is not None}.values():
         check_tool(tool)  # tools built in Python, not through the setup loader, meet the same ranges
+    paths = drop_repeats(paths)
     work = Work(max_triangles, stock.num_tri())
     screw_parts = work.estimate(paths, tol, profile, outline, r_clip, margin, float(shi[2]))
 
@@ -331,6 +332,35 @@ def _iter_screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: fl
         if h > 0:
             yield s0, s1, h
         s0 = s1
+
+
+def _path_key(path) -> tuple:
+    """Everything that decides what ``path`` sweeps (not its source line), hashable."""
+    key = [type(path).__name__]
+    for f in fields(path):
+        if f.name == "src":
+            continue
+        v = getattr(path, f.name)
+        key.append((v.shape, v.tobytes()) if isinstance(v, np.ndarray) else v)
+    return tuple(key)
+
+
+def drop_repeats(paths: list) -> list:
+    """``paths`` without the ones that repeat an earlier path exactly (a loop running the same
+    moves again, a spring pass, a zero-length move written many times). Material only ever goes:
+    a repeated sweep meets nothing its first run did not already take, so it removes nothing and
+    touches no fresh stock (no warning can come from it). Order and source lines are kept."""
+    seen, out = set(), []
+    for path in paths:
+        try:
+            key = _path_key(path)
+            if key in seen:
+                continue
+            seen.add(key)
+        except TypeError:  # an unhashable field: keep the path
+            pass
+        out.append(path)
+    return out
 
 
 def _check_axis(path: ScrewPath, profile: np.ndarray) -> None:

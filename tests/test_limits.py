@@ -267,3 +267,42 @@ def test_thread_tool_reaching_the_spindle_axis_is_an_error(tmp_path, x, fails):
         assert not (tmp_path / "out").exists()
     else:
         assert proc.returncode == 0, proc.stderr
+
+
+REPEAT_SETUP = """
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [0.0, 0.0, 10.0]
+[stock]
+shape = "box"
+x = [-20.0, 20.0]
+y = [-20.0, 20.0]
+z = [-10.0, 0.0]
+[[tool]]
+number = 3
+kind = "ballmill"
+diameter = 6.0
+[simulation]
+tolerance = 0.01
+"""
+
+
+def test_repeated_moves_remove_what_one_removes(tmp_path):
+    """A plunge written 300 times (299 zero-length moves) removes what one plunge removes: a ball
+    of radius 3 sunk 3.5 mm = hemisphere 2/3 pi r^3 + cylinder pi r^2 (3.5 - r), within the chordal
+    tolerance times the cut's surface (2 pi r^2 + 2 pi r 0.5). Repeats of an earlier path are not
+    swept again (they meet nothing the first run did not take)."""
+    (tmp_path / "s.toml").write_text(REPEAT_SETUP)
+    removed = {}
+    for copies in (1, 300):
+        body = "N30 G01 Z-3.5 F100\n" * copies
+        prog = tmp_path / f"p{copies}.nc"
+        prog.write_text(f"N10 G00 G17 G90 T3 S1000 M03\nN20 G00 X0 Y0 Z5\n{body}N40 G00 Z10\nN50 M30\n\n")
+        r = cutsim.simulate(str(prog), str(tmp_path / "s.toml"))
+        assert r.report["moves"] >= copies and not r.warnings
+        removed[copies] = r.report["removed_volume"]
+    expected = 2 / 3 * math.pi * 27 + math.pi * 9 * 0.5
+    area = 2 * math.pi * 9 + 2 * math.pi * 3 * 0.5
+    assert removed[1] == pytest.approx(expected, abs=0.01 * area)
+    assert removed[300] == removed[1]
