@@ -199,8 +199,13 @@ def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None
         text = read_program(program)
     stock = build_stock(setup.stock, tol, setup.path, max_triangles=setup.max_triangles, where=setup.stock_where)
     start = setup.machine.start if setup.machine.start is not None else default_start(setup, stock)
+    tick = progress or (lambda stage, i, n: None)
+    tick("interpretation", 0, 1)  # a stage that takes over a second gets its "done (N s)" line
     prog = interpret(program, text, interp_config(setup, start))
+    tick("interpretation", 1, 1)
+    tick("planning", 0, 1)
     pl = make_plan(prog, setup.machine, setup.tools, tol)
+    tick("planning", 1, 1)
     removal = remove(stock, setup.stock, pl.paths, tol, progress, max_triangles=setup.max_triangles)
     part = removal.part
     warnings = sorted(prog.warnings + pl.warnings + removal.warnings, key=lambda w: (w[0].line, w[0].col))
