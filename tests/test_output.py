@@ -26,6 +26,7 @@ SLOW_TOL = "0.0002"
 # twelve passes on twelve helices (start offsets 0, 30, ..., 330: no two sweep as one group) take
 # several seconds at SLOW_TOL: time to kill a run mid-way (multipass.nc itself now takes < 1 s)
 SLOW_PROG = Path(__file__).parent / "checks" / "slow-thread.nc"
+SLOW_SETUP = SLOW_PROG.with_suffix(".toml")
 
 
 def cli(*args):
@@ -39,8 +40,8 @@ def simulate(out, *extra, prog=PROG, tol="0.05"):
 
 
 def spawn(out, *extra, tol=SLOW_TOL, **kw):
-    prog = SLOW_PROG if tol == SLOW_TOL else PROG
-    return subprocess.Popen([sys.executable, "-m", "cutsim", "simulate", str(prog), "--setup", str(SETUP),
+    prog, setup = (SLOW_PROG, SLOW_SETUP) if tol == SLOW_TOL else (PROG, SETUP)
+    return subprocess.Popen([sys.executable, "-m", "cutsim", "simulate", str(prog), "--setup", str(setup),
                              "--out", str(out), "--tolerance", tol, "-q", *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
