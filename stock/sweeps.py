@@ -14,6 +14,7 @@ import math
 import manifold3d as m3d
 import numpy as np
 
+from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, segment_angle
 
 from .tools import convex_pieces, counter_clockwise, perimeter, positive, signed_area
@@ -114,8 +115,23 @@ def screw_sweep(path: ScrewPath, profile: m3d.CrossSection, tol: float,
             rr = r + u
             return np.column_stack([rr * np.cos(phi), rr * np.sin(phi), z + v])
 
-        out.append(positive(solid.warp_batch(warp), "a screw motion"))
+        swept = solid.warp_batch(warp)
+        if swept.status() == m3d.Error.NoError and swept.volume() < 0:
+            raise _folded(path, profile, tol)
+        out.append(positive(swept, "a screw motion"))
     return out
+
+
+def _folded(path: ScrewPath, profile: m3d.CrossSection, tol: float) -> CutsimError:
+    """A needle-thin profile (thinner than the twist of the side faces between two stations, as a
+    steep lead at a coarse tolerance gives) folds its chorded sweep over itself: an input error
+    that a finer tolerance cures, named with a tolerance that works (mean width 2 area/perimeter)."""
+    length = sum(perimeter(q) for q in profile.to_polygons())
+    width = 2.0 * profile.area() / length if length > 0 else 0.0
+    return CutsimError(path.src.program, path.src.line, path.src.col,
+                       f"the swept solid of this thread cut folds over itself: the tool is only about {width:.4f} mm "
+                       f"wide where it can cut, too thin for the chordal tolerance {tol:g} mm; simulate with a finer "
+                       f"tolerance (at most about {math.floor(width / 4 * 1e4) / 1e4:g} mm)")
 
 
 def sweep_polygon_2d(poly: np.ndarray, pts: np.ndarray) -> list[m3d.CrossSection]:

@@ -58,6 +58,7 @@ class _Group:
     travel_per_rad: float
     pieces: list = field(default_factory=list)
     box: tuple = (math.inf, math.inf, -math.inf, -math.inf)  # profile bounds in the group frame
+    src: object = None  # the first member's source line: errors of the group's sweep name it
 
 
 def motion(path: ScrewPath) -> tuple[float, float, float, float, float] | None:
@@ -125,7 +126,7 @@ class ScrewGroups:
                 g.pieces.append(_Piece(prof_g, lo - turn * k, hi - turn * k))
                 g.box = (min(g.box[0], b[0]), min(g.box[1], b[1]), max(g.box[2], b[2]), max(g.box[3], b[3]))
                 return
-        g = _Group(a, p, cr, cz, path.travel / (2.0 * math.pi * path.revolutions))
+        g = _Group(a, p, cr, cz, path.travel / (2.0 * math.pi * path.revolutions), src=path.src)
         g.pieces.append(_Piece(prof, lo, hi))
         g.box = tuple(prof.bounds())
         self.groups.append(g)
@@ -163,6 +164,6 @@ class ScrewGroups:
 def _group_path(g: _Group, lo: float, hi: float) -> ScrewPath:
     """The group's motion from theta = lo to hi as a screw path (phi growing: sense +1)."""
     span = hi - lo
-    return ScrewPath(src=None, tool=None, r0=g.cr + g.a * lo, z0=g.cz + g.p * lo, r1=g.cr + g.a * hi,
+    return ScrewPath(src=g.src, tool=None, r0=g.cr + g.a * lo, z0=g.cz + g.p * lo, r1=g.cr + g.a * hi,
               z1=g.cz + g.p * hi, travel=g.travel_per_rad * span, revolutions=span / (2.0 * math.pi),
               phi0=math.degrees(lo), sense=1)

@@ -306,3 +306,20 @@ def test_repeated_moves_remove_what_one_removes(tmp_path):
     area = 2 * math.pi * 9 + 2 * math.pi * 3 * 0.5
     assert removed[1] == pytest.approx(expected, abs=0.01 * area)
     assert removed[300] == removed[1]
+
+
+def test_needle_thin_thread_tool_at_a_coarse_tolerance_is_an_input_error(tmp_path):
+    """A 1 degree thread tool 2 mm deep is about 0.02-0.03 mm wide where it cuts; on a 120 mm lead
+    (47 degree helix) at tolerance 0.1 its chorded sweep folds over itself. That is exit 2 at the
+    G33 line naming a finer tolerance, not an internal error (fuzz finding)."""
+    (tmp_path / "s.toml").write_text('[machine]\nkind = "lathe"\ndialect = "cnc8x6"\n[stock]\nshape = "cylinder"\n'
+                                     'diameter = 40.0\nz = [-100.0, 0.0]\n[[tool]]\nnumber = 5\nkind = "thread"\n'
+                                     'angle = 1.001\n')
+    (tmp_path / "p.nc").write_text("N10 G00 G95 T5 D5 R12=120.0\nN20 G00 X50. Z10.\nN30 M04 S60\nN40 X36.\n"
+                                   "N50 G33 Z-110. FR12 I0.\nN60 G00 X50.\nN70 Z10.\nN80 M05\n\n")
+    proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(tmp_path / "p.nc"), "--setup",
+                           str(tmp_path / "s.toml"), "--out", str(tmp_path / "out"), "--tolerance", "0.1", "-q"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stderr
+    assert "p.nc:5:1: error: the swept solid of this thread cut folds over itself" in proc.stderr
+    assert "Traceback" not in proc.stderr and not (tmp_path / "out").exists()
