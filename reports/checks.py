@@ -32,7 +32,10 @@ def _r(v, nd: int = 6):
         return bool(v)
     if isinstance(v, (int, np.integer)):
         return int(v)
-    f = round(float(v), nd)
+    f = float(v)
+    if not math.isfinite(f):  # a measurement that found nothing to measure (NaN): not measured
+        return None
+    f = round(f, nd)
     return 0.0 if f == 0 else f
 
 

@@ -259,8 +259,8 @@ def thread_phases(roots, lead: float, hand: str, phase_z: float) -> np.ndarray:
     """The start phase of each root (phi, z, r): the ``a`` in ``z = phase_z + s*lead*(phi + a)/360
     (mod lead)``, s = +1 right-hand, -1 left-hand; degrees in [0, 360)."""
     s = 1.0 if hand == "right" else -1.0
-    a = np.array([(s * (z - phase_z) * 360.0 / lead - phi) for phi, z, _ in roots])
-    return a % 360.0
+    a = np.array([(s * (z - phase_z) * 360.0 / lead - phi) for phi, z, _ in roots], dtype=float)
+    return a[np.isfinite(a)] % 360.0  # a root the section could not place (NaN) has no phase
 
 
 def assign_phases(measured: np.ndarray, expected: list[float]) -> list[dict]:

@@ -156,3 +156,16 @@ def test_bad_check_tables(tmp_path, table, msg):
     assert msg in str(e.value)
     line = int(str(e.value).split(":")[1])
     assert line > text.count("\n") - table.count("\n") - 2  # points into the [[check]] table
+
+
+def test_unmeasurable_values_are_none_not_nan():
+    """A root the section cannot place (NaN) has no phase, and a NaN that reaches a check record
+    is written as null (report.json is strict JSON; fuzz: a NaN phase spread ended in exit 3)."""
+    import numpy as np
+
+    from cutsim.reports.checks import _r
+    from cutsim.stock.measure import thread_phases
+
+    assert _r(float("nan")) is None and _r([1.0, float("inf")]) == [1.0, None]
+    ph = thread_phases([(0.0, float("nan"), 10.0), (0.0, 0.5, 10.0)], 2.0, "right", 0.0)
+    assert np.allclose(ph, [90.0])  # z = 0.5 on a 2 mm lead: a = 0.5 * 360 / 2 - 0
