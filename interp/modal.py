@@ -32,6 +32,15 @@ class InterpConfig:
     constants: dict[int, float] = field(default_factory=dict)
     max_blocks: int = MAX_BLOCKS  # [simulation] max_blocks
     tool_radii: dict[int, float] = field(default_factory=dict)  # tool number -> radius (mills; first = active at start)
+    # What only the setup can say about the machine (docs/setup.md; issues 12 and 16). Every name is
+    # upper case as the dialect normalises it; the interpreter names the setup key in its errors.
+    axes: dict[str, str] = field(default_factory=dict)  # [machine] axes: extra axis -> "rotary" | "linear"
+    m_functions: frozenset[int] = frozenset()  # [machine] m_functions: machine M codes that pass silently
+    h_functions: frozenset[int] = frozenset()  # [machine] h_functions (ISG H words)
+    variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: "$P_X", "$A_DBB[5]", "V.G.X"
+    work_offsets: dict[str, Vec3] = field(default_factory=dict)  # [work_offsets] "G54" = [x, y, z] (mm, machine frame)
+    subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute dirs, searched after the program's
+    tool_names: dict[str, int] = field(default_factory=dict)  # [[tool]] name -> number (T="DRILL 8.5")
 
 
 class ModalMachine:
