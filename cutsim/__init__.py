@@ -80,37 +80,37 @@ class Result:
     # measuring functions on the part (cutsim.stock.measure; mm and degrees, workpiece frame)
     def diameters_at(self, z: float, angles: int = 72):
         """Lathe: diameters at height z across angles // 2 directions (numpy array)."""
-        from cutsim.stock.measure import diameters_at
+        from cutsim.reports.measure import diameters_at
 
         return diameters_at(self.part, z, angles)
 
     def root_radius_at(self, z: float) -> float:
         """Lathe: smallest radius of the outer boundary at height z (a groove's root)."""
-        from cutsim.stock.measure import min_radius_at
+        from cutsim.reports.measure import min_radius_at
 
         return min_radius_at(self.part, z)
 
     def thread(self, zlo: float, zhi: float, angles: int = 36) -> dict:
         """Lathe: lead, hand, starts, pitch, root diameter and roots of the thread in [zlo, zhi]."""
-        from cutsim.stock.measure import measure_thread
+        from cutsim.reports.measure import measure_thread
 
         return measure_thread(self.part, zlo, zhi, angles)
 
     def depth_at(self, x: float, y: float):
         """Mill: z of the first surface met going down at (x, y) (None if none)."""
-        from cutsim.stock.measure import depth_at
+        from cutsim.reports.measure import depth_at
 
         return depth_at(self.part, x, y)
 
     def gap_at(self, point, direction: str):
         """Mill: (low, high) of the empty interval along "x"/"y" through point (x, y, z)."""
-        from cutsim.stock.measure import gap_at
+        from cutsim.reports.measure import gap_at
 
         return gap_at(self.part, point, direction)
 
     def compare(self, design) -> dict:
         """Gouge/excess volumes and worst deviation against a design (path or Manifold)."""
-        from cutsim.stock.measure import compare_design, load_solid
+        from cutsim.reports.measure import compare_design, load_solid
 
         return compare_design(self.part, load_solid(design) if isinstance(design, str) else design, self.stock)
 
@@ -179,7 +179,11 @@ def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConf
     m = setup.machine
     return InterpConfig(dialect=m.dialect, machine_kind=m.kind, diameter_programming=m.diameter_programming,
                         start=start, parameters=dict(setup.parameters), constants=dict(setup.constants),
-                        max_blocks=setup.max_blocks, tool_radii={t.number: t.diameter / 2.0 for t in setup.tools})
+                        max_blocks=setup.max_blocks, tool_radii={t.number: t.diameter / 2.0 for t in setup.tools},
+                        axes=dict(setup.axes), m_functions=frozenset(setup.m_functions),
+                        h_functions=frozenset(setup.h_functions), variables=dict(setup.variables),
+                        work_offsets=dict(setup.work_offsets), subprogram_path=tuple(setup.subprogram_path),
+                        tool_names=dict(setup.tool_names))
 
 
 def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,
@@ -225,7 +229,7 @@ def run_checks(setup: Setup, result: "Result", progress: Callable[[str, int, int
     """Evaluate the setup's [[check]] tables on ``result`` (records as in report.json);
     ``progress("checks", i, n)`` before each check and once at the end."""
     from cutsim.reports.checks import check_design, evaluate
-    from cutsim.stock.measure import load_solid
+    from cutsim.reports.measure import load_solid
 
     out = []
     for k, spec in enumerate(setup.checks):

@@ -27,7 +27,11 @@ TOOL_KEYS = {
     "profile": {"points", "thickness"},
     "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
     "ballmill": {"diameter", "length"},
+    "drill": {"diameter", "length", "point_angle"},
 }
+TOOL_COMMON = {"number", "kind", "name"}  # keys of every [[tool]]
+TOOL_NAME_MAX = 32  # characters (a Sinumerik tool name is a STRING[32])
+DRILL_LENGTH_FACTOR = 10.0  # a drill's default length: 10 x its diameter (a jobber drill's flutes)
 
 # [[check]] kinds and their keys besides kind and name (docs/checks.md)
 CHECK_KEYS = {
@@ -59,6 +63,14 @@ class Setup:
     max_blocks: int = MAX_BLOCKS
     max_triangles: int = DEFAULT_MAX_TRIANGLES
     stock_where: tuple[int, int] = (0, 0)  # line, column of the key that sizes the stock (errors of build_stock)
+    # what only the setup can say about the machine (docs/setup.md; interp.InterpConfig's fields of these names)
+    axes: dict[str, str] = field(default_factory=dict)  # [machine] axes: extra axis name -> "rotary" | "linear"
+    m_functions: frozenset[int] = frozenset()  # [machine] m_functions
+    h_functions: frozenset[int] = frozenset()  # [machine] h_functions
+    subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute folders
+    variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: upper-case name -> value
+    work_offsets: dict[str, tuple[float, float, float]] = field(default_factory=dict)  # [work_offsets]: "G54" -> xyz
+    tool_names: dict[str, int] = field(default_factory=dict)  # [[tool]] name (as written) -> number
 
 
 # Ranges of the setup's numbers (docs/setup.md). Coordinates and sizes in mm.
@@ -69,6 +81,17 @@ VALUE_MAX = 1e12  # |R parameter| and |machine constant|
 MAX_BLOCKS_LIMIT = 1_000_000_000
 MAX_TRIANGLES_RANGE = (1_000, 2_000_000_000)
 MAX_SETUP_BYTES = 16 * 1024 * 1024
+FUNCTION_MAX = 99_999  # [machine] m_functions / h_functions: numbers 0 to this
+STRING_MAX = 200  # characters of a string value in [variables] (a Sinumerik STRING holds at most 200)
+AXIS_KINDS = ("rotary", "linear")
+# extra axis names: A B C U V W, optionally with a number (A1, C2), or two or three letters with a
+# number (SP1; Sinumerik channel axis names, written NAME=value in the program). X, Y, Z are the machine's own.
+_AXIS_NAME = re.compile(r"[ABCUVW][0-9]{0,2}|[A-Z]{2,3}[0-9]{1,2}")
+# [variables] names (upper case, spaces inside [] removed): Sinumerik system variables $NAME[i, j]...,
+# ISG V.<scope>.NAME[i].FIELD..., and plain names (Sinumerik global user data, NAME[i]).
+_IDENT = r"[A-Z_][A-Z0-9_]*"
+_INDEX = r"\[[A-Z0-9_.+\-]+(?:,[A-Z0-9_.+\-]+)*\]"
+_VAR_NAME = re.compile(rf"\${_IDENT}(?:{_INDEX})*|V\.[A-Z]+(?:\.{_IDENT}(?:{_INDEX})*)+|{_IDENT}(?:{_INDEX})*")
 
 
 def _number(v) -> bool:
@@ -145,6 +168,11 @@ class _Reader:
         if hi - lo < MIN_SIZE:
             raise self.fail(key, f"the stock must be at least {MIN_SIZE:g} mm thick (got {hi - lo:g})")
 
+    def fail_at(self, key: str, sub: tuple, message: str) -> CutsimError:
+        """An error about a part of ``key``'s value (``sub``: element indexes / inner keys), at that part."""
+        path = tuple(self.where.split(".")) + ((self.index,) if self.index is not None else ()) + (key,) + sub
+        return CutsimError(self.loader.path, *self.loader.at(path), f"[{self.where}] {key}: {message}")
+
     def done(self) -> None:
         for key in self.table:
             if key not in self.used:
@@ -158,6 +186,17 @@ class _Loader:
         self.lines = text.splitlines()
 
         self._positions: dict[tuple, tuple[int, int]] | None = None
+
+    def at(self, path: tuple) -> tuple[int, int]:
+        """Line and column of the key or array element at ``path`` (table names, keys and element
+        indexes), else of the nearest enclosing one that is written; 1:1 when none is."""
+        if self._positions is None:
+            self.locate("", None, None)
+        while path:
+            if path in self._positions:
+                return self._positions[path]
+            path = path[:-1]
+        return (1, 1)
 
     def locate(self, table: str, key: str | None, index: int | None) -> tuple[int, int]:
         """Line and column of ``key`` in ``[table]`` (or its ``index``-th ``[[table]]``), however
@@ -179,10 +218,11 @@ class _Loader:
 
     def load(self, data: dict) -> Setup:
         for top in data:
-            if top not in ("machine", "parameters", "stock", "tool", "simulation", "check"):
+            if top not in ("machine", "parameters", "stock", "tool", "simulation", "check", "variables",
+                           "work_offsets"):
                 line, col = self.locate(top, None, None)
                 raise CutsimError(self.path, line, col, f"unknown table [{top}]")
-        for top in ("machine", "parameters", "stock", "simulation"):
+        for top in ("machine", "parameters", "stock", "simulation", "variables", "work_offsets"):
             if top in data and not isinstance(data[top], dict):
                 raise CutsimError(self.path, *self.locate(top, None, None),
                                   f"[{top}] must be a table, not {_show(data[top])}")
@@ -219,6 +259,10 @@ class _Loader:
             c = _Reader(self, consts, "machine.constants")
             constants[int(k)] = c.get(k, float, check=lambda v: abs(v) <= VALUE_MAX,
                                       why=f"must lie within -{VALUE_MAX:g} to {VALUE_MAX:g}")
+        axes = self.axes(m)
+        m_functions = self.functions(m, "m_functions", "M")
+        h_functions = self.functions(m, "h_functions", "H")
+        subprogram_path = self.subprogram_path(m)
         m.done()
         machine = MachineSpec(kind, dialect, diam, m03, start, rapid, feed)
 
@@ -240,11 +284,21 @@ class _Loader:
         if not isinstance(raw_tools, list):
             raise CutsimError(self.path, *self.locate("tool", None, None), "tools are written [[tool]] (an array of tables)")
         numbers = set()
+        tool_names: dict[str, int] = {}
+        folded: dict[str, str] = {}  # casefolded name -> the name as first written
         for i, t in enumerate(raw_tools):
             tool = self.tool(_Reader(self, t, "tool", i), i)
             if tool.number in numbers:
                 raise _Reader(self, t, "tool", i).fail("number", f"tool {tool.number} is defined twice")
             numbers.add(tool.number)
+            if tool.name:
+                other = folded.get(tool.name.casefold())
+                if other is not None:
+                    same = "names" if other == tool.name else f"differs only in case from {other!r}, which names"
+                    raise _Reader(self, t, "tool", i).fail(
+                        "name", f"{tool.name!r} {same} tool {tool_names[other]} already")
+                folded[tool.name.casefold()] = tool.name
+                tool_names[tool.name] = tool.number
             tools.append(tool)
         if not tools:
             raise CutsimError(self.path, 1, 1, "the setup needs at least one [[tool]]")
@@ -262,8 +316,133 @@ class _Loader:
         for i, c in enumerate(checks):
             if names.index(c["name"]) != i:
                 raise _Reader(self, raw_checks[i], "check", i).fail("name", f"{c['name']!r} names two checks")
+        variables = self.variables(data.get("variables", {}))
+        work_offsets = self.work_offsets(data.get("work_offsets", {}), dialect)
         return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks, max_blocks,
-                     max_triangles, stock_where)
+                     max_triangles, stock_where, axes=axes, m_functions=m_functions, h_functions=h_functions,
+                     subprogram_path=subprogram_path, variables=variables, work_offsets=work_offsets,
+                     tool_names=tool_names)
+
+    # -- what only the setup can say about the machine (docs/setup.md) -----------------------------
+    def axes(self, m: _Reader) -> dict[str, str]:
+        """[machine] axes = { A = "rotary", W = "linear" }: the machine's extra axes."""
+        table = m.get("axes", dict, {})
+        r = _Reader(self, table, "machine.axes")
+        out: dict[str, str] = {}
+        for k in table:
+            name = k.strip().upper()
+            if re.fullmatch(r"[XYZ][0-9]*", name):
+                raise r.fail(k, f"{name} is one of the machine's own axes X, Y, Z; declare only the extra ones "
+                                "(A, B, C, U, V, W, ...)")
+            if not _AXIS_NAME.fullmatch(name):
+                raise r.fail(k, "an axis name is A, B, C, U, V or W, optionally with a number (A1, C2), or two or "
+                                "three letters with a number (SP1)")
+            if name in out:
+                raise r.fail(k, f"axis {name} is declared twice")
+            out[name] = r.get(k, str, check=lambda v: v in AXIS_KINDS, why='must be "rotary" or "linear"')
+        return dict(sorted(out.items()))
+
+    def functions(self, m: _Reader, key: str, letter: str) -> frozenset[int]:
+        """[machine] m_functions / h_functions = [20, 70]: machine functions that pass silently."""
+        v = m.get(key, list, [])
+        for k, c in enumerate(v):
+            if isinstance(c, str) and re.fullmatch(rf"\s*{letter}\s*0*\d{{1,5}}\s*", c, re.I):
+                raise m.fail_at(key, (k,), f"write {c.strip()!r} as the number {int(c.strip()[1:])}")
+            if not isinstance(c, int) or isinstance(c, bool) or not 0 <= c <= FUNCTION_MAX:
+                raise m.fail_at(key, (k,), f"an {letter} function is a whole number from 0 to {FUNCTION_MAX}, "
+                                           f"not {_show(c)}")
+        return frozenset(v)
+
+    def subprogram_path(self, m: _Reader) -> tuple[str, ...]:
+        """[machine] subprogram_path = ["subs", ...]: folders searched for subprograms after the
+        program's own, relative to the setup file's folder; each must exist."""
+        v = m.get("subprogram_path", list, [])
+        base = os.path.dirname(os.path.abspath(self.path))
+        out: list[str] = []
+        for k, d in enumerate(v):
+            if not isinstance(d, str) or not d.strip():
+                raise m.fail_at("subprogram_path", (k,), f"a folder is a non-empty string, not {_show(d)}")
+            path = os.path.normpath(os.path.join(base, d))
+            if not os.path.isdir(path):
+                raise m.fail_at("subprogram_path", (k,), f"no such folder: {path}")
+            if path not in out:
+                out.append(path)
+        return tuple(out)
+
+    def variables(self, table: dict) -> dict[str, float | str]:
+        """[variables]: values of system variables, PLC data, machine data and global user data the
+        program reads. Names upper-cased, spaces inside [] removed; an unquoted dotted ISG name
+        (V.G.X = 1, a nested table to TOML) is joined back with dots."""
+        out: dict[str, float | str] = {}
+
+        def walk(tab: dict, parts: tuple):
+            for k, v in tab.items():
+                here = parts + (k,)
+                if isinstance(v, dict):
+                    walk(v, here)
+                    continue
+                written = ".".join(here)
+                head = f"[variables] {written}: "
+
+                def fail(message):
+                    return CutsimError(self.path, *self.at(("variables",) + here), head + message)
+
+                name = re.sub(r"\[[^\]]*\]", lambda mt: re.sub(r"\s+", "", mt.group()), written.strip().upper())
+                if not _VAR_NAME.fullmatch(name):
+                    raise fail("a variable name is a system variable ($P_TOOLNO, $A_DBB[5], $MA_JOG_VELO[X1]), an "
+                               "ISG V. variable (V.G.NAME, V.E.SPEED) or a global user data name (MYDATA[2]), "
+                               "written without spaces")
+                if re.fullmatch(r"R[0-9]+", name):
+                    raise fail(f"R parameters are set in [parameters] ({name} = ...)")
+                if name in out:
+                    raise fail(f"{name} is given twice")
+                if isinstance(v, bool):
+                    out[name] = 1.0 if v else 0.0
+                elif isinstance(v, (int, float)):
+                    if not _number(v) or abs(v) > VALUE_MAX:
+                        raise fail(f"must be a finite number within -{VALUE_MAX:g} to {VALUE_MAX:g}, not {_show(v)}")
+                    out[name] = float(v)
+                elif isinstance(v, str):
+                    if len(v) > STRING_MAX:
+                        raise fail(f"a string value has at most {STRING_MAX} characters (got {len(v)})")
+                    out[name] = v
+                else:
+                    raise fail(f"must be a number, a string or true/false, not {_show(v)}")
+
+        walk(table, ())
+        return dict(sorted(out.items()))
+
+    def work_offsets(self, table: dict, dialect: str) -> dict[str, tuple[float, float, float]]:
+        """[work_offsets] G54 = [x, y, z]: the settable work offsets (mm) the program selects."""
+        r = _Reader(self, table, "work_offsets")
+        if dialect == "sinumerik":
+            names = [f"G{n}" for n in (*range(54, 58), *range(505, 600))]
+            known = "G54 to G57 and G505 to G599"
+        else:
+            names = [f"G{n}" for n in range(54, 60)]
+            known = "G54 to G59"
+        out: dict[str, tuple[float, float, float]] = {}
+        for k in table:
+            name = k.strip().upper()
+            if name in ("G500", "G53", "G153", "SUPA"):
+                raise r.fail(k, f"{name} is no work offset (it switches the settable offsets off); "
+                                f"the offsets are {known}")
+            if dialect == "sinumerik" and name in ("G58", "G59"):
+                raise r.fail(k, f"on Sinumerik {name} is a programmable axial offset written in the program; "
+                                f"the settable offsets are {known}")
+            if name == "G92":
+                raise r.fail(k, "G92 is set by the program, not the setup")
+            if name not in names:
+                raise r.fail(k, f"the work offsets of {dialect} are {known}")
+            if name in out:
+                raise r.fail(k, f"{name} is given twice")
+            v = r.get(k, list)
+            if len(v) != 3 or not all(_number(c) for c in v):
+                raise r.fail(k, f"must be three finite numbers [x, y, z], not {_show(v)}")
+            if not all(_coord(c) for c in v):
+                raise r.fail(k, f"must lie within -{COORD_MAX:g} to {COORD_MAX:g} mm, not {_show(v)}")
+            out[name] = (float(v[0]), float(v[1]), float(v[2]))
+        return dict(sorted(out.items(), key=lambda kv: int(kv[0][1:])))
 
     def simulation(self, table: dict | None) -> tuple[float, bool, int, int]:
         """[simulation]: tolerance, fail_on_warning, max_blocks, max_triangles (read first: the
@@ -437,8 +616,11 @@ class _Loader:
         kind = t.get("kind", str, check=lambda v: v in TOOL_KEYS, why=f"must be one of {', '.join(TOOL_KEYS)}")
         allowed = TOOL_KEYS[kind]
         for k in t.table:
-            if k not in allowed | {"number", "kind"}:
-                raise t.fail(k, f"unknown key for a {kind} tool (known: {', '.join(sorted(allowed))})")
+            if k not in allowed | TOOL_COMMON:
+                raise t.fail(k, f"unknown key for a {kind} tool (known: {', '.join(sorted(allowed | {'name'}))})")
+        name = t.get("name", str, "", check=_tool_name_ok,
+                     why=f"must be 1 to {TOOL_NAME_MAX} characters without quotes, control characters or "
+                         "spaces at either end")
         # types here; ranges (docs/setup.md) in stock/tools.py, shared with tools built in Python
         from cutsim.stock.tools import SIZE_MAX, tool_problem
 
@@ -459,14 +641,47 @@ class _Loader:
                 kw["center_cutting"] = t.get("center_cutting", bool, True)
             else:
                 kw["corner_radius"] = kw["diameter"] / 2
+        if kind == "drill":
+            kw["diameter"] = t.get("diameter", float)
+            kw["length"] = t.get("length", float, min(DRILL_LENGTH_FACTOR * kw["diameter"], SIZE_MAX))
+            kw["point_angle"] = t.get("point_angle", float, 118.0)
         t.done()
         line, col = self.locate("tool", None, i)
-        spec = ToolSpec(number, kind, **kw, source=self.path, line=line, col=col)
+        spec = ToolSpec(number, kind, **kw, name=name, source=self.path, line=line, col=col)
         bad = tool_problem(spec)
+        if kind == "drill" and bad is not None and bad[0] == "kind":
+            bad = _drill_problem(spec)  # a stock/tools.py that does not know drills yet
         if bad is not None:
             key, why = bad
             raise t.fail(key, why)  # at the key's line, or the table's when the key is a default
         return spec
+
+
+def _tool_name_ok(v: str) -> bool:
+    return (0 < len(v) <= TOOL_NAME_MAX and v == v.strip() and '"' not in v
+            and all(c.isprintable() for c in v))
+
+
+def _drill_problem(tool: ToolSpec) -> tuple[str, str] | None:
+    """The first key of a drill outside its documented range (docs/setup.md) and why, or None: the
+    same ranges as stock/tools.py tool_problem, for as long as that does not know drills."""
+    from cutsim.stock.tools import ANGLE_MIN, MAX_FLUTE_RATIO, SIZE_MAX, SIZE_MIN
+
+    for key in ("diameter", "length"):
+        v = getattr(tool, key)
+        if not SIZE_MIN <= v <= SIZE_MAX:
+            return key, f"must be between {SIZE_MIN:g} and {SIZE_MAX:g} mm (got {v!r})"
+    a = tool.point_angle
+    if not ANGLE_MIN <= a <= 180:
+        return "point_angle", f"must be between {ANGLE_MIN:g} and 180 degrees (got {a!r})"
+    if tool.length > MAX_FLUTE_RATIO * tool.diameter:
+        return "length", (f"must be at most {MAX_FLUTE_RATIO:g} x the diameter ({MAX_FLUTE_RATIO * tool.diameter:g} mm) "
+                          f"(got {tool.length!r})")
+    h = 0.0 if a >= 180 else tool.diameter / 2 / math.tan(math.radians(a) / 2)
+    if tool.length < h:
+        return "length", (f"must be at least the height of the point ({h:g} mm for a {a:g} degree point of "
+                          f"diameter {tool.diameter:g}) (got {tool.length!r})")
+    return None
 
 
 def _area(pts) -> float:

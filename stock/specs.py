@@ -29,7 +29,7 @@ class StockSpec:
 @dataclass(frozen=True)
 class ToolSpec:
     number: int
-    kind: str  # "thread" | "turning" | "profile" | "endmill" | "ballmill" | "bullnose"
+    kind: str  # "thread" | "turning" | "profile" | "endmill" | "ballmill" | "bullnose" | "drill"
     angle: float = 60.0  # thread/turning: included angle of the V, degrees
     tip_radius: float = 0.0  # thread/turning: nose radius
     height: float = 10.0  # lathe tools: how far the profile reaches out from the tip, mm
@@ -39,6 +39,8 @@ class ToolSpec:
     length: float = 0.0  # mills: flute length
     corner_radius: float = 0.0  # mills: bull-nose corner radius (ballmill: diameter / 2)
     center_cutting: bool = True  # mills: can plunge (an end mill without centre cutting edges cannot)
+    point_angle: float = 118.0  # drill: included angle of the point, degrees (180 = flat)
+    name: str = field(default="", compare=False)  # [[tool]] name (T="DRILL 8.5"); not part of the shape
     # where the tool is defined: the setup file and the line/column of its [[tool]] header, for
     # errors about the tool's shape found when it is built (not part of the tool's identity)
     source: str = field(default="", compare=False)
