@@ -33,7 +33,7 @@ CHECK_SHRINK = 2.0  # tolerances the tool shrinks by for the collision checks
 
 
 def is_flat(tool: ToolSpec) -> bool:
-    return tool.kind == "endmill" and tool.corner_radius <= 0.0
+    return tool.kind == "endmill" and tool.corner_radius <= 0.0 or tool.kind == "drill" and tool.point_angle >= 180.0
 
 
 def is_constant_z(path: SpatialPath) -> bool:
@@ -380,12 +380,12 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> li
     ball-end mill, mitred tubes along planar stretches (stock/tube.py) closed by the tool's body at
     their ends; everything else hulls of merged runs of poses."""
     from . import tube
-    from .tools import mill_body
+    from .tools import full_height, mill_body
 
     def body(p: np.ndarray, h: float | None) -> np.ndarray:
         return mill_body(tool, tol, h)[0] + p
 
-    rc = min(tool.corner_radius, tool.diameter / 2.0)
+    rc = full_height(tool)  # the corner of a mill, the point of a drill
 
     def plane(p: np.ndarray) -> float:
         """Where the bodies of the poses ``p`` are cut off: above the stock and above every corner

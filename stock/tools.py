@@ -39,6 +39,7 @@ MAX_FLUTE_RATIO = 1000.0
 
 LATHE_KINDS = ("thread", "turning", "profile")
 MILL_KINDS = ("endmill", "ballmill")
+POINT_ANGLE_MAX = 180.0  # degrees: a drill's included point angle (180: a flat end)
 
 
 def _size(tool: ToolSpec, key: str, zero_ok: bool = False) -> tuple[str, str] | None:
@@ -74,6 +75,22 @@ def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
             return p
         why = polygon_problem(np.array(tool.points, dtype=float).reshape(-1, 2))
         return ("points", why) if why else None
+    if tool.kind == "drill":
+        for key in ("diameter", "length"):
+            p = _size(tool, key)
+            if p:
+                return p
+        a = tool.point_angle
+        if not (isinstance(a, (int, float)) and math.isfinite(a) and ANGLE_MIN <= a <= POINT_ANGLE_MAX):
+            return "point_angle", f"must be between {ANGLE_MIN:g} and {POINT_ANGLE_MAX:g} degrees (got {a!r})"
+        if tool.length > MAX_FLUTE_RATIO * tool.diameter:
+            return "length", (f"must be at most {MAX_FLUTE_RATIO:g} x the diameter ({MAX_FLUTE_RATIO * tool.diameter:g} mm) "
+                              f"(got {tool.length!r})")
+        h = point_height(tool)
+        if tool.length < h:
+            return "length", (f"must be at least the height of the point ({h:g} mm for a {a:g} degree point of "
+                              f"diameter {tool.diameter:g}) (got {tool.length!r})")
+        return None
     if tool.kind in MILL_KINDS or tool.kind == "bullnose":
         for key in ("diameter", "length"):
             p = _size(tool, key)
@@ -232,8 +249,10 @@ def checked_mill(tool: ToolSpec, tol: float) -> float:
     finite or too large, or the body is (nearly) empty. Cached: hull sweeps ask for every pose.
     (Not the lower ends of the ranges: the collision checks sweep the tool shrunk by a few
     tolerances, which may take a tool at the smallest size below it.)"""
-    if tool.kind not in MILL_KINDS and tool.kind != "bullnose":
+    if tool.kind not in MILL_KINDS and tool.kind not in ("bullnose", "drill"):
         raise tool_error(tool, f"a {tool.kind} tool is not a mill")
+    if tool.kind == "drill":
+        check_tool(tool)
     for key in ("diameter", "length", "corner_radius"):
         v = getattr(tool, key)
         if not (math.isfinite(v) and 0 <= v <= SIZE_MAX):
@@ -245,8 +264,46 @@ def checked_mill(tool: ToolSpec, tol: float) -> float:
     return vol
 
 
+def point_height(tool: ToolSpec) -> float:
+    """A drill's point: how far above the tip the cone of the included ``point_angle`` reaches the
+    full diameter, r / tan(point_angle / 2) (0 for a flat 180 degree end)."""
+    half = math.radians(tool.point_angle) / 2.0
+    return 0.0 if tool.point_angle >= POINT_ANGLE_MAX else (tool.diameter / 2.0) / math.tan(half)
+
+
+def full_height(tool: ToolSpec) -> float:
+    """Height above the tip from which the tool's section is its full circle: the corner radius of
+    a mill, the point of a drill."""
+    if tool.kind == "drill":
+        return point_height(tool)
+    return min(tool.corner_radius, tool.diameter / 2.0)
+
+
+def _drill_cloud(tool: ToolSpec, n: int, ring: np.ndarray, top: float) -> np.ndarray:
+    """A drill: the tip (the control point) at the origin, the cone of the point up to its full
+    diameter, the cylinder above it up to ``top``; the rings as the mills' (perimeter-true)."""
+    r = tool.diameter / 2.0
+    hp = point_height(tool)
+    pts = []
+    if hp > 0:
+        pts.append(np.array([[0.0, 0.0, 0.0]]))
+    for z in (min(hp, top), top) if top > hp else (top,):
+        rad = r if hp <= 0 else r * min(1.0, z / hp)
+        if rad > 1e-12:
+            pts.append(np.column_stack([ring * rad, np.full(n, z)]))
+    if len(pts) == 1 and len(pts[0]) == 1:  # cut off at the very tip: a point
+        return pts[0]
+    return np.vstack(pts)
+
+
 def _mill_cloud(tool: ToolSpec, tol: float, height: float | None) -> np.ndarray:
     r = tool.diameter / 2.0
+    if tool.kind == "drill":
+        top = tool.length if height is None else min(tool.length, max(0.0, height))
+        n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
+        ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
+        ring = np.column_stack([np.cos(ang), np.sin(ang)]) * (math.pi / (n * math.sin(math.pi / n)))
+        return _drill_cloud(tool, n, ring, top)
     rc = min(tool.corner_radius, r)
     top = tool.length if height is None else min(tool.length, max(0.0, height))
     n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
