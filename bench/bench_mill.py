@@ -231,7 +231,7 @@ def design_compare() -> None:
     """compare_design on a ~26k-triangle pocket (300 moves, tolerance 0.002) against the same
     pocket 0.05 mm shallower: once with a gouge (part deeper than the design), once with excess."""
     import cutsim
-    from cutsim.stock.measure import compare_design
+    from cutsim.reports.measure import compare_design
 
     parts = []
     for depth in ("-2", "-1.95"):

@@ -42,6 +42,7 @@ from xml.sax.saxutils import escape as _xml_escape
 
 import click
 
+from cutsim.interp import DIALECTS
 from cutsim.interp.errors import CutsimError
 
 DEFAULT_TIMEOUT = 1800.0  # s per job
@@ -55,7 +56,6 @@ _STDERR_KEEP = 4000
 PASSED, FAILED = "passed", "failed"
 ERROR_STATUSES = ("error", "timeout", "memory", "crashed", "interrupted", "lost")
 SIMULATED_EXITS = (0, 1)
-_SUB_EXTS = (".spf", ".mpf", ".nc")
 _JOB_KEYS = {"name", "program", "setup", "tolerance", "timeout", "memory", "images", "expect"}
 _EXPECT_KEYS = {"exit", "removed_volume", "removed_volume_tol", "reference", "reference_tol", "report"}
 _DEFAULT_KEYS = {"tolerance", "timeout", "memory", "images", "expect"}
@@ -422,6 +422,11 @@ def code_key() -> str:
     return _CODE_KEY
 
 
+def _subprogram_extensions() -> frozenset[str]:
+    """The file extensions of programs and subprograms, of every registered dialect (interp.DIALECTS)."""
+    return frozenset(e.lower() for d in DIALECTS.values() for e in d.extensions)
+
+
 def _referenced_files(program: str, setup: str) -> list[str]:
     """Files a job reads besides its program and setup: the setup's mesh stock and design files,
     and subprogram files beside the program that the program (or one of them) names."""
@@ -439,9 +444,9 @@ def _referenced_files(program: str, setup: str) -> list[str]:
     except (OSError, ValueError, tomllib.TOMLDecodeError):
         pass
     try:
-        d = os.path.dirname(os.path.abspath(program))
+        d, exts = os.path.dirname(os.path.abspath(program)), _subprogram_extensions()
         subs = {os.path.splitext(f)[0].upper(): os.path.join(d, f) for f in sorted(os.listdir(d), reverse=True)
-                if os.path.splitext(f)[1].lower() in _SUB_EXTS}
+                if os.path.splitext(f)[1].lower() in exts}
         todo, seen = [os.path.abspath(program)], set()
         while todo:
             p = todo.pop()
@@ -624,7 +629,7 @@ def _compare_in_child(part: str, ref: str, payload: dict) -> dict:
 
 def compare_solids(part_path: str, ref_path: str) -> dict:
     """Volumes of part - reference and reference - part (mm^3), with manifold3d booleans."""
-    from cutsim.stock.measure import load_solid
+    from cutsim.reports.measure import load_solid
 
     a, b = load_solid(part_path), load_solid(ref_path)
     return {"part_minus_reference": round((a - b).volume(), 6), "reference_minus_part": round((b - a).volume(), 6)}

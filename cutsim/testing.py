@@ -60,7 +60,7 @@ def assert_matches_design(result, design, tol: float, *, max_gouge: float | None
     """The part deviates from ``design`` (a mesh file path, a manifold3d.Manifold or a
     trimesh.Trimesh) by at most ``tol`` mm anywhere, and optionally the gouge / excess volumes
     stay under their limits (mm^3). Returns the check record."""
-    from cutsim.stock.measure import load_solid
+    from cutsim.reports.measure import load_solid
 
     if isinstance(design, str) or hasattr(design, "__fspath__"):
         path, man = str(design), load_solid(str(design))

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from cutsim.interp.canon import Src
+from cutsim.interp.modal import PLANE_AXES
 from cutsim.stock.specs import ToolSpec
 
 
@@ -64,11 +65,6 @@ class ScrewPath:
                 z = z + rp.offset * frac
         phi = np.radians(self.phi0 + self.sense * 360.0 * self.revolutions * s)
         return r, z, phi
-
-    def radius_range(self) -> tuple[float, float]:
-        s = np.array(self.breakpoints())
-        r, _, _ = self.pose(s)
-        return float(r.min()), float(r.max())
 
 
 @dataclass(frozen=True)
@@ -159,8 +155,6 @@ def _arc_angles(p0, p1, c, a: int, b: int, clockwise: bool, full: bool) -> tuple
 
 def arc_points(start, end, center, plane: str, clockwise: bool, full: bool, tol: float) -> np.ndarray:
     """Points along an arc/helix (physical coordinates), chord error at most ``tol``; includes both ends."""
-    from cutsim.interp.modal import PLANE_AXES
-
     a, b, n = PLANE_AXES[plane]
     p0, p1, c = (np.asarray(v, dtype=float) for v in (start, end, center))
     r = math.hypot(p0[a] - c[a], p0[b] - c[b])

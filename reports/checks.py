@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from cutsim.stock import measure as M
+from . import measure as M
 
 KINDS = ("diameter", "thread", "ramp", "slot", "pocket", "depth", "volume", "design")
 
@@ -191,10 +191,6 @@ EVALUATORS = {"diameter": check_diameter, "thread": check_thread, "ramp": check_
 def evaluate(spec: dict, result) -> dict:
     """One check record for ``spec`` on ``result``."""
     return EVALUATORS[spec["kind"]](spec, result)
-
-
-def evaluate_all(specs: list[dict], result) -> list[dict]:
-    return [evaluate(s, result) for s in specs]
 
 
 def format_failures(records: list[dict]) -> str:

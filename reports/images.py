@@ -350,7 +350,7 @@ def _polys(cs):
 # ------------------------------------------------------------------------------------------------
 def _lathe_sections(result, window=None):
     """(part, stock, removed) half-sections at C0 as (z, r) polygon lists, clipped to ``window``."""
-    from cutsim.stock import measure as M
+    from cutsim.reports import measure as M
 
     part = _cs(_swap(M.half_plane_section(result.part, 0.0)))
     stock = _cs(_swap(M.half_plane_section(result.stock, 0.0)))
@@ -423,7 +423,7 @@ def _fit_flank(z, r, lo, hi):
 def thread_view(result, spec, index: int) -> View:
     """Lathe: 2.5 pitches of the ``thread`` check ``spec`` around the middle of its range at C0,
     with measured root and crest diameters, pitch and flank angles."""
-    from cutsim.stock import measure as M
+    from cutsim.reports import measure as M
 
     zlo, zhi = spec["z"]
     m = M.measure_thread(result.part, zlo, zhi, spec.get("angles", 36))
@@ -518,7 +518,7 @@ def thread_view(result, spec, index: int) -> View:
 def ramp_view(result, spec, index: int) -> View:
     """Lathe: the section at C0 over a ``ramp`` check with the measured root radius (over all
     angles) and the expected ramp."""
-    from cutsim.stock import measure as M
+    from cutsim.reports import measure as M
 
     (za, zb), (ra, rb) = spec["z"], spec["radius"]
     zs, rs = M.root_radius_profile(result.part, za, zb, spec.get("step", 0.25))
@@ -716,7 +716,7 @@ def face_deviation(part, design, progress=None, chunk: int = 2000
     """Part mesh (vertices, faces), per face the signed distance from its centroid to the design
     surface (positive outside the design: excess; negative inside: gouge) and the centroids.
     Computed in chunks of ``chunk`` faces with ``progress("deviation", i, n)`` (faces done)."""
-    from cutsim.stock.measure import _point_triangle_distance
+    from cutsim.reports.measure import _point_triangle_distance
 
     pv_, pf = _arrays(part)
     dv, df = _arrays(design)
@@ -745,7 +745,7 @@ def _nearest_on_triangles(pts: np.ndarray, tri: np.ndarray):
     that bound, holds the point can be nearer."""
     from scipy.spatial import cKDTree
 
-    from cutsim.stock.measure import _closest_on_triangles
+    from cutsim.reports.measure import _closest_on_triangles
 
     n, m = len(pts), len(tri)
     cen = tri.mean(axis=1)
@@ -851,7 +851,7 @@ def deviation_view(result, design, spec=None, progress=None) -> View:
 def views(result, progress=None):
     """The views of ``result`` as :class:`View` objects, rendered one by one (a generator, so only
     one plotter is open at a time). ``progress(stage, i, n)`` is called as they are made."""
-    from cutsim.stock.measure import load_solid
+    from cutsim.reports.measure import load_solid
 
     checks = result.setup.checks
     lathe = result.setup.machine.kind == "lathe"

@@ -164,7 +164,7 @@ def test_unmeasurable_values_are_none_not_nan():
     import numpy as np
 
     from cutsim.reports.checks import _r
-    from cutsim.stock.measure import thread_phases
+    from cutsim.reports.measure import thread_phases
 
     assert _r(float("nan")) is None and _r([1.0, float("inf")]) == [1.0, None]
     ph = thread_phases([(0.0, float("nan"), 10.0), (0.0, 0.5, 10.0)], 2.0, "right", 0.0)

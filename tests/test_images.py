@@ -196,7 +196,7 @@ def test_top_view_colours_floors(slot_deep):
 
 
 def test_deviation_per_face(slot_deep):
-    from cutsim.stock.measure import load_solid
+    from cutsim.reports.measure import load_solid
 
     spec = [c for c in slot_deep.setup.checks if c["kind"] == "design"][0]
     view = I.deviation_view(slot_deep, load_solid(spec["path"]), spec)
@@ -280,7 +280,7 @@ def test_nearest_on_triangles_is_exact():
     """The deviation map's pruned nearest-triangle search finds the same distances as trying every
     triangle (small sizes: cutsim.stock.measure's brute force), for a mix of large and small
     triangles and points on, near and far from them."""
-    from cutsim.stock.measure import _point_triangle_distance
+    from cutsim.reports.measure import _point_triangle_distance
 
     rng = np.random.default_rng(7)
     small = rng.uniform(0, 50, (600, 1, 3)) + rng.normal(0, 0.8, (600, 3, 3))
