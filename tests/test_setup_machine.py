@@ -1,0 +1,331 @@
+"""What only the setup can say (docs/setup.md; issues 12 and 16): [machine] axes, m_functions,
+h_functions, subprogram_path; [variables]; [work_offsets]; [[tool]] name; drill tools.
+
+Every key: a good value reaches the interpreter's InterpConfig (cutsim.load_setup + interp_config),
+and a bad one is exit 2 from the command line at the key's (or the array element's) SETUP:LINE:COL.
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import pytest
+from click.testing import CliRunner
+
+import cutsim
+from cutsim import CutsimError, interp_config
+from cutsim.cli import main
+
+BASE = """\
+[machine]
+kind = "mill"
+dialect = "sinumerik"
+
+[stock]
+shape = "box"
+x = [0, 50]
+y = [0, 40]
+z = [-10, 0]
+
+[[tool]]
+number = 1
+kind = "endmill"
+diameter = 6
+"""
+
+PROGRAM = "G0 X10 Y10 Z5\nG1 Z-1 F100\nM30\n"
+
+
+def with_machine(lines: str, base: str = BASE) -> str:
+    """BASE with ``lines`` added at the end of [machine]."""
+    return base.replace('dialect = "sinumerik"\n', 'dialect = "sinumerik"\n' + lines, 1)
+
+
+def config(tmp_path, text: str):
+    p = tmp_path / "setup.toml"
+    p.write_text(text)
+    return interp_config(cutsim.load_setup(str(p)), (0.0, 0.0, 0.0))
+
+
+def _at(text: str, needle: str, last: bool = False) -> tuple[int, int]:
+    """1-based line and column of the first (``last``: the last) ``needle`` in ``text`` (counted
+    here, not by the loader)."""
+    i = text.rindex(needle) if last else text.index(needle)
+    return text.count("\n", 0, i) + 1, i - (text.rfind("\n", 0, i) + 1) + 1
+
+
+def cli_error(tmp_path, text: str, needle: str, fragments, last: bool = False) -> str:
+    """Run ``cutsim moves`` with the setup ``text``: exit 2, the message at ``needle``'s line:col."""
+    setup = tmp_path / "setup.toml"
+    setup.write_text(text)
+    prog = tmp_path / "p.mpf"
+    prog.write_text(PROGRAM)
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(setup)])
+    line, col = _at(text, needle, last)
+    assert res.exit_code == 2, res.output
+    assert res.output.startswith(f"{setup}:{line}:{col}: error: "), (res.output, line, col)
+    assert "Traceback" not in res.output
+    for f in fragments:
+        assert f in res.output, res.output
+    return res.output
+
+
+def test_defaults_are_empty(tmp_path):
+    c = config(tmp_path, BASE)
+    assert c.axes == {} and c.m_functions == frozenset() and c.h_functions == frozenset()
+    assert c.variables == {} and c.work_offsets == {} and c.subprogram_path == () and c.tool_names == {}
+
+
+def test_the_good_setup_runs(tmp_path):
+    """All the new keys at once: the CLI interprets the program (exit 0)."""
+    (tmp_path / "subs").mkdir()
+    text = with_machine('axes = { A = "rotary" }\nm_functions = [20]\nh_functions = [7]\nsubprogram_path = ["subs"]\n')
+    text += '\n[variables]\n"$P_TOOLNO" = 1\n\n[work_offsets]\nG54 = [0, 0, 0]\n'
+    setup = tmp_path / "setup.toml"
+    setup.write_text(text.replace('diameter = 6\n', 'diameter = 6\nname = "MILL 6"\n'))
+    prog = tmp_path / "p.mpf"
+    prog.write_text(PROGRAM)
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(setup)])
+    assert res.exit_code == 0, res.output
+
+
+# -- [machine] axes ---------------------------------------------------------------------------------
+def test_axes_reach_the_interpreter(tmp_path):
+    c = config(tmp_path, with_machine('axes = { a = "rotary", W = "linear", C1 = "rotary", SP1 = "rotary" }\n'))
+    assert c.axes == {"A": "rotary", "C1": "rotary", "SP1": "rotary", "W": "linear"}
+    c = config(tmp_path, BASE + '\n[machine.axes]\nB = "rotary"\nU = "linear"\nV = "linear"\n')
+    assert c.axes == {"B": "rotary", "U": "linear", "V": "linear"}
+
+
+@pytest.mark.parametrize("axes,needle,fragments", [
+    ('{ X = "linear" }', "X =", ["[machine.axes] X", "own axes X, Y, Z"]),
+    ('{ A = "rotary", z2 = "linear" }', "z2", ["[machine.axes] z2", "own axes"]),
+    ('{ Q = "rotary" }', "Q =", ["[machine.axes] Q", "an axis name is A, B, C, U, V or W"]),
+    ('{ R1 = "rotary" }', "R1", ["an axis name is"]),
+    ('{ "A 1" = "rotary" }', '"A 1"', ["an axis name is"]),
+    ('{ A = "round" }', "A =", ["[machine.axes] A", '"rotary" or "linear"']),
+    ('{ A = 1 }', "A =", ["[machine.axes] A", "must be a string"]),
+    ('{ A = "rotary", a = "linear" }', "a =", ["axis A is declared twice"]),
+    ('["A"]', "axes", ["[machine] axes", "must be a table"]),
+])
+def test_bad_axes(tmp_path, axes, needle, fragments):
+    text = with_machine(f"axes = {axes}\n")
+    cli_error(tmp_path, text, needle, fragments)
+
+
+# -- [machine] m_functions / h_functions ------------------------------------------------------------
+def test_machine_functions_reach_the_interpreter(tmp_path):
+    c = config(tmp_path, with_machine("m_functions = [20, 70, 73, 70, 0, 99999]\nh_functions = [1, 2]\n"))
+    assert c.m_functions == frozenset({0, 20, 70, 73, 99999}) and c.h_functions == frozenset({1, 2})
+
+
+@pytest.mark.parametrize("line,needle,fragments", [
+    ("m_functions = [20, 100000]", "100000", ["[machine] m_functions", "whole number from 0 to 99999", "100000"]),
+    ("m_functions = [-1]", "-1", ["[machine] m_functions", "from 0 to 99999"]),
+    ("m_functions = [20, 2.5]", "2.5", ["not 2.5"]),
+    ("m_functions = [true]", "true", ["not True"]),
+    ('m_functions = [20, "M73"]', '"M73"', ["write 'M73' as the number 73"]),
+    ("m_functions = 20", "m_functions", ["[machine] m_functions", "must be a list"]),
+    ("h_functions = [\n  1,\n  1e3,\n]", "1e3", ["[machine] h_functions", "an H function"]),
+    ('h_functions = ["H5"]', '"H5"', ["write 'H5' as the number 5"]),
+])
+def test_bad_machine_functions(tmp_path, line, needle, fragments):
+    cli_error(tmp_path, with_machine(line + "\n"), needle, fragments)
+
+
+# -- [machine] subprogram_path ----------------------------------------------------------------------
+def test_subprogram_path_is_absolute_from_the_setup_folder(tmp_path):
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "lib" / "cycles").mkdir(parents=True)
+    other = tmp_path / "elsewhere"
+    other.mkdir()
+    c = config(tmp_path, with_machine(f'subprogram_path = ["subs", "lib/cycles/", ".", "./subs", {str(other)!r}]\n'))
+    assert c.subprogram_path == (str(tmp_path / "subs"), str(tmp_path / "lib" / "cycles"), str(tmp_path), str(other))
+    assert all(os.path.isabs(p) for p in c.subprogram_path)
+
+
+@pytest.mark.parametrize("line,needle,fragments", [
+    ('subprogram_path = ["subs", "missing"]', '"missing"', ["[machine] subprogram_path", "no such folder", "missing"]),
+    ('subprogram_path = ["p.mpf"]', '"p.mpf"', ["no such folder"]),  # a file is not a folder
+    ('subprogram_path = ["subs", 3]', "3]", ["a folder is a non-empty string, not 3"]),
+    ('subprogram_path = [""]', '""', ["a folder is a non-empty string"]),
+    ('subprogram_path = "subs"', "subprogram_path", ["must be a list"]),
+])
+def test_bad_subprogram_path(tmp_path, line, needle, fragments):
+    (tmp_path / "subs").mkdir()
+    cli_error(tmp_path, with_machine(line + "\n"), needle, fragments)
+
+
+# -- [variables] --------------------------------------------------------------------------------------
+def test_variables_reach_the_interpreter(tmp_path):
+    text = BASE + """
+[variables]
+"$P_TOOLNO" = 3
+"$a_dbb[ 5 ]" = 0
+"$MA_JOG_VELO[X1]" = 2000.5
+"$P_UIFR[1, X, TR]" = -2.5
+" $TC_DP1[1,1] " = 120
+V.G.NAME = 1
+"V.E.SPEED" = 800
+"V.G.WZ[2].L" = true
+"V.P.FLAG" = false
+MYDATA = "text as written"
+"GUD_ARR[2]" = 4
+
+[variables.V.L]
+COUNT = 7
+"""
+    c = config(tmp_path, text)
+    assert c.variables == {
+        "$P_TOOLNO": 3.0, "$A_DBB[5]": 0.0, "$MA_JOG_VELO[X1]": 2000.5, "$P_UIFR[1,X,TR]": -2.5,
+        "$TC_DP1[1,1]": 120.0, "V.G.NAME": 1.0, "V.E.SPEED": 800.0, "V.G.WZ[2].L": 1.0, "V.P.FLAG": 0.0,
+        "MYDATA": "text as written", "GUD_ARR[2]": 4.0, "V.L.COUNT": 7.0}
+    assert all(isinstance(v, float) for k, v in c.variables.items() if k != "MYDATA")
+
+
+@pytest.mark.parametrize("lines,needle,fragments", [
+    ('"$A DBB[5]" = 0', '"$A DBB', ["[variables] $A DBB[5]", "a variable name is"]),
+    ('"$P_TOOLNO[" = 0', '"$P_TOOLNO[', ["a variable name is"]),
+    ('"1ABC" = 0', '"1ABC"', ["a variable name is"]),
+    ('"V..X" = 0', '"V..X"', ["a variable name is"]),
+    ('"$P_TOOLNO" = 1\n"$p_toolno" = 2', '"$p_toolno"', ["$P_TOOLNO is given twice"]),
+    ("R4 = 1", "R4", ["R parameters are set in [parameters]"]),
+    ('"$P_X" = [1, 2]', '"$P_X"', ["must be a number, a string or true/false"]),
+    ('"$P_X" = nan', '"$P_X"', ["finite number"]),
+    ('"$P_X" = 1e13', '"$P_X"', ["within -1e+12 to 1e+12"]),
+    ('"$P_X" = "' + "s" * 201 + '"', '"$P_X"', ["at most 200 characters"]),
+    ("V.G.X.Y = 1\n\"V.G.X.Y\" = 2", '"V.G.X.Y"', ["V.G.X.Y is given twice"]),
+])
+def test_bad_variables(tmp_path, lines, needle, fragments):
+    text = BASE + "\n[variables]\n" + lines + "\n"
+    cli_error(tmp_path, text, needle, fragments)
+
+
+def test_variables_must_be_a_table(tmp_path):
+    text = "variables = 3\n" + BASE
+    cli_error(tmp_path, text, "variables", ["[variables] must be a table"])
+
+
+def test_dotted_variable_error_points_at_its_key(tmp_path):
+    # V.G.NAME unquoted is a dotted key: the error is on its line (at the name's last part)
+    text = BASE + "\n[variables]\nV.G.NAME = [1]\n"
+    cli_error(tmp_path, text, "NAME =", ["[variables] V.G.NAME", "must be a number"])
+
+
+# -- [work_offsets] -----------------------------------------------------------------------------------
+def test_work_offsets_reach_the_interpreter(tmp_path):
+    text = BASE + "\n[work_offsets]\ng54 = [10, 20.5, -5]\nG599 = [0, 0, 100000]\nG505 = [-1, -2, -3]\nG57 = [1, 1, 1]\n"
+    c = config(tmp_path, text)
+    assert c.work_offsets == {"G54": (10.0, 20.5, -5.0), "G57": (1.0, 1.0, 1.0), "G505": (-1.0, -2.0, -3.0),
+                              "G599": (0.0, 0.0, 100000.0)}
+    isg = BASE.replace('"sinumerik"', '"isg"') + "\n[work_offsets]\nG58 = [1, 2, 3]\nG59 = [4, 5, 6]\n"
+    c = config(tmp_path, isg)
+    assert c.work_offsets == {"G58": (1.0, 2.0, 3.0), "G59": (4.0, 5.0, 6.0)}
+
+
+@pytest.mark.parametrize("dialect,line,needle,fragments", [
+    ("sinumerik", "G500 = [0, 0, 0]", "G500", ["[work_offsets] G500", "no work offset"]),
+    ("sinumerik", "G53 = [0, 0, 0]", "G53", ["no work offset"]),
+    ("sinumerik", "G58 = [0, 0, 0]", "G58", ["programmable axial offset"]),
+    ("sinumerik", "G504 = [0, 0, 0]", "G504", ["G54 to G57 and G505 to G599"]),
+    ("sinumerik", "G600 = [0, 0, 0]", "G600", ["G54 to G57 and G505 to G599"]),
+    ("isg", "G505 = [0, 0, 0]", "G505", ["the work offsets of isg are G54 to G59"]),
+    ("isg", "G92 = [0, 0, 0]", "G92", ["set by the program"]),
+    ("sinumerik", "G54 = [1, 2]", "G54", ["three finite numbers [x, y, z]"]),
+    ("sinumerik", "G54 = [1, 2, inf]", "G54", ["three finite numbers"]),
+    ("sinumerik", "G54 = [1, 2, 1e6]", "G54", ["within -100000 to 100000 mm"]),
+    ("sinumerik", "G54 = 5", "G54", ["must be a list"]),
+    ("sinumerik", "G54 = [0, 0, 0]\ng54 = [1, 1, 1]", "g54", ["G54 is given twice"]),
+])
+def test_bad_work_offsets(tmp_path, dialect, line, needle, fragments):
+    text = BASE.replace('"sinumerik"', f'"{dialect}"') + "\n[work_offsets]\n" + line + "\n"
+    cli_error(tmp_path, text, needle, fragments)
+
+
+# -- [[tool]] name ------------------------------------------------------------------------------------
+def test_tool_names_reach_the_interpreter(tmp_path):
+    text = BASE + '\n[[tool]]\nnumber = 7\nkind = "drill"\ndiameter = 8.5\nname = "DRILL 8.5"\n' \
+                  '\n[[tool]]\nnumber = 8\nkind = "endmill"\ndiameter = 10\nname = "Fraeser_10"\n'
+    c = config(tmp_path, text)
+    assert c.tool_names == {"DRILL 8.5": 7, "Fraeser_10": 8}  # as written; the unnamed tool 1 has none
+    s = cutsim.load_setup(str(tmp_path / "setup.toml"))
+    assert [t.name for t in s.tools] == ["", "DRILL 8.5", "Fraeser_10"]
+
+
+@pytest.mark.parametrize("name,needle,fragments", [
+    ('""', 'name = ""', ["[[tool]] #1 name", "1 to 32 characters"]),
+    ('"' + "D" * 33 + '"', "name =", ["1 to 32 characters"]),
+    ('" DRILL"', "name =", ["spaces at either end"]),
+    ("'A\"B'", "name =", ["without quotes"]),
+    ('"A\\tB"', "name =", ["control characters"]),
+    ("5", "name =", ["[[tool]] #1 name", "must be a string"]),
+])
+def test_bad_tool_names(tmp_path, name, needle, fragments):
+    text = BASE.replace("diameter = 6\n", f"diameter = 6\nname = {name}\n")
+    cli_error(tmp_path, text, needle, fragments)
+
+
+def test_tool_names_are_unique_ignoring_case(tmp_path):
+    text = BASE.replace("diameter = 6\n", 'diameter = 6\nname = "Drill"\n') + \
+        '\n[[tool]]\nnumber = 2\nkind = "endmill"\ndiameter = 4\nname = "DRILL"\n'
+    cli_error(tmp_path, text, 'name = "DRILL"', ["[[tool]] #2 name", "differs only in case from 'Drill'",
+                                                  "tool 1"])
+    text = text.replace('name = "DRILL"', 'name = "Drill"')
+    cli_error(tmp_path, text, 'name = "Drill"', ["'Drill' names tool 1 already"], last=True)
+
+
+# -- drill tools ----------------------------------------------------------------------------------------
+def test_drill_defaults_and_values(tmp_path):
+    text = BASE + '\n[[tool]]\nnumber = 2\nkind = "drill"\ndiameter = 8.5\n' \
+                  '\n[[tool]]\nnumber = 3\nkind = "drill"\ndiameter = 10\nlength = 40\npoint_angle = 180\n'
+    p = tmp_path / "setup.toml"
+    p.write_text(text)
+    s = cutsim.load_setup(str(p))
+    d = s.tools[1]
+    assert (d.kind, d.diameter, d.length, d.point_angle) == ("drill", 8.5, 85.0, 118.0)  # length: 10 x diameter
+    assert not d.is_lathe_tool
+    flat = s.tools[2]
+    assert (flat.diameter, flat.length, flat.point_angle) == (10.0, 40.0, 180.0)
+    assert interp_config(s, (0, 0, 0)).tool_radii == {1: 3.0, 2: 4.25, 3: 5.0}
+
+
+def test_drill_point_must_fit_its_length(tmp_path):
+    """A 10 mm drill at 90 degrees has a point 5 / tan(45) = 5 mm long: length 5.01 is accepted, 4.99 is not."""
+    base = BASE + '\n[[tool]]\nnumber = 2\nkind = "drill"\ndiameter = 10\npoint_angle = 90\n'
+    assert config(tmp_path, base + "length = 5.01\n").tool_radii[2] == 5.0
+    cli_error(tmp_path, base + "length = 4.99\n", "length = 4.99", ["[[tool]] #2 length", "height of the point"])
+    # at 60 degrees the point is 5 / tan(30) = 8.66 mm long
+    h = 5 / math.tan(math.radians(30))
+    assert config(tmp_path, base.replace("= 90", "= 60") + f"length = {h + 0.01:.3f}\n")
+    cli_error(tmp_path, base.replace("= 90", "= 60") + f"length = {h - 0.01:.3f}\n", "length =", ["height of the point"])
+
+
+@pytest.mark.parametrize("lines,needle,fragments", [
+    ("diameter = 8\npoint_angle = 0", "point_angle", ["[[tool]] #2 point_angle", "between 1 and 180 degrees"]),
+    ("diameter = 8\npoint_angle = 180.5", "point_angle", ["between 1 and 180 degrees"]),
+    ("diameter = 8\npoint_angle = nan", "point_angle", ["must be a number"]),
+    ('diameter = 8\npoint_angle = "118"', "point_angle", ["must be a number"]),
+    ("diameter = 0", "diameter", ["[[tool]] #2 diameter", "between 0.001 and 10000 mm"]),
+    ("diameter = 8\nlength = 20000", "length", ["[[tool]] #2 length", "between 0.001 and 10000 mm"]),
+    ("diameter = 8\ncorner_radius = 1", "corner_radius", ["unknown key for a drill tool", "point_angle"]),
+    ("length = 50", "[[tool]]", ["[[tool]] #2 diameter", "is required"]),  # a missing key: at its table
+])
+def test_bad_drills(tmp_path, lines, needle, fragments):
+    text = BASE + '\n[[tool]]\nnumber = 2\nkind = "drill"\n' + lines + "\n"
+    cli_error(tmp_path, text, needle, fragments, last=True)
+
+
+def test_drill_does_not_fit_a_lathe(tmp_path):
+    text = ('[machine]\nkind = "lathe"\ndialect = "sinumerik"\n\n[stock]\nshape = "cylinder"\ndiameter = 30\n'
+            'z = [-40, 0]\n\n[[tool]]\nnumber = 1\nkind = "drill"\ndiameter = 8\n')
+    cli_error(tmp_path, text, 'kind = "drill"', ["[[tool]] #1 kind", "a drill tool does not fit a lathe"])
+
+
+def test_load_setup_raises_cutsim_error(tmp_path):
+    """The Python API raises the same error the CLI prints."""
+    p = tmp_path / "setup.toml"
+    text = with_machine('axes = { Y = "linear" }\n')
+    p.write_text(text)
+    with pytest.raises(CutsimError) as e:
+        cutsim.load_setup(str(p))
+    assert (e.value.line, e.value.col) == _at(text, "Y =") and "own axes" in e.value.message
