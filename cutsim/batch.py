@@ -407,13 +407,14 @@ def code_key() -> str:
     global _CODE_KEY
     if _CODE_KEY is None:
         import cutsim
+        import cutsim.base
         import cutsim.interp
         import cutsim.kinematics
         import cutsim.reports
         import cutsim.stock
 
         h = hashlib.sha256(cutsim.__version__.encode())
-        for mod in (cutsim, cutsim.interp, cutsim.kinematics, cutsim.reports, cutsim.stock):
+        for mod in (cutsim, cutsim.base, cutsim.interp, cutsim.kinematics, cutsim.reports, cutsim.stock):
             d = os.path.dirname(mod.__file__)
             for f in sorted(os.listdir(d)):
                 if f.endswith(".py"):

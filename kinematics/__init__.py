@@ -6,14 +6,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from cutsim.base.specs import MachineSpec, ToolSpec
 from cutsim.interp import canon
 from cutsim.interp.errors import CutsimError
-from cutsim.stock.specs import ToolSpec
 
-from .machine import MachineSpec
 from .paths import ArcGeom, PlanarPath, RampGeom, ScrewPath, SpatialPath, arc_geom, arc_points
 
-__all__ = ["ArcGeom", "MachineSpec", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
+__all__ = ["ArcGeom", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
 
 
 @dataclass

@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cutsim.base.specs import ToolSpec
 from cutsim.interp.canon import Src
 from cutsim.interp.modal import PLANE_AXES
-from cutsim.stock.specs import ToolSpec
 
 
 @dataclass(frozen=True)

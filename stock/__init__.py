@@ -1,6 +1,6 @@
 """Stock: tool shapes, exact sweeps, batched manifold3d booleans, measurements on the solid."""
 from .build import build_stock, stock_outline
 from .removal import Removal, remove
-from .specs import StockSpec, ToolSpec
+from cutsim.base.specs import StockSpec, ToolSpec
 
 __all__ = ["build_stock", "stock_outline", "remove", "Removal", "StockSpec", "ToolSpec"]

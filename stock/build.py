@@ -9,7 +9,7 @@ import numpy as np
 from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import circle_segments
 
-from .specs import StockSpec
+from cutsim.base.specs import StockSpec
 
 # The most triangles of solids a run may hold at once ([simulation] max_triangles, docs/setup.md):
 # measured peak memory is 400-650 bytes per counted triangle (a thread of 3.4M counted triangles,

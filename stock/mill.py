@@ -22,7 +22,7 @@ import pyclipper
 
 from cutsim.kinematics.paths import SpatialPath, segment_angle
 
-from .specs import ToolSpec
+from cutsim.base.specs import ToolSpec
 
 Z_EPS = 1e-9  # mm: a move whose Z varies less than this is a constant-Z move
 # Faces of the stock are split to at most this fraction of its extent before the batch subtract:

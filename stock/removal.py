@@ -19,7 +19,7 @@ from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_s
 
 from . import helix, mill, threads
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
-from .specs import StockSpec, ToolSpec
+from cutsim.base.specs import StockSpec, ToolSpec
 from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, planar_region, screw_sweep, spatial_hulls
 from .tools import check_tool, lathe_body, lathe_profile, mill_body
 

@@ -21,7 +21,7 @@ import numpy as np
 from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import segment_angle
 
-from .specs import ToolSpec
+from cutsim.base.specs import ToolSpec
 
 # -- documented ranges (docs/setup.md) ---------------------------------------------------------
 SIZE_MIN = 0.001  # mm: every length of a tool (diameter, flute length, height, thickness, radii > 0)

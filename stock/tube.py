@@ -27,7 +27,7 @@ import numpy as np
 
 from cutsim.kinematics.paths import segment_angle
 
-from .specs import ToolSpec
+from cutsim.base.specs import ToolSpec
 from .tools import positive
 
 TUBE_MIN_SEGMENTS = 3  # shorter stretches are cheaper as hulls

@@ -18,7 +18,7 @@ from cutsim.interp.canon import Src
 from cutsim.kinematics import plan
 from cutsim.kinematics.paths import ArcGeom, SpatialPath, arc_geom
 from cutsim.stock.helix import arc_sweep, merge_arcs
-from cutsim.stock.specs import ToolSpec
+from cutsim.base.specs import ToolSpec
 
 FLAT = ToolSpec(1, "endmill", diameter=10.0, length=20.0)
 BALL = ToolSpec(2, "ballmill", diameter=6.0, length=18.0, corner_radius=3.0)

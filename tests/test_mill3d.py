@@ -11,7 +11,7 @@ import trimesh
 
 import cutsim
 from cutsim.stock import tube
-from cutsim.stock.specs import ToolSpec
+from cutsim.base.specs import ToolSpec
 
 PLATE = str(Path(__file__).resolve().parent / "mill" / "plate.toml")  # top Z0, T2: ball r = 3
 R = 3.0

@@ -29,7 +29,7 @@ from hypothesis import strategies as st
 import cutsim
 from conftest import EXAMPLES
 from cutsim import CutsimError
-from cutsim.stock.specs import ToolSpec
+from cutsim.base.specs import ToolSpec
 
 SIM = settings(max_examples=25, deadline=None, derandomize=True, database=None,
                suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])

@@ -1,7 +1,21 @@
-"""What the setup says about the stock and the tools (plain data; shapes are built in stock/)."""
+"""What the setup says about the machine, the stock and the tools: plain data every stage may use
+(the machine model runs in kinematics/, shapes are built in stock/)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class MachineSpec:
+    """The machine model the kinematics needs (from the setup's [machine] table)."""
+
+    kind: str = "lathe"  # "lathe" | "mill"
+    dialect: str = "cnc8x6"
+    diameter_programming: bool = True
+    m03: str = "positive"  # sense of M03 about +Z: "positive" | "negative"
+    start: tuple[float, float, float] | None = None  # program values; None = clear of the stock
+    rapid: float = 10000.0  # mm/min, for the cycle time
+    feed: float = 100.0  # mm/min assumed when a program feeds without F (cycle time only)
 
 
 @dataclass(frozen=True)
