@@ -13,12 +13,11 @@ import stat
 import tomllib
 from dataclasses import dataclass, field
 
+from cutsim.base.specs import MachineSpec, StockSpec, ToolSpec
 from cutsim.interp import DIALECTS  # the registry: names and each dialect's setup defaults
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.modal import MAX_BLOCKS
-from cutsim.kinematics.machine import MachineSpec
 from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
-from cutsim.stock.specs import StockSpec, ToolSpec
 
 KINDS = ("lathe", "mill")
 TOOL_KEYS = {
@@ -375,41 +374,40 @@ class _Loader:
         (V.G.X = 1, a nested table to TOML) is joined back with dots."""
         out: dict[str, float | str] = {}
 
-        def walk(tab: dict, parts: tuple):
-            for k, v in tab.items():
-                here = parts + (k,)
-                if isinstance(v, dict):
-                    walk(v, here)
-                    continue
-                written = ".".join(here)
-                head = f"[variables] {written}: "
+        todo: list[tuple[tuple, object]] = [((k,), v) for k, v in reversed(table.items())]
+        while todo:  # depth first, in the order written (no recursion: a dotted key may have any depth)
+            here, v = todo.pop()
+            if isinstance(v, dict):
+                todo.extend((here + (k,), w) for k, w in reversed(v.items()))
+                continue
+            written = ".".join(here)
+            at = self.at(("variables",) + here)
+            head = f"[variables] {written if len(written) <= 60 else written[:57] + '...'}: "
 
-                def fail(message):
-                    return CutsimError(self.path, *self.at(("variables",) + here), head + message)
+            def fail(message):
+                return CutsimError(self.path, *at, head + message)
 
-                name = re.sub(r"\[[^\]]*\]", lambda mt: re.sub(r"\s+", "", mt.group()), written.strip().upper())
-                if not _VAR_NAME.fullmatch(name):
-                    raise fail("a variable name is a system variable ($P_TOOLNO, $A_DBB[5], $MA_JOG_VELO[X1]), an "
-                               "ISG V. variable (V.G.NAME, V.E.SPEED) or a global user data name (MYDATA[2]), "
-                               "written without spaces")
-                if re.fullmatch(r"R[0-9]+", name):
-                    raise fail(f"R parameters are set in [parameters] ({name} = ...)")
-                if name in out:
-                    raise fail(f"{name} is given twice")
-                if isinstance(v, bool):
-                    out[name] = 1.0 if v else 0.0
-                elif isinstance(v, (int, float)):
-                    if not _number(v) or abs(v) > VALUE_MAX:
-                        raise fail(f"must be a finite number within -{VALUE_MAX:g} to {VALUE_MAX:g}, not {_show(v)}")
-                    out[name] = float(v)
-                elif isinstance(v, str):
-                    if len(v) > STRING_MAX:
-                        raise fail(f"a string value has at most {STRING_MAX} characters (got {len(v)})")
-                    out[name] = v
-                else:
-                    raise fail(f"must be a number, a string or true/false, not {_show(v)}")
-
-        walk(table, ())
+            name = re.sub(r"\[[^\]]*\]", lambda mt: re.sub(r"\s+", "", mt.group()), written.strip().upper())
+            if not _VAR_NAME.fullmatch(name):
+                raise fail("a variable name is a system variable ($P_TOOLNO, $A_DBB[5], $MA_JOG_VELO[X1]), an "
+                           "ISG V. variable (V.G.NAME, V.E.SPEED) or a global user data name (MYDATA[2]), "
+                           "written without spaces")
+            if re.fullmatch(r"R[0-9]+", name):
+                raise fail(f"R parameters are set in [parameters] ({name} = ...)")
+            if name in out:
+                raise fail(f"{name} is given twice")
+            if isinstance(v, bool):
+                out[name] = 1.0 if v else 0.0
+            elif isinstance(v, (int, float)):
+                if not _number(v) or abs(v) > VALUE_MAX:
+                    raise fail(f"must be a finite number within -{VALUE_MAX:g} to {VALUE_MAX:g}, not {_show(v)}")
+                out[name] = float(v)
+            elif isinstance(v, str):
+                if len(v) > STRING_MAX:
+                    raise fail(f"a string value has at most {STRING_MAX} characters (got {len(v)})")
+                out[name] = v
+            else:
+                raise fail(f"must be a number, a string or true/false, not {_show(v)}")
         return dict(sorted(out.items()))
 
     def work_offsets(self, table: dict, dialect: str) -> dict[str, tuple[float, float, float]]:
@@ -870,4 +868,6 @@ def load_setup(path: str) -> Setup:
             msg = msg[:end.start()] + " (at the end of the file)" if end else msg
             line, col = text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
         raise CutsimError(path, line, col, f"not valid TOML: {msg}") from None
+    except RecursionError:  # tomllib reads nested arrays and inline tables recursively
+        raise CutsimError(path, 1, 1, "arrays or inline tables are nested too deeply") from None
     return _Loader(path, text).load(data)
