@@ -647,8 +647,6 @@ class _Loader:
         line, col = self.locate("tool", None, i)
         spec = ToolSpec(number, kind, **kw, name=name, source=self.path, line=line, col=col)
         bad = tool_problem(spec)
-        if kind == "drill" and bad is not None and bad[0] == "kind":
-            bad = _drill_problem(spec)  # a stock/tools.py that does not know drills yet
         if bad is not None:
             key, why = bad
             raise t.fail(key, why)  # at the key's line, or the table's when the key is a default
@@ -658,28 +656,6 @@ class _Loader:
 def _tool_name_ok(v: str) -> bool:
     return (0 < len(v) <= TOOL_NAME_MAX and v == v.strip() and '"' not in v
             and all(c.isprintable() for c in v))
-
-
-def _drill_problem(tool: ToolSpec) -> tuple[str, str] | None:
-    """The first key of a drill outside its documented range (docs/setup.md) and why, or None: the
-    same ranges as stock/tools.py tool_problem, for as long as that does not know drills."""
-    from cutsim.stock.tools import ANGLE_MIN, MAX_FLUTE_RATIO, SIZE_MAX, SIZE_MIN
-
-    for key in ("diameter", "length"):
-        v = getattr(tool, key)
-        if not SIZE_MIN <= v <= SIZE_MAX:
-            return key, f"must be between {SIZE_MIN:g} and {SIZE_MAX:g} mm (got {v!r})"
-    a = tool.point_angle
-    if not ANGLE_MIN <= a <= 180:
-        return "point_angle", f"must be between {ANGLE_MIN:g} and 180 degrees (got {a!r})"
-    if tool.length > MAX_FLUTE_RATIO * tool.diameter:
-        return "length", (f"must be at most {MAX_FLUTE_RATIO:g} x the diameter ({MAX_FLUTE_RATIO * tool.diameter:g} mm) "
-                          f"(got {tool.length!r})")
-    h = 0.0 if a >= 180 else tool.diameter / 2 / math.tan(math.radians(a) / 2)
-    if tool.length < h:
-        return "length", (f"must be at least the height of the point ({h:g} mm for a {a:g} degree point of "
-                          f"diameter {tool.diameter:g}) (got {tool.length!r})")
-    return None
 
 
 def _area(pts) -> float:
