@@ -1,0 +1,636 @@
+"""Sinumerik machine-side semantics: units, frames, extra axes, tools, spindles and machine functions
+(issue 12; docs/dialects/sinumerik.md, "Units, frames and axes").
+
+Pure interpreter logic: the Sinumerik interpreter (interp/sinumerik.py) keeps its position
+``m.pos`` in **machine coordinates in mm** (what the canonical records carry); the program speaks
+in the **workpiece coordinate system** (WCS) of the active frames and units. The chain, applied to
+every programmed point (end points, arc centres, cycle moves)::
+
+    machine = settable offset (G54.., from the setup) + programmable frame (TRANS/ROT/SCALE/MIRROR,
+              an affine map) applied to (the programmed value x 25.4 under G70/G700)
+
+G53 and SUPA suppress both offsets for their block. A point that is not programmed keeps its WCS
+value (so a changed offset moves only the axes a block names, as on the control).
+
+The interpreter calls in through one small hook in each of ``word``, ``modal_codes``,
+``settings``, ``move``, ``change_tool`` (and reads ``arc_flip``): see ``state``. Nothing here
+imports interp/sinumerik.py (that module imports this one).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+from . import canon
+from .modal import PLANE_AXES, InterpConfig
+
+INCH = 25.4
+AXES = "XYZ"
+CENTRE_LETTER = {0: "I", 1: "J", 2: "K"}
+UNIT_G = {70: (True, False), 71: (False, False), 700: (True, True), 710: (False, False)}
+SETTABLE_G = {54, 55, 56, 57, *range(505, 600)}
+# G codes that do not change the tool path: accepted with one warning each (what they do on the machine)
+PATH_G = {9: "exact stop for one block", 60: "exact stop", 64: "continuous-path mode", 601: "exact stop fine",
+          602: "exact stop coarse", 603: "exact stop at interpolator end", 641: "continuous-path mode with rounding",
+          642: "continuous-path mode with axial tolerances", 643: "block-internal rounding",
+          644: "rounding with maximum dynamics", 645: "rounding with tangential transitions"}
+MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G)
+# M codes every 840D knows that do not change the tool path: spindle orientation and gear stages
+QUIET_M = {19, 40, 41, 42, 43, 44, 45}
+ROTARY_LETTERS = "ABC"
+EXTRA_LETTERS = "ABCUVW"
+FRAME_CMDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"}
+# commands that do not change the programmed tool path (what they do on the machine)
+ACCEPTED = {
+    "CUT2D": "2D radius compensation (the default)", "CUT2DF": "2D radius compensation in the frame plane",
+    "CDON": "bottleneck detection on", "CDOF": "bottleneck detection off", "CDOF2": "bottleneck detection off",
+    "ORIWKS": "orientation in the workpiece system", "ORIMKS": "orientation in the machine system",
+    "ORIAXES": "orientation by axis interpolation", "ORIVECT": "orientation by vector interpolation",
+    "PAROTOF": "workpiece-aligned rotation off", "TOROTOF": "tool-aligned rotation off",
+    "DYNNORM": "standard dynamics", "DYNPOS": "positioning dynamics", "DYNROUGH": "roughing dynamics",
+    "DYNSEMIFIN": "semi-finishing dynamics", "DYNFINISH": "finishing dynamics",
+    "FGREF": "reference radius for rotary-axis feed",
+    "COMPOF": "compressor off", "COMPON": "compressor on", "COMPCURV": "compressor (curvature)",
+    "COMPCAD": "compressor (CAD)", "DRFOF": "handwheel offsets off", "FFWON": "feed forward on",
+    "FFWOF": "feed forward off", "SOFT": "jerk-limited acceleration", "BRISK": "step acceleration",
+    "SOFTA": "jerk-limited acceleration", "BRISKA": "step acceleration", "CFC": "constant feed at the contour",
+    "CFTCP": "constant feed at the tool centre", "CFIN": "constant feed on inner arcs",
+    "UPATH": "path parameter", "SPATH": "path parameter", "FGROUP": "feed group of axes",
+    "CYCLE832": "high-speed settings",
+}
+CALL_ACCEPTED = {"CYCLE832"}
+EPS = 1e-9
+
+Mat = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
+IDENT: Mat = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+ZERO = (0.0, 0.0, 0.0)
+
+
+# -- small affine algebra (parent = A @ child + t) ----------------------------------------------------
+def _mul(a: Mat, b: Mat) -> Mat:
+    return tuple(tuple(sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)) for i in range(3))  # type: ignore
+
+
+def _apply(a: Mat, v) -> tuple[float, float, float]:
+    return tuple(a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2] for i in range(3))  # type: ignore
+
+
+def _det(a: Mat) -> float:
+    return (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+
+
+def _cof(a: Mat) -> Mat:
+    """The cofactor matrix: maps a plane's normal to the normal of its image, orientation kept
+    (det(A) A^-T)."""
+    def c(i, j):
+        r = [k for k in range(3) if k != i]
+        s = [k for k in range(3) if k != j]
+        return (-1) ** (i + j) * (a[r[0]][s[0]] * a[r[1]][s[1]] - a[r[0]][s[1]] * a[r[1]][s[0]])
+    return tuple(tuple(c(i, j) for j in range(3)) for i in range(3))  # type: ignore
+
+
+def _inv(a: Mat) -> Mat:
+    d = _det(a)
+    c = _cof(a)
+    return tuple(tuple(c[j][i] / d for j in range(3)) for i in range(3))  # type: ignore
+
+
+def _rot(axis: int, deg: float) -> Mat:
+    """Right-handed rotation about X/Y/Z: a positive angle turns counter-clockwise seen from the
+    positive end of the axis (Siemens' convention)."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    # snap the exact quarter turns so that ROT RPL=90 gives exact coordinates
+    c, s = (0.0 if abs(c) < 1e-15 else c), (0.0 if abs(s) < 1e-15 else s)
+    i, j = [k for k in range(3) if k != axis] if axis != 1 else (2, 0)
+    m = [[1.0 if r == k else 0.0 for k in range(3)] for r in range(3)]
+    m[i][i], m[i][j], m[j][i], m[j][j] = c, -s, s, c
+    return tuple(tuple(r) for r in m)  # type: ignore
+
+
+def _diag(x: float, y: float, z: float) -> Mat:
+    return ((x, 0.0, 0.0), (0.0, y, 0.0), (0.0, 0.0, z))
+
+
+@dataclass
+class Affine:
+    a: Mat = IDENT
+    t: tuple[float, float, float] = ZERO
+
+    def then(self, other: Affine) -> Affine:
+        """This frame followed by ``other`` given in this frame's coordinates (the additive A...
+        instructions): parent = A (A' p + t') + t."""
+        t2 = _apply(self.a, other.t)
+        return Affine(_mul(self.a, other.a), (self.t[0] + t2[0], self.t[1] + t2[1], self.t[2] + t2[2]))
+
+    def identity(self) -> bool:
+        return self.a == IDENT and self.t == ZERO
+
+
+@dataclass
+class Word:
+    """An address value this module puts into the block (an extra axis, a tool number from a name):
+    the same fields as the interpreter's own Value."""
+    value: float
+    mode: str | None
+    col: int
+
+
+@dataclass
+class Machine:
+    """The machine-side state of one run."""
+    cfg: InterpConfig
+    inch: bool = False  # G70/G700: geometry in inch
+    inch_feed: bool = False  # G700: F in inch/min (inch/rev)
+    settable: str = "G500"
+    offset: tuple[float, float, float] = ZERO
+    frame: Affine = field(default_factory=Affine)  # programmable frame
+    suppress: bool = False  # G53/G153/SUPA in this block
+    axis_pos: dict[str, float] = field(default_factory=dict)
+    warned: set = field(default_factory=set)
+    pending: list = field(default_factory=list)  # warnings of the block waiting for its Src
+    no_tool: bool = False  # T0 M6
+    master: int = 1  # SETMS
+    traori: bool = False
+    arc_flip: bool = False  # the arc being programmed turns the other way in the machine (mirror)
+    sandbox: bool = False  # a cycle runs in WCS; its records are mapped afterwards
+
+    # -- the transform -----------------------------------------------------------------------------
+    def unit(self) -> float:
+        return INCH if self.inch else 1.0
+
+    def linear_part(self) -> Mat:
+        u = self.unit()
+        a = IDENT if self.suppress else self.frame.a
+        return tuple(tuple(v * u for v in r) for r in a)  # type: ignore
+
+    def identity(self) -> bool:
+        return not self.inch and (self.suppress or (self.frame.identity() and self.offset == ZERO))
+
+    def to_machine(self, p) -> tuple[float, float, float]:
+        """A WCS point in mm (program units already x 25.4) -> machine mm."""
+        if self.suppress:
+            return (p[0], p[1], p[2])
+        q = _apply(self.frame.a, p)
+        t, o = self.frame.t, self.offset
+        return (q[0] + t[0] + o[0], q[1] + t[1] + o[1], q[2] + t[2] + o[2])
+
+    def to_wcs(self, p) -> tuple[float, float, float]:
+        """Machine mm -> WCS mm (the inverse of ``to_machine``)."""
+        if self.suppress:
+            return (p[0], p[1], p[2])
+        t, o = self.frame.t, self.offset
+        d = (p[0] - t[0] - o[0], p[1] - t[1] - o[1], p[2] - t[2] - o[2])
+        if self.frame.a == IDENT:
+            return d
+        return _apply(_inv(self.frame.a), d)
+
+    def warn_once(self, m, src, key: str, message: str) -> None:
+        if key in self.warned:
+            return
+        self.warned.add(key)
+        if src is None:
+            self.pending.append(message)
+        else:
+            m.warn(src, message)
+
+    def axis_value(self, m, name: str) -> float | None:
+        """The position of axis ``name`` in the program's terms: X/Y/Z in the WCS and the active
+        unit, an extra axis as tracked (degrees for a rotary axis); None for an axis the machine
+        does not have. (For $AA_IW[..], AX[..] and AXIS variables.)"""
+        name = name.upper()
+        if name in AXES:
+            return self.to_wcs(m.pos)[AXES.index(name)] / self.unit()
+        if name in self.cfg.axes:
+            return self.axis_pos.get(name, 0.0)
+        return None
+
+
+def state(m) -> Machine:
+    """The machine state of interpreter ``m`` (created at its first use)."""
+    st = m.__dict__.get("_machine")
+    if st is None:
+        st = m.__dict__["_machine"] = Machine(m.cfg)
+    return st
+
+
+def axis_message(name: str) -> str:
+    kind = "rotary" if name[:1] in ROTARY_LETTERS else "linear"
+    return f"axis {name} is not on this machine (declare it in the setup: [machine] axes = {{ {name} = \"{kind}\" }})"
+
+
+# -- hook: word (a block's addresses, before the interpreter's own checks) ---------------------------
+def word(m, st, val, line: int, blk) -> bool:
+    """Addresses this module owns: the machine G codes (units, settable frames, path modes), M codes
+    beyond the language's (the setup's machine M functions), extra axes, ``T="name"``, spindle
+    addresses ``M1=3``/``S1=1000``, ``SPOS``, ``RPL``. True when the word is taken care of."""
+    ms = state(m)
+    addr = st.address.upper()
+    ext = getattr(st, "ext", None)
+    if ext is not None and addr in ("M", "S"):  # M1=3, S1=1000: spindle 1
+        return spindle_address(m, ms, addr, ext, val, line, st.col, blk)
+    if addr == "G" and not isinstance(val, str) and val == int(val) and int(val) in MACHINE_G:
+        blk.gs.append((int(val), st.col))
+        return True
+    if addr == "M" and not isinstance(val, str):
+        return m_code(m, val, st.col, line, blk)
+    if addr == "T" and isinstance(val, str):
+        if "T" in blk.words:
+            raise m.error(line, st.col, "address T appears twice in one block")
+        blk.words["T"] = Word(float(tool_number(m, val, line, st.col)), None, st.col)
+        return True
+    if addr in m.cfg.axes or (len(addr) == 1 and addr in EXTRA_LETTERS):
+        if addr not in m.cfg.axes:
+            raise m.error(line, st.col, axis_message(addr))
+        if addr in blk.words:
+            raise m.error(line, st.col, f"address {addr} appears twice in one block")
+        v = m.num(val, line, st.col)
+        blk.words[addr] = Word(v, st.mode, st.col)
+        return True
+    if addr == "RPL":
+        blk.words["RPL"] = Word(m.num(val, line, st.col), None, st.col)
+        return True
+    return False
+
+
+def m_code(m, val: float, col: int, line: int, blk) -> bool:
+    from .sinumerik import KNOWN_M  # the language's own M codes
+    if val != int(val) or int(val) in KNOWN_M:
+        return False
+    code = int(val)
+    if code in QUIET_M or code in m.cfg.m_functions:
+        return True
+    raise m.error(line, col, f"M{code} is not known to the simulator (a machine M function: declare it in the setup: "
+                  f"[machine] m_functions = [{code}])")
+
+
+def spindle_address(m, ms: Machine, letter: str, n: int, val, line: int, col: int, blk) -> bool:
+    v = m.num(val, line, col)
+    if n != ms.master:
+        ms.warn_once(m, None, f"spindle{n}", f"{letter}{n}=: spindle {n} is not the master spindle; the simulation "
+                     "follows the master spindle only")
+        return True
+    if letter == "S":
+        if "S" in blk.words:
+            raise m.error(line, col, "the spindle speed appears twice in one block")
+        blk.words["S"] = Word(v, None, col)
+        return True
+    if v != int(v):
+        raise m.error(line, col, f"M{n}={v:g}: an M function is a whole number")
+    if int(v) in (3, 4, 5):
+        blk.ms.append((int(v), col))
+        return True
+    return m_code(m, v, col, line, blk) or True
+
+
+def tool_number(m, name: str, line: int, col: int) -> int:
+    names = m.cfg.tool_names
+    if name in names:
+        return names[name]
+    for k, v in names.items():
+        if k.upper() == name.upper():
+            return v
+    raise m.error(line, col, f"tool \"{name}\" is not in the setup (give the tool its name: [[tool]] name = \"{name}\")")
+
+
+# -- hook: modal_codes (the block's G codes, before the interpreter applies its own) ------------------
+def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
+    """Apply units, settable frames, G53 and the path-mode codes; the rest is returned for the
+    interpreter (G41/G42 swapped while a mirror turns the plane over)."""
+    ms = state(m)
+    ms.suppress = False
+    rest = []
+    seen: dict[str, tuple[int, int]] = {}
+    for code, col in gs:
+        group = ("units" if code in UNIT_G else "frame" if code in SETTABLE_G or code == 500 else None)
+        if group:
+            if group in seen:
+                raise m.error(line, col, f"G{code} conflicts with G{seen[group][0]} in the same block")
+            seen[group] = (code, col)
+        if code in UNIT_G:
+            ms.inch, ms.inch_feed = UNIT_G[code]
+        elif code == 500:
+            ms.settable = "G500"
+            ms.offset = tuple(map(float, m.cfg.work_offsets.get("G500", ZERO)))  # type: ignore
+        elif code in SETTABLE_G:
+            key = f"G{code}"
+            ms.settable = key
+            if key in m.cfg.work_offsets:
+                ms.offset = tuple(map(float, m.cfg.work_offsets[key]))  # type: ignore
+            else:
+                ms.offset = ZERO
+                ms.warn_once(m, None, key, f"{key}: no work offset in the setup, offset 0 (declare it: "
+                             f"[work_offsets] {key} = [x, y, z])")
+        elif code in (53, 153):
+            ms.suppress = True
+        elif code in PATH_G:
+            ms.warn_once(m, None, f"G{code}", f"G{code} ({PATH_G[code]}) does not change the tool path; accepted")
+        elif code in (41, 42) and flipped(ms, m.plane):
+            rest.append((83 - code, col))
+        else:
+            rest.append((code, col))
+    return rest
+
+
+def flipped(ms: Machine, plane: str) -> bool:
+    """True when the frame turns the plane over (an odd number of mirrors): G2 <-> G3, G41 <-> G42."""
+    n = PLANE_AXES[plane][2]
+    return _cof(ms.linear_part())[n][n] < 0
+
+
+# -- hook: settings (frames, accepted commands, cycles under a frame, feed units) --------------------
+def settings(m, src, blk) -> None:
+    """The block's machine keywords (``blk.commands``: frames, SUPA, TRAORI, the commands that do not
+    change the tool path), CYCLE800/CYCLE832, F under G700, and cycles called under a frame."""
+    ms = state(m)
+    for msg in ms.pending:
+        m.warn(src, msg)
+    ms.pending.clear()
+    line = src.line
+    left = []
+    frame_cmd = None
+    for name, col in blk.commands:
+        if name in FRAME_CMDS:
+            if frame_cmd is not None:
+                raise m.error(line, col, f"{frame_cmd[0]} and {name} in one block: write each frame "
+                              "instruction in a block of its own")
+            frame_cmd = (name, col)
+        elif name == "SUPA":
+            ms.suppress = True
+        elif name == "G500":
+            ms.settable = "G500"
+            ms.offset = tuple(map(float, m.cfg.work_offsets.get("G500", ZERO)))  # type: ignore
+        elif name == "TRAORI":
+            traori_on(m, ms, src, col)
+        elif name == "TRAFOOF":
+            ms.traori = False
+        elif name in ACCEPTED:
+            ms.warn_once(m, src, name, f"{name} ({ACCEPTED[name]}) does not change the tool path; accepted")
+        else:
+            left.append((name, col))
+    blk.commands[:] = left
+    keep = []
+    for stmt in blk.calls:
+        name, args = getattr(stmt, "name", None), getattr(stmt, "args", None)
+        if name == "CYCLE800" and args is not None:
+            cycle800(m, ms, src, stmt)
+        elif name == "TRAORI" and args is not None:
+            traori_on(m, ms, src, stmt.col)
+        elif name in CALL_ACCEPTED and args is not None:
+            ms.warn_once(m, src, name, f"{name} ({ACCEPTED[name]}) does not change the tool path; accepted")
+        else:
+            keep.append(stmt)
+    blk.calls[:] = keep
+    if frame_cmd is not None:
+        frame(m, ms, frame_cmd[0], blk.words, line, frame_cmd[1])
+    if "F" in blk.words and ms.inch_feed:
+        f = blk.words["F"]
+        f.value *= INCH
+    if not ms.identity() and not ms.sandbox:
+        cycles_in_frame(m, ms, src, blk)
+
+
+def traori_on(m, ms: Machine, src, col: int) -> None:
+    turned = [a for a, v in sorted(ms.axis_pos.items()) if m.cfg.axes.get(a) == "rotary" and abs(v) > EPS]
+    if turned:
+        raise m.error(src.line, col, f"TRAORI with rotary axis {turned[0]} at {ms.axis_pos[turned[0]]:g} degrees: "
+                      "a tilted tool (5-axis transformation) is not modelled in a 3-axis simulation")
+    ms.traori = True
+    ms.warn_once(m, src, "TRAORI", "TRAORI (5-axis transformation): the tool stays along Z in this 3-axis "
+                 "simulation; a rotary axis move under TRAORI is an error")
+
+
+CYCLE800_ROT = (7, 8, 9)  # _A, _B, _C (0-based positions in CYCLE800(_FR,_TC,_ST,_MODE,_X0,_Y0,_Z0,_A,_B,_C,...))
+CYCLE800_OFF = (4, 5, 6, 10, 11, 12)  # _X0 _Y0 _Z0 _X1 _Y1 _Z1
+
+
+def cycle800(m, ms: Machine, src, stmt) -> None:
+    """CYCLE800 swivels the plane: with every rotation and offset 0 (the swivel reset CAM posts write
+    before each operation) it changes nothing; a real swivel is not modelled."""
+    line = src.line
+    for k in CYCLE800_ROT + CYCLE800_OFF:
+        if k < len(stmt.args) and stmt.args[k].value is not None:
+            a = stmt.args[k]
+            v = m.ev(a.value, line, a.col)
+            if isinstance(v, str):
+                raise m.error(line, a.col, f"CYCLE800: parameter {k + 1} must be a number, not the string \"{v}\"")
+            if abs(v) > EPS:
+                what = "a swivel (rotation)" if k in CYCLE800_ROT else "a swivel offset"
+                raise m.error(line, a.col, f"CYCLE800: {what} of {v:g} is not modelled in a 3-axis simulation "
+                              "(only CYCLE800 with every rotation and offset 0 is accepted)")
+    ms.warn_once(m, src, "CYCLE800", "CYCLE800 with no rotation and no offset (swivel reset): no effect on the tool path")
+
+
+def frame(m, ms: Machine, name: str, words: dict, line: int, col: int) -> None:
+    """TRANS/ROT/SCALE/MIRROR replace the programmable frame, the A... forms add to it (in the
+    coordinates of the frame so far); TRANS (ROT, ...) alone clears it."""
+    vals = {}
+    for a in ("X", "Y", "Z", "RPL"):
+        if a in words:
+            w = words.pop(a)
+            if w.mode is not None:
+                raise m.error(line, w.col, f"{name} takes plain values, not {a}=AC(..)/IC(..)")
+            vals[a] = (w.value, w.col)
+    for a in list(words):
+        if a not in ("F", "S", "T", "D"):
+            raise m.error(line, words[a].col, f"address {a} has no meaning in a {name} block")
+    additive = name.startswith("A")
+    base = name[1:] if additive else name
+    u = ms.unit()
+    if base == "TRANS":
+        step = Affine(IDENT, tuple(vals.get(a, (0.0, 0))[0] * u for a in AXES))  # type: ignore
+    elif base == "ROT":
+        step = Affine(rotation(m, ms, vals, name, line, col), ZERO)
+    elif base == "SCALE":
+        if "RPL" in vals:
+            raise m.error(line, vals["RPL"][1], f"RPL has no meaning in a {name} block")
+        f = []
+        for a in AXES:
+            v, c = vals.get(a, (1.0, col))
+            if abs(v) < 1e-6:
+                raise m.error(line, c, f"{name} {a}{v:g}: a scale factor must not be 0")
+            if v < 0:
+                raise m.error(line, c, f"{name} {a}{v:g}: a negative scale factor mirrors; write MIRROR {a}0")
+            f.append(v)
+        step = Affine(_diag(*f), ZERO)
+    else:  # MIRROR
+        if "RPL" in vals:
+            raise m.error(line, vals["RPL"][1], f"RPL has no meaning in a {name} block")
+        step = Affine(_diag(*(-1.0 if a in vals else 1.0 for a in AXES)), ZERO)
+    ms.frame = ms.frame.then(step) if additive else step
+
+
+def rotation(m, ms: Machine, vals: dict, name: str, line: int, col: int) -> Mat:
+    """ROT RPL=a (in the active plane) or ROT X.. Y.. Z.. (about Z, then the new Y, then the new X)."""
+    if "RPL" in vals:
+        extra = [a for a in AXES if a in vals]
+        if extra:
+            raise m.error(line, vals[extra[0]][1], f"{name}: RPL= and an axis angle in one block")
+        return _rot(PLANE_AXES[m.plane][2], vals["RPL"][0])
+    r = IDENT
+    for a in ("Z", "Y", "X"):
+        if a in vals:
+            r = _mul(r, _rot(AXES.index(a), vals[a][0]))
+    return r
+
+
+def cycles_in_frame(m, ms: Machine, src, blk) -> None:
+    """A cycle called while a frame, an offset or inch units are active runs in the WCS and its moves
+    are mapped into the machine afterwards (the cycles compute in the program's coordinates)."""
+    from .sinumerik_cycles import CYCLES, run_cycle
+    line = src.line
+    keep = []
+    for stmt in blk.calls:
+        name, args = getattr(stmt, "name", None), getattr(stmt, "args", None)
+        if args is None or name not in CYCLES:
+            keep.append(stmt)
+            continue
+        if ms.inch:
+            raise m.error(line, stmt.col, f"{name} under G70/G700 (inch) is not modelled: the cycles work in mm")
+        a = ms.frame.a if not ms.suppress else IDENT
+        g = _mul(tuple(zip(*a)), a)  # type: ignore  # A^T A: I for a rotation or a mirror
+        if any(abs(g[i][j] - (1.0 if i == j else 0.0)) > 1e-9 for i in range(3) for j in range(3)):
+            raise m.error(line, stmt.col, f"{name} under SCALE is not modelled: the tool would have to scale too")
+        if any(a in blk.words for a in AXES) or m.comp_buf is not None:
+            raise m.error(line, stmt.col, f"{name} under a frame: call the cycle in a block of its own, without "
+                          "radius compensation")
+        vals = [(None if x.value is None else m.ev(x.value, line, x.col), x.col) for x in args]
+        run_mapped(m, ms, lambda: run_cycle(m, name, vals, src, stmt.col))
+    blk.calls[:] = keep
+
+
+def run_mapped(m, ms: Machine, fn) -> None:
+    """Run ``fn`` (which moves the interpreter in program coordinates) in the WCS: the position is
+    taken back into the WCS, the records ``fn`` emits are mapped into the machine."""
+    recs: list = []
+    saved_records, saved_pos = m.program.records, list(m.pos)
+    m.pos = list(ms.to_wcs(saved_pos))
+    m.program.records = recs
+    ms.sandbox = True
+    try:
+        fn()
+    finally:
+        ms.sandbox = False
+        m.program.records = saved_records
+    m.pos = list(ms.to_machine(m.pos))
+    for r in recs:
+        m.program.records.append(map_record(m, ms, r))
+
+
+def map_record(m, ms: Machine, r):
+    if not isinstance(r, canon.MOTIONS):
+        return r
+    start, end = ms.to_machine(r.start), ms.to_machine(r.end)
+    if isinstance(r, canon.Arc):
+        n = PLANE_AXES[r.plane][2]
+        flip = plane_image(m, ms, r.plane, r.src.line, r.src.col)
+        return replace(r, start=start, end=end, center=ms.to_machine(r.center), clockwise=r.clockwise != flip)
+    if isinstance(r, canon.SyncedFeed):  # pragma: no cover - no Sinumerik cycle threads
+        raise m.error(r.src.line, r.src.col, "a thread under a frame is not modelled")
+    return replace(r, start=start, end=end)
+
+
+def plane_image(m, ms: Machine, plane: str, line: int, col: int) -> bool:
+    """Check that the linear part maps the circle's plane onto itself as a similarity (a circle stays a
+    circle in the same plane); True when it turns the plane over (the arc runs the other way)."""
+    a, b, n = PLANE_AXES[plane]
+    lin = ms.linear_part()
+    ea, eb, en = (tuple(r[k] for r in lin) for k in (a, b, n))
+    la, lb = math.sqrt(sum(x * x for x in ea)), math.sqrt(sum(x * x for x in eb))
+    tilted = abs(ea[n]) > 1e-9 * la or abs(eb[n]) > 1e-9 * lb or abs(en[a]) > 1e-9 or abs(en[b]) > 1e-9
+    if tilted:
+        raise m.error(line, col, "a circle in a frame rotated about an axis of its plane (ROT/AROT X or Y in G17) "
+                      "is not modelled in a 3-axis simulation: the circle would leave the plane")
+    if abs(la - lb) > 1e-9 * max(la, lb) or abs(sum(x * y for x, y in zip(ea, eb))) > 1e-9 * la * lb:
+        raise m.error(line, col, "a circle under SCALE with different factors for the axes of its plane would be an "
+                      "ellipse: not modelled")
+    return _cof(lin)[n][n] < 0
+
+
+# -- hook: move (the programmed point into the machine) ------------------------------------------------
+def move(m, src, words: dict) -> None:
+    """Turn the block's X/Y/Z, I/J/K and CR into machine values (absolute, mm) and track the extra
+    axes; sets ``arc_flip`` for the interpreter's G2/G3."""
+    ms = state(m)
+    ms.arc_flip = False
+    line = src.line
+    extra_axes(m, ms, src, words)
+    arc = m.motion in (2, 3)
+    cutting = m.motion in (1, 2, 3) and (any(a in words for a in AXES) or arc and
+                                          any(k in words for k in ("I", "J", "K", "CR")))
+    if cutting and ms.no_tool:
+        col = min(w.col for k, w in words.items() if k in AXES or k in ("I", "J", "K", "CR"))
+        raise m.error(line, col, f"G{m.motion} cuts with no tool in the spindle (T0 M6 removed it): change to a tool "
+                      "with T.. M6 first")
+    if ms.identity() or ms.sandbox:
+        return
+    u = ms.unit()
+    cur = ms.to_wcs(m.pos)
+    given = [a for a in AXES if a in words]
+    if given:
+        target = list(cur)
+        for i, a in enumerate(AXES):
+            if a in words:
+                w = words[a]
+                ab = m.absolute if w.mode is None else w.mode == "AC"
+                target[i] = w.value * u if ab else cur[i] + w.value * u
+        mach = ms.to_machine(target)
+        col = words[given[0]].col
+        for i, a in enumerate(AXES):
+            w = words[a] if a in words else Word(0.0, None, col)
+            words[a] = replace(w, value=mach[i], mode="AC")
+    if not arc:
+        return
+    pa, pb, _ = PLANE_AXES[m.plane]
+    letters = (CENTRE_LETTER[pa], CENTRE_LETTER[pb])
+    if "CR" in words or any(k in words for k in letters):
+        col = min(words[k].col for k in ("CR", *letters) if k in words)
+        ms.arc_flip = plane_image(m, ms, m.plane, line, col)
+    if any(k in words for k in letters):
+        centre = list(cur)
+        for i, k in zip((pa, pb), letters):
+            if k in words:
+                w = words[k]
+                centre[i] = w.value * u if w.mode == "AC" else cur[i] + w.value * u
+        mc = ms.to_machine(centre)
+        first = next(words[k] for k in letters if k in words)
+        for i, k in zip((pa, pb), letters):
+            words[k] = replace(words.get(k, first), value=mc[i], mode="AC")
+    if "CR" in words:
+        lin = ms.linear_part()
+        scale = math.sqrt(sum(r[pa] ** 2 for r in lin))
+        words["CR"] = replace(words["CR"], value=words["CR"].value * scale)
+
+
+def extra_axes(m, ms: Machine, src, words: dict) -> None:
+    line = src.line
+    for name in [k for k in words if k in m.cfg.axes]:
+        w = words.pop(name)
+        rotary = m.cfg.axes[name] == "rotary"
+        old = ms.axis_pos.get(name, 0.0)
+        v = w.value if rotary else w.value * ms.unit()
+        ab = m.absolute if w.mode is None else w.mode != "IC"  # AC, DC, ACP, ACN: absolute
+        new = v if ab else old + v
+        if abs(new - old) > EPS:
+            if rotary and ms.traori:
+                raise m.error(line, w.col, f"rotary axis {name} moves under TRAORI: a tilted tool is not modelled in "
+                              "a 3-axis simulation")
+            what = (f"rotary axis {name} moves; the simulation does not turn the workpiece" if rotary else
+                    f"axis {name} moves; the simulation does not move it (only X, Y and Z carry the tool)")
+            ms.warn_once(m, src, f"axis {name}", what)
+        ms.axis_pos[name] = new
+
+
+# -- hook: change_tool (M6) ----------------------------------------------------------------------------
+def change_tool(m, src) -> bool:
+    """T0 M6 empties the spindle (no record: there is no tool 0); True when handled here."""
+    ms = state(m)
+    if m.tool_pre == 0:
+        m.tool_no = None
+        ms.no_tool = True
+        return True
+    ms.no_tool = False
+    return False
+
+
+__all__ = ["state", "Machine", "word", "g_codes", "settings", "move", "change_tool", "axis_message"]
