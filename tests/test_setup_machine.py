@@ -41,6 +41,12 @@ def with_machine(lines: str, base: str = BASE) -> str:
     return base.replace('dialect = "sinumerik"\n', 'dialect = "sinumerik"\n' + lines, 1)
 
 
+def _write(tmp_path, text: str):
+    p = tmp_path / "setup.toml"
+    p.write_text(text)
+    return p
+
+
 def config(tmp_path, text: str):
     p = tmp_path / "setup.toml"
     p.write_text(text)
@@ -287,6 +293,12 @@ def test_drill_defaults_and_values(tmp_path):
     flat = s.tools[2]
     assert (flat.diameter, flat.length, flat.point_angle) == (10.0, 40.0, 180.0)
     assert interp_config(s, (0, 0, 0)).tool_radii == {1: 3.0, 2: 4.25, 3: 5.0}
+
+
+def test_drill_default_length_is_capped(tmp_path):
+    """10 x a 2000 mm diameter would be 20000 mm: the default stops at the 10000 mm a length may have."""
+    s = cutsim.load_setup(str(_write(tmp_path, BASE + '\n[[tool]]\nnumber = 2\nkind = "drill"\ndiameter = 2000\n')))
+    assert s.tools[1].length == 10000.0
 
 
 def test_drill_point_must_fit_its_length(tmp_path):
