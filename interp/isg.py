@@ -1,25 +1,28 @@
-"""Beckhoff TwinCAT CNC (ISG kernel) dialect, lathe subset: seed 004 (G33 with a turning spindle).
+"""Beckhoff TwinCAT CNC (ISG kernel) dialect: program structure, control flow, variables,
+``#`` commands, global subprograms, work offsets and G33 with I/J/K leads.
 
-A file holds one main program ``%name (title)`` ended by M30 and any number of local subprograms
-``%L name`` ended by M29 (or M17), called with ``LL name``. See docs/dialects/isg.md for what the
-simulator assumes where the manual is silent.
+A file holds a main program ``%name`` ended by M30 and any number of local subprograms ``%L name``
+ended by M29 (or M17), called with ``LL name``; ``L name`` calls a global subprogram file. The text
+is read into statements by interp/isg_scan.py (expressions: interp/isg_lang.py) and run here on the
+shared block executor (core.Interpreter). See docs/dialects/isg.md for what the simulator assumes
+where the manual is silent.
 """
 from __future__ import annotations
 
-import re
+import math
+import os
+import stat
 import unicodedata
-from dataclasses import dataclass, field
 
 from . import canon
 from .canon import Src
-from .errors import CutsimError
-from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
-                    fmt_count, iter_lines, parse_number)
 from .core import Code, Interpreter, Step
+from .errors import CutsimError
+from .isg_lang import SCOPES, truth
+from .isg_scan import Ctrl, IsgBlock, Section, nfc, parse
+from .lexer import COORD_LIMIT, Word, check_range, fmt_count
 from .modal import AXES, InterpConfig
 
-LETTERS = set("NGMXYZIJKFSTDL")
-# The dialect's codes: {code: Code(modal group, addresses it takes, meaning)} (core.Code).
 G_CODES = {
     0: Code("motion", "XYZ", "rapid"),
     1: Code("motion", "XYZF", "linear feed"),
@@ -29,15 +32,31 @@ G_CODES = {
     18: Code("plane", "", "plane ZX"),
     19: Code("plane", "", "plane YZ"),
     33: Code("motion", "XYZIJK", "thread, lead on I/J/K (mm/rev)"),
+    40: Code("radius comp", "", "tool radius compensation off"),
+    41: Code("radius comp", "", "tool radius compensation left"),
+    42: Code("radius comp", "", "tool radius compensation right"),
     51: Code("diameter", "", "diameter programming on (lathe)"),
     52: Code("diameter", "", "diameter programming off"),
+    53: Code("zero offset", "", "zero offset off"),
+    **{n: Code("zero offset", "", f"zero offset G{n}") for n in range(54, 60)},
     90: Code("dist", "", "absolute"),
     91: Code("dist", "", "incremental"),
+    92: Code("g92", "XYZ", "reference point offset (set position)"),
     94: Code("feed", "", "feed per minute"),
     95: Code("feed", "", "feed per revolution"),
+    161: Code("centre", "", "circle centre absolute"),
+    162: Code("centre", "", "circle centre relative to the start"),
+    71: Code("units", "", "millimetres"),
+    70: Code("units", "", "inches"),
 }
-# M codes: stops, program end, spindle, tool change, coolant, subprogram end (the others have no
-# geometric effect).
+# G codes that do not change the tool path: accepted with one warning each (docs/dialects/isg.md).
+G_HARMLESS = {
+    4: "dwell", 8: "curvature-dependent feed on", 9: "exact stop (non-modal)", 10: "stop dynamic block preparation",
+    11: "stop interpolation during block preparation", 60: "exact stop", 61: "velocity profile", 63: "override 100 %",
+    96: "constant cutting speed", 97: "constant spindle speed", 98: "negative software limit switch",
+    99: "positive software limit switch", 15: "feed override off (ISG G15)", 23: "smoothing mode (ISG G23)",
+    164: "circle centre correction", 193: "feed per revolution mode", 900: "feedforward", 901: "feedforward",
+}
 M_CODES = {
     0: Code("stop", "", "program stop"),
     1: Code("stop", "", "optional stop"),
@@ -53,213 +72,43 @@ M_CODES = {
     29: Code("end", "", "subprogram end"),
     30: Code("end", "", "program end"),
 }
+# # commands that do not change the tool path: accepted with one warning each.
+HARMLESS_COMMANDS = {
+    "MSG", "FLUSH", "CONTOUR", "HSC", "CHANNEL", "FILENAME", "IDENT", "DELETE", "VECTOR", "TOOL", "ORI", "KIN",
+    "TIME", "SLOPE", "SET", "PUT", "CAX", "INIT", "SIGNAL", "WAIT", "EXPORT", "TIMER", "PATH", "OPTIONAL", "SYN",
+    "AX", "MEAS", "CALL", "SUPPRESS", "AXLINK", "STROKE", "CLEAR", "PROG", "SPLINE", "TRAFO", "RTCP", "MCS", "PTP",
+    "TLAX", "ACS", "CYL", "TRANS", "ROTATION", "FACE", "TANGFEED", "HSC",
+}
+# commands whose ON form changes the tool path in ways the simulator does not model (exit 2)
+TRANSFORMS = {"TRAFO": "kinematic transformation", "RTCP": "tool centre point control (RTCP)",
+              "TLAX": "tool axis transformation", "ACS": "axial coordinate system", "CYL": "cylinder transformation",
+              "TRANS": "transformation", "FACE": "face machining transformation", "PTP": "point-to-point motion",
+              "SPLINE": "spline interpolation", "TANGFEED": "tangential feed"}
 LEADS = {"I": "X", "J": "Y", "K": "Z"}
 MIN_LEAD = 0.0001  # mm/rev: the programming resolution
-MAX_CALL_DEPTH = 20  # local subprograms open at once (LL inside LL ...)
-# The largest magnitude each address accepts (docs/dialects/isg.md, "Limits"); the words' own
-# rules (signs, whole numbers, S.OFFSET below 360) are checked where they act.
-LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJK"}, "F": (COORD_LIMIT, "mm/min"),
-          "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTD"}}
-NAME = re.compile(r"(?:\w|[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f])+")
-# letters (any script, also written with combining marks), digits, underscore
-SPINDLE_ATTR = re.compile(r"\.([A-Za-z_]\w*)")
-
-
-def _nfc(s: str) -> str:
-    return unicodedata.normalize("NFC", s)
-
+MAX_CALL_DEPTH = 20  # subprograms (local and global) open at once
+MAX_SUB_BYTES = 10_000_000
+SUB_EXTENSIONS = ("", ".nc", ".NC", ".Nc", ".ISG", ".isg")
 
 _UMLAUTS = str.maketrans({"ä": "ae", "ö": "oe", "ü": "ue", "ß": "ss", "Ä": "Ae", "Ö": "Oe", "Ü": "Ue"})
 
 
 def _folds(name: str) -> set[str]:
     """Spellings a name may have been meant as: case folded, umlauts as digraphs or stripped."""
-    n = _nfc(name)
+    n = nfc(name)
     digraph = n.translate(_UMLAUTS).casefold()
     stripped = "".join(c for c in unicodedata.normalize("NFKD", n) if not unicodedata.combining(c)).casefold()
     return {n.casefold(), digraph, stripped}
 
 
-@dataclass
-class IsgBlock(Block):
-    call: tuple[str, int] | None = None  # (subprogram name, column of the name)
-    offsets: list[Word] = field(default_factory=list)  # S.OFFSET words
+class Frame:
+    """One running program level: its file, local subprograms, V.L. variables, call parameters."""
 
+    __slots__ = ("name", "local", "vl", "params", "stack", "calls")
 
-@dataclass
-class Section:
-    kind: str  # "main" | "local"
-    name: str
-    line: int
-    col: int
-    blocks: list[IsgBlock] = field(default_factory=list)
-    ended: bool = False  # a local subprogram has seen its M29/M17
-
-
-def scan(name: str, lineno: int, text: str) -> IsgBlock | None:
-    """One ISG line (not a header) -> block; None for a blank or comment-only line."""
-    block = IsgBlock(line=lineno, col=1)
-    i, n = 0, len(text)
-    seen: dict[str, int] = {}
-    while i < n:
-        c = text[i]
-        if c.isspace():
-            i += 1
-            continue
-        col = i + 1
-        if c == ";":
-            break  # a comment (its text is not kept)
-        if c == "(":
-            j = text.find(")", i + 1)
-            if j < 0:
-                raise CutsimError(name, lineno, col, "comment '(' is not closed by ')'")
-            i = j + 1
-            continue
-        if not (c.isascii() and c.isalpha()):
-            raise CutsimError(name, lineno, col, f"unexpected character '{c}'")
-        letter = c.upper()
-        i += 1
-        if letter == "N":
-            i = block_number(name, lineno, text, i, block, must_open=False)
-            continue
-        if letter == "L":
-            if not (i < n and text[i] in "lL"):
-                raise CutsimError(name, lineno, col, "L (global subprogram call) is not supported: define the "
-                                  "subprogram in this file as '%L name' and call it with 'LL name'")
-            i += 1
-            while i < n and text[i] in " \t":
-                i += 1
-            m = NAME.match(text, i)
-            if not m:
-                raise CutsimError(name, lineno, i + 1, "LL must be followed by the name of a local subprogram")
-            if block.call is not None:
-                raise CutsimError(name, lineno, col, "two subprogram calls in one block")
-            block.call = (_nfc(m.group(0)), i + 1)
-            i = m.end()
-            continue
-        if letter == "S" and i < n and text[i] == "." and SPINDLE_ATTR.match(text, i):
-            m = SPINDLE_ATTR.match(text, i)
-            attr = m.group(1)
-            if attr.upper() != "OFFSET":
-                raise CutsimError(name, lineno, i + 2, f"unknown spindle attribute S.{attr} (only S.OFFSET is supported)")
-            if block.offsets:
-                raise CutsimError(name, lineno, col, "two spindle offsets (S.OFFSET) in one block")
-            j = m.end()
-            while j < n and text[j] in " \t":
-                j += 1
-            if j < n and text[j] == "=":
-                j += 1
-                while j < n and text[j] in " \t":
-                    j += 1
-            value, raw, i = parse_number(name, lineno, text, j, "S.OFFSET=", COORD_LIMIT, "degrees", col=col)
-            block.offsets.append(Word("S.OFFSET", value, raw, col))
-            continue
-        if letter not in LETTERS:
-            raise CutsimError(name, lineno, col, f"address '{letter}' is not used by the ISG dialect")
-        if letter in seen and letter not in "GM":
-            raise CutsimError(name, lineno, col, f"address {letter} appears twice in one block")
-        seen[letter] = col
-        value, raw, i = parse_number(name, lineno, text, i, letter, *LIMITS[letter], col=col)
-        block.words.append(Word(letter, value, raw, col))
-    if not block.label and not block.words and block.call is None and not block.offsets:
-        return None
-    return block
-
-
-HEADER = re.compile(r"%(?:(?P<local>[Ll])[ \t]+(?P<lname>\S+)|(?P<mname>[^\s(;]+))")
-
-
-# Lines that can be blocks, for lexer.check_length: never one that is not (headers, comment lines
-# and blank lines are not; a line opening with a "( )" comment is left out too, which can only
-# undercount).
-BLOCK_LINES = block_lines(r"[^\s;%(]")
-
-
-def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section, dict[str, Section]]:
-    """The file -> (main program, local subprograms by name). With ``max_blocks`` a file with more
-    blocks than that is refused before any line is scanned (lexer.check_length)."""
-    if max_blocks is not None:
-        check_length(name, text, max_blocks, BLOCK_LINES)
-    loose: list[IsgBlock] = []  # blocks before any header
-    sections: list[Section] = []
-    for lineno, line in iter_lines(text):
-        stripped = line.lstrip()
-        indent = len(line) - len(stripped)
-        if stripped.startswith("%"):
-            sections.append(_header(name, lineno, indent, stripped))
-            continue
-        b = scan(name, lineno, line)
-        if b is None:
-            continue
-        if not sections:
-            loose.append(b)
-            continue
-        sec = sections[-1]
-        if sec.ended:
-            raise CutsimError(name, lineno, 1, f"block after the end (M29) of subprogram '{sec.name}' "
-                              "belongs to no program: start a program with '%name' or '%L name'")
-        sec.blocks.append(b)
-        if sec.kind == "local" and any(w.letter == "M" and w.value in (17, 29) for w in b.words):
-            sec.ended = True
-
-    mains = [s for s in sections if s.kind == "main"]
-    if len(mains) > 1:
-        s = mains[1]
-        raise CutsimError(name, s.line, s.col, f"a second main program '%{s.name}' (the first is "
-                          f"'%{mains[0].name}' at line {mains[0].line}); a file holds one main program")
-    if mains and loose:
-        raise CutsimError(name, loose[0].line, 1, "block before the first program header ('%name' or '%L name')")
-    if mains:
-        main = mains[0]
-    elif loose:
-        main = Section("main", "", 1, 1, loose)
-    else:
-        raise CutsimError(name, 1, 1, "no main program: the file needs a '%name' program ended by M30")
-    local: dict[str, Section] = {}
-    for i, s in enumerate(sections):
-        if s.kind != "local":
-            continue
-        if s.name in local:
-            first = local[s.name]
-            raise CutsimError(name, s.line, s.col, f"local subprogram '{s.name}' is defined twice (first at line {first.line})")
-        if not s.ended:
-            nxt = sections[i + 1].line if i + 1 < len(sections) else None
-            where = f"before line {nxt}" if nxt else "before the end of the file"
-            raise CutsimError(name, s.line, s.col, f"local subprogram '{s.name}' is not ended: M29 (or M17) missing {where}")
-        local[s.name] = s
-    for b in main.blocks:
-        for w in b.words:
-            if w.letter == "M" and w.value in (17, 29):
-                raise CutsimError(name, b.line, w.col, f"M{w.raw} ends a subprogram; the main program ends with M30")
-    return main, local
-
-
-def _header(name: str, lineno: int, indent: int, text: str) -> Section:
-    m = HEADER.match(text)
-    if not m:
-        raise CutsimError(name, lineno, indent + 1, "'%' must be followed by a program name ('%name' or '%L name')")
-    if m.group("local"):
-        nm = m.group("lname")
-        col = indent + m.start("lname") + 1
-        if not NAME.fullmatch(nm):
-            bad = next(c for c in nm if not NAME.match(c))
-            raise CutsimError(name, lineno, col + nm.index(bad),
-                              f"subprogram name '{nm}' may hold only letters, digits and '_'")
-        sec = Section("local", _nfc(nm), lineno, col)
-        rest = m.end()
-    else:
-        sec = Section("main", _nfc(m.group("mname")), lineno, indent + 2)
-        rest = m.end()
-    tail = text[rest:].lstrip()
-    if tail.startswith("("):
-        j = tail.find(")")
-        if j < 0:
-            raise CutsimError(name, lineno, indent + len(text) - len(tail) + 1, "program title '(' is not closed by ')'")
-        tail = tail[j + 1:].lstrip()
-    if tail and not tail.startswith(";"):
-        raise CutsimError(name, lineno, indent + len(text) - len(tail) + 1,
-                          "unexpected text after the program name (a title goes in parentheses, a comment after ';')")
-    return sec
+    def __init__(self, name, local, params, stack, calls):
+        self.name, self.local, self.params, self.stack, self.calls = name, local, params, stack, calls
+        self.vl: dict = {}
 
 
 class Isg(Interpreter):
@@ -272,104 +121,387 @@ class Isg(Interpreter):
         self.offset = 0.0  # S.OFFSET, degrees
         self.ended = False
         self.last_block: IsgBlock | None = None
+        self.params: dict[str, float | str] = {f"P{k}": float(v) for k, v in cfg.parameters.items()}
+        self.vars: dict[str, float | str] = {}  # V.P., V.S. and written V.E./V.G.
+        self.declared: dict[str, tuple] = {}  # V.P./V.S. name -> dims
+        self.frame: Frame | None = None
+        self.zero = (0.0, 0.0, 0.0)  # G54..G59 offset
+        self.g92 = [0.0, 0.0, 0.0]
+        self.cs: list[tuple[float, float, float]] = []  # active #CS translations (a stack)
+        self.cs_defs: dict[int, tuple[float, float, float]] = {}
+        self.mcs = False  # #MCS ON: machine coordinates (no offsets)
+        self.centre_abs = False  # G161
+        self.extra_pos: dict[str, float] = {a: 0.0 for a in cfg.axes}
+        self.warned: set = set()
+        self.files: dict[str, tuple] = {}  # global subprogram files read: path -> (main, local)
+
+    # -- messages ----------------------------------------------------------------------------------
+    def warn_once(self, key, src: Src, message: str) -> None:
+        if key not in self.warned:
+            self.warned.add(key)
+            self.warn(src, message)
 
     # -- program structure -----------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
-        self.main, self.local = parse(self.name, text, self.cfg.max_blocks)
-        self.check_count()
-        self.section(self.main, (), ())
+        main, local = parse(self.name, text, self.cfg.max_blocks)
+        self.check_count(main, local)
+        self.frame = Frame(self.name, local, {}, (), ())
+        self.declare(main, top=True)
+        self.section(main)
         if not self.ended and self.last_block is not None:
             b = self.last_block
-            self.warn(Src(self.name, b.line, 1, b.label), "the main program ends without M30")
+            self.warn(Src(self.name, b.line, 1, getattr(b, "label", "")), "the main program ends without M30")
         self.program.blocks = self.executed
         self.program.final_position = tuple(self.pos)
         return self.program
 
-    def check_count(self) -> None:
-        """Refuse before running a program whose subprogram calls would execute more than
-        ``cfg.max_blocks`` blocks: calls are unconditional, so the count is known (static_counts).
-        The error is at the main program's call that executes the most blocks."""
-        counts = static_counts(self.main, self.local)
+    def check_count(self, main: Section, local: dict) -> None:
+        """Without control flow, jumps or global calls, the blocks a program executes are known before
+        it runs: refuse one whose count exceeds ``cfg.max_blocks`` at the main program's heaviest call."""
+        if main.flow or any(s.flow for s in local.values()):
+            return
+        counts = static_counts(main, local)
         if counts is None:
-            return  # an unknown or recursive call: an error when it runs
+            return
         limit = self.cfg.max_blocks
         total, _ = counts[None]
         if total <= limit:
             return
         heaviest = None
-        for b in self.main.blocks:
+        for b in main.blocks:
             if b.call is not None and (heaviest is None or counts[b.call[0]][0] > counts[heaviest.call[0]][0]):
                 heaviest = b
             if _ends_program(b) or (b.call is not None and counts[b.call[0]][1]):
                 break
         where = (1, 1) if heaviest is None else (heaviest.line, heaviest.call[1])
-        what = "" if heaviest is None else (f"LL {heaviest.call[0]} executes {fmt_count(counts[heaviest.call[0]][0])} blocks "
-                                             "(its subprogram calls counted): ")
+        what = "" if heaviest is None else (f"LL {heaviest.call[0]} executes {fmt_count(counts[heaviest.call[0]][0])} "
+                                             "blocks (its subprogram calls counted): ")
         raise self.error(*where, f"{what}the program would execute {fmt_count(total)} blocks, more than the limit of "
                          f"{limit:,} set by [simulation] max_blocks")
 
-    def section(self, sec: Section, calls: tuple, stack: tuple) -> None:
-        """Execute a program body; returns at M29/M17, sets ``self.ended`` at M30/M02."""
-        for b in sec.blocks:
+    def block_limit(self, b) -> CutsimError:
+        return self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed (the limit is [simulation] "
+                          "max_blocks): a loop or jump that does not end?")
+
+    def declare(self, sec: Section, top: bool) -> None:
+        """#VAR declarations of a program level: V.L. into its frame, V.P./V.S. program-wide."""
+        for d in sec.decls:
+            size = math.prod(d.dims) if d.dims else 1
+            values = [f(self) for f in d.init]
+            if len(values) > size:
+                raise self.error(d.line, d.col, f"{d.name} has {size} element(s), {len(values)} values given")
+            if d.scope == "L":
+                store = self.frame.vl
+            else:
+                if not top and d.scope == "P":
+                    raise self.error(d.line, d.col, f"{d.name}: V.P. variables are declared in the main program")
+                store = self.vars
+                self.declared[d.name] = d.dims
+            store[d.name] = d.dims
+            for k, key in enumerate(_element_keys(d.name, d.dims)):
+                store[key] = values[k] if k < len(values) else (values[0] if len(values) == 1 and not d.dims else 0.0)
+
+    def section(self, sec: Section) -> None:
+        """Run a program body with its control flow; returns at M29/M17, sets ``self.ended`` at M30."""
+        blocks = sec.blocks
+        pc, n = 0, len(blocks)
+        fr = self.frame
+        while pc < n:
+            b = blocks[pc]
             self.count_block(b)
+            if isinstance(b, Ctrl):
+                pc = self.control(sec, b, pc)
+                continue
             self.last_block = b
             try:
-                ret = self.block(b, calls, stack)
+                ret = self.block(b, fr)
             except CutsimError as e:
-                if stack and e.line == b.line and e.program == self.name:
-                    raise CutsimError(e.program, e.line, e.col,
-                                      f"{e.message} (in subprogram '{stack[-1]}' called from line {calls[-1][1]})") from None
+                if fr.stack and e.line == b.line and e.program == self.name and "(in subprogram" not in e.message:
+                    raise CutsimError(e.program, e.line, e.col, f"{e.message} (in subprogram '{fr.stack[-1]}' "
+                                      f"called from line {fr.calls[-1][1]})") from None
                 raise
             if self.ended or ret:
                 return
+            if b.goto is not None and (b.cond is None or truth(b.cond(self))):
+                pc = self.jump(sec, b)
+                continue
+            pc += 1
 
-    def call(self, b: IsgBlock, calls: tuple, stack: tuple) -> None:
-        target, col = b.call
-        sec = self.local.get(target)
-        if sec is None:
-            msg = f"unknown subprogram '{target}'"
-            wanted = _folds(target)
-            near = [n for n in self.local if _folds(n) & wanted]
-            if near:
-                msg += f"; did you mean '{near[0]}'?"
-            elif self.local:
-                msg += f" (local subprograms here: {', '.join(sorted(self.local))})"
+    def jump(self, sec: Section, b: IsgBlock) -> int:
+        kind, target, col = b.goto
+        if kind == "S":
+            label = target
+        else:
+            v = target(self)
+            if kind == "V" and isinstance(v, str):
+                label = f"[{v.strip().upper()}]"
+            elif isinstance(v, str) or v != int(v) or v < 0:
+                raise self.error(b.line, col, f"$GOTO N{v}: a block number is a whole number")
             else:
-                msg += " (this file defines no local subprogram '%L name')"
-            raise self.error(b.line, col, msg)
-        if target in stack:
-            chain = " -> ".join(stack + (target,))
-            raise self.error(b.line, col, f"recursive subprogram call: {chain}")
-        if len(stack) >= MAX_CALL_DEPTH:
-            chain = " -> ".join(stack[:3] + ("...",) + stack[-2:] if len(stack) > 6 else stack)
-            raise self.error(b.line, col, f"LL {target}: local subprograms nested more than {MAX_CALL_DEPTH} deep "
-                             f"({chain} -> {target}); the limit of open subprogram calls is {MAX_CALL_DEPTH}")
-        self.section(sec, calls + ((self.name, b.line),), stack + (target,))
+                label = f"N{int(v)}"
+        if label in sec.labels:
+            return sec.labels[label]
+        if label + "?" in sec.labels and label.startswith("N"):
+            return sec.labels[label + "?"]
+        raise self.error(b.line, col, f"$GOTO {label}: no label {label}{':' if label.startswith('N') else ''} in this "
+                         "program level (a jump stays in its main program or subprogram)")
+
+    def control(self, sec: Section, st: Ctrl, pc: int) -> int:
+        """Run one control statement; the index of the next statement."""
+        kw, m, blocks = st.kw, st.match, sec.blocks
+        if kw == "IF":
+            if truth(st.expr(self)):
+                return pc + 1
+            for k in m["branches"]:
+                br = blocks[k]
+                if br.kw == "ELSE" or truth(br.expr(self)):
+                    return k + 1
+            return m["end"] + 1
+        if kw in ("ELSEIF", "ELSE"):
+            return m["end"] + 1  # the branch before it ran: leave the $IF
+        if kw in ("ENDIF", "DO", "CASE", "DEFAULT", "ENDSWITCH"):
+            return pc + 1
+        if kw == "WHILE":
+            return pc + 1 if truth(st.expr(self)) else m["end"] + 1
+        if kw == "ENDWHILE":
+            return m["open"]
+        if kw == "ENDDO":
+            return m["open"] + 1 if truth(st.expr(self)) else pc + 1
+        if kw == "FOR":
+            start = self.number(st.exprs[0](self), st, "$FOR start")
+            self.set_counter(st, start)
+            return pc + 1 if self.for_ok(st, start) else m["end"] + 1
+        if kw == "ENDFOR":
+            head = blocks[m["open"]]
+            v = self.number(self.get_counter(head), head, "$FOR counter") + self.for_step(head)
+            self.set_counter(head, v)
+            return m["open"] + 1 if self.for_ok(head, v) else pc + 1
+        if kw == "SWITCH":
+            v = st.expr(self)
+            default = None
+            for k in m["branches"]:
+                br = blocks[k]
+                if br.kw == "DEFAULT":
+                    default = k
+                elif br.expr(self) == v:
+                    return k + 1
+            return (default + 1) if default is not None else m["end"] + 1
+        if kw == "BREAK":
+            return m["end"] + 1
+        if kw == "CONTINUE":
+            return m["end"]  # the loop's end statement tests and steps
+        raise AssertionError(kw)  # pragma: no cover
+
+    def number(self, v, st, what: str) -> float:
+        if isinstance(v, str):
+            raise self.error(st.line, st.col, f"{what}: \"{v}\" is not a number")
+        return v
+
+    def for_step(self, st: Ctrl) -> float:
+        step = self.number(st.exprs[2](self), st, "$FOR step")
+        if step == 0:
+            raise self.error(st.line, st.col, "$FOR step 0 never ends the loop")
+        return step
+
+    def for_ok(self, st: Ctrl, v: float) -> bool:
+        end = self.number(st.exprs[1](self), st, "$FOR end")
+        return v <= end if self.for_step(st) > 0 else v >= end
+
+    def set_counter(self, st: Ctrl, v: float) -> None:
+        if st.var[0] == "P":
+            self.params[st.var[1]] = v
+        else:
+            self.write_var(st.var[1], st.var[2](self), v, st.line, st.var[3])
+
+    def get_counter(self, st: Ctrl):
+        if st.var[0] == "P":
+            return self.read_param(st.var[1], st.line, st.var[3])
+        return self.read_var(st.var[1], st.var[2](self), st.line, st.var[3])
+
+    # -- variables and parameters (isg_lang closures call these) --------------------------------------
+    def read_param(self, key: str, line: int, col: int):
+        store = self.frame.params if key.startswith("@") else self.params
+        if key not in store:
+            what = "call parameter" if key.startswith("@") else "parameter"
+            raise self.error(line, col, f"{what} {key} is read before it is assigned a value")
+        return store[key]
+
+    def read_var(self, scope: str, key: str, line: int, col: int):
+        if scope == "L":
+            if key in self.frame.vl:
+                return self._element(self.frame.vl, key, line, col)
+            raise self.error(line, col, f"{key} is not declared in this program level (declare it in #VAR ... #ENDVAR)")
+        if scope in ("P", "S"):
+            if key in self.vars:
+                return self._element(self.vars, key, line, col)
+            raise self.error(line, col, f"{key} is not declared (declare it in the main program's #VAR ... #ENDVAR)")
+        if key in self.vars:
+            return self.vars[key]
+        if key in self.cfg.variables:
+            return self.cfg.variables[key]
+        what = SCOPES.get(scope, "controller")
+        raise self.error(line, col, f"{key} ({what} variable) is not known to the simulator (give it a value in the "
+                         f"setup: [variables] \"{key}\" = ...)")
+
+    def _element(self, store: dict, key: str, line: int, col: int):
+        v = store[key]
+        if isinstance(v, tuple):
+            raise self.error(line, col, f"{key} is an array: give its index ({key}[0])")
+        return v
+
+    def write_var(self, scope: str, key: str, value, line: int, col: int) -> None:
+        if scope == "L":
+            store = self.frame.vl
+        elif scope in ("P", "S"):
+            store = self.vars
+        else:
+            self.vars[key] = value  # an external or global variable the program sets
+            return
+        if key not in store:
+            base = key.split("[", 1)[0]
+            if base in store and isinstance(store[base], tuple):
+                raise self.error(line, col, f"{key}: index outside the array {base}{''.join(f'[{d}]' for d in store[base])}")
+            raise self.error(line, col, f"{key} is not declared (declare it in #VAR ... #ENDVAR)")
+        if isinstance(store[key], tuple):
+            raise self.error(line, col, f"{key} is an array: give its index")
+        store[key] = value
+
+    def assign(self, target, f, line: int, col: int) -> None:
+        value = f(self)
+        if target[0] == "P":
+            _, kind, idx = target
+            if idx is None:
+                key = kind
+            else:
+                n = idx(self)
+                if isinstance(n, str) or n != int(n) or n < 0:
+                    raise self.error(line, col, f"parameter number {n} must be a whole number")
+                key = f"{kind}{int(n)}"
+            if key.startswith("@"):
+                self.frame.params[key] = value
+            else:
+                self.params[key] = value
+        else:
+            _, scope, keyf = target
+            self.write_var(scope, keyf(self), value, line, col)
 
     # -- one block (core.Interpreter.execute runs the steps in order) --------------------------------
-    def block(self, b: IsgBlock, calls: tuple, stack: tuple) -> bool:
+    def block(self, b: IsgBlock, fr: Frame) -> bool:
         """Execute one block; True when it returns from a subprogram."""
-        src = Src(self.name, b.line, 1, b.label, calls)
-        return bool(self.execute(b, src, (calls, stack)).result)
+        src = Src(self.name, b.line, 1, b.label, fr.calls)
+        return bool(self.execute(b, src, fr).result)
+
+    def read_words(self, b: IsgBlock) -> list[Word]:
+        """Assignments and words in their order: an expression sees the assignments before it."""
+        if len(b.items) == len(b.words):
+            return b.words
+        out = []
+        for it in b.items:
+            if it[0] == "w":
+                out.append(it[1])
+            elif it[0] == "x":
+                _, letter, f, raw, col = it
+                v = f(self)
+                if isinstance(v, str):
+                    raise self.error(b.line, col, f"{letter}{raw} is the string \"{v}\", not a number")
+                from .isg_scan import LIMITS
+                lim, unit = LIMITS[letter]
+                check_range(self.name, b.line, col, f"{letter}{raw} = {v:g}", v, -lim, lim, unit)
+                out.append(Word(letter, v, f"{v:g}", col))
+            else:
+                _, target, f, col = it
+                self.assign(target, f, b.line, col)
+        return out
+
+    def check_g(self, st: Step, gs: list[Word]) -> None:
+        """The dialect's G table, then G codes that only get a warning; others are errors."""
+        line = st.block.line
+        keep = []
+        for g in gs:
+            code = int(g.value) if g.value == int(g.value) else None
+            if code in G_HARMLESS:
+                self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
+                               "accepted, not simulated")
+                if code == 4:
+                    st.words.pop("X", None)
+                    st.words.pop("F", None)
+                continue
+            if code in self.G_CODES or code is None:
+                keep.append(g)
+                continue
+            if 800 <= code <= 999:
+                raise self.error(line, g.col, f"G{g.raw} is a machine-specific G function (a cycle of the machine "
+                                 "maker): its effect is not known to the simulator")
+            raise self.error(line, g.col, f"unknown G code G{g.raw}")
+        for col in st.block.args:
+            if not any(g.col == col for g in keep):
+                pass
+        super().check_g(st, keep)
 
     def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
+        line = st.block.line
+        if g.col in st.block.args:
+            raise self.error(line, g.col, f"G{g.raw} takes no argument list '[...]'")
+        if g.col in st.block.gvalues:
+            raise self.error(line, g.col, f"G{g.raw} takes no value '= ...'")
         if row.group == "diameter":  # G51/G52 act at once
             if self.cfg.machine_kind != "lathe":
-                raise self.error(st.block.line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
+                raise self.error(line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
             self.set_diameter(code == 51)
+        elif row.group == "zero offset":
+            self.zero_offset(st, code, g)
+        elif row.group == "radius comp":
+            if code != 40:
+                raise self.error(line, g.col, f"G{g.raw} (tool radius compensation) is not modelled by the simulator: "
+                                 "program the tool centre path (G40)")
+        elif row.group == "centre":
+            self.centre_abs = code == 161
+        elif row.group == "units":
+            if code == 70:
+                raise self.error(line, g.col, "G70 (inch programming) is not modelled: the simulator works in millimetres")
+        else:
+            st.g[row.meaning] = g
+
+    def zero_offset(self, st: Step, code: int, g: Word) -> None:
+        if code == 53:
+            self.zero = (0.0, 0.0, 0.0)
+            return
+        key = f"G{code}"
+        if key in self.cfg.work_offsets:
+            self.zero = tuple(self.cfg.work_offsets[key])
+        else:
+            self.zero = (0.0, 0.0, 0.0)
+            self.warn_once(("zero", key), st.src, f"{key}: no offset given in the setup ([work_offsets] {key} = "
+                           "[x, y, z]); offset 0 assumed")
 
     def check_m(self, st: Step, ms: list[Word]) -> None:
-        super().check_m(st, ms)
+        keep = []
+        for m in ms:
+            code = int(m.value) if m.value == int(m.value) else None
+            if code in self.M_CODES:
+                if m.col in st.block.gvalues:
+                    raise self.error(st.block.line, m.col, f"M{m.raw} takes no value '= ...'")
+                keep.append(m)
+            elif code is not None and code in self.cfg.m_functions:
+                continue  # a machine function the setup declares: no geometric effect
+            else:
+                raise self.error(st.block.line, m.col, f"unknown M code M{m.raw}: not an ISG M function and not declared "
+                                 f"as a machine function (declare it in the setup: [machine] m_functions = [{m.raw}])")
+        super().check_m(st, keep)
         ends = self.m_group(st, "end")
         if len(ends) > 1:
             raise self.error(st.block.line, ends[1][1].col, "two program-end M codes in one block")
 
     def convert_settings(self, st: Step) -> None:
         b, words = st.block, st.words
+        for w in [w for w in b.words if w.letter == "H"]:
+            if w.value != int(w.value) or int(w.value) not in self.cfg.h_functions:
+                raise self.error(b.line, w.col, f"H{w.raw} is not a machine function the setup declares "
+                                 f"([machine] h_functions = [{w.raw}])")
+        words.pop("H", None)
         speed = st.speed = words.pop("S", None)
         if speed is not None and speed.value < 0:
             raise self.error(b.line, speed.col, "spindle speed S must not be negative")
-        # M03/M04 act before the motion of their block, M05 after it.
         if st.direction != 0 and (st.direction is not None or speed is not None):
             self.spindle(st.src, st.direction, None if speed is None else speed.value)
         self.tool_words(st, lambda t: self.tool_number(b, t))
@@ -385,6 +517,18 @@ class Isg(Interpreter):
                 raise self.error(st.block.line, w.col, f"S.OFFSET={w.raw} is outside the spindle's modulo range "
                                  "(0 <= offset < 360 degrees)")
             self.offset = w.value
+        for name, text, col in st.block.commands:
+            from .isg_commands import command
+            command(self, st, name, text, col)
+        if "reference point offset (set position)" in st.g:
+            self.set_position(st)
+
+    def set_position(self, st: Step) -> None:
+        """G92 X.. Y.. Z..: the current position reads as the values given (a reference point offset)."""
+        for i, a in enumerate(AXES):
+            w = st.words.pop(a, None)
+            if w is not None:
+                self.g92[i] = self.pos[i] - w.value - self.zero[i] - sum(c[i] for c in self.cs)
 
     def convert_feed(self, st: Step) -> None:
         if "F" in st.words:
@@ -396,14 +540,41 @@ class Isg(Interpreter):
                 raise self.error(st.block.line, f.col, "feed F must be positive")
             self.feed = f.value
 
+    def shift(self) -> tuple[float, float, float]:
+        if self.mcs:
+            return (0.0, 0.0, 0.0)
+        return tuple(self.zero[i] + self.g92[i] + sum(c[i] for c in self.cs) for i in range(3))
+
+    def target(self, values: dict[int, float], absolute=None):
+        """End point (machine values) from axis words: absolute words are shifted by the active zero
+        offset, #CS translation and G92; incremental ones add to the position."""
+        end = list(self.pos)
+        sh = self.shift()
+        for i, v in values.items():
+            end[i] = v + sh[i] if self.absolute else self.pos[i] + v
+        return (end[0], end[1], end[2])
+
+    def extra_axes(self, st: Step) -> None:
+        for a in sorted(set(st.words) & set("ABCUVWE")):
+            w = st.words.pop(a)
+            if a not in self.cfg.axes:
+                raise self.error(st.block.line, w.col, f"axis {a} is not on this machine (declare it in the setup: "
+                                 f"[machine] axes = {{ {a} = \"rotary\" }})")
+            new = w.value if self.absolute else self.extra_pos[a] + w.value
+            if new != self.extra_pos[a]:
+                self.warn_once(("axis", a), st.src, f"axis {a} ({self.cfg.axes[a]}) moves: tracked, but it does not "
+                               "move the tool or the workpiece in this 3-axis simulation")
+            self.extra_pos[a] = new
+
     def convert_motion(self, st: Step) -> None:
         b, src, words, motion = st.block, st.src, st.words, st.motion
+        self.extra_axes(st)
         axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
         values = {i: w.value for i, w in axis_words.items()}
         cols = {i: w.col for i, w in axis_words.items()}
         centre = {a: words.pop(a) for a in "IJK" if a in words}
         if self.motion == 33:
-            self.thread_block(b, src, motion, centre, values, cols)
+            self.thread_block(b, src, centre, values, cols)
         elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
             self.circle(b, src, centre, values, cols)
         else:
@@ -418,27 +589,116 @@ class Isg(Interpreter):
     def convert_end(self, st: Step) -> None:
         """M05, the subprogram call, then the program or subprogram end; ``st.result`` is True when
         the block returns from a subprogram (or the program ended)."""
-        b, src = st.block, st.src
-        calls, stack = st.context
+        b, src, fr = st.block, st.src, st.context
         if st.direction == 0:
             self.spindle(src, 0, None if st.speed is None else st.speed.value)
         if b.call is not None:
-            self.call(b, calls, stack)
-            if self.ended:
-                st.result = True
-                return
+            self.call_local(b, fr)
+        elif b.gcall is not None:
+            self.call_global(b, fr)
+        if self.ended:
+            st.result = True
+            return
         ends = self.m_group(st, "end")
         if ends and self.M_CODES[ends[0][0]].meaning == "program end":
             self.end(src)
             self.ended = True
             st.result = True
         elif ends:
-            if not stack:  # parse() rejects M29 in the main program; kept for safety
-                raise self.error(b.line, ends[0][1].col, f"M{ends[0][1].raw} outside a subprogram")
+            if not fr.stack:
+                raise self.error(b.line, ends[0][1].col, f"M{ends[0][1].raw} ends a subprogram; the main program ends "
+                                 "with M30")
             st.result = True
 
+    # -- subprogram calls --------------------------------------------------------------------------
+    def enter(self, b: IsgBlock, col: int, target: str, fr: Frame) -> None:
+        if target in fr.stack:
+            raise self.error(b.line, col, f"recursive subprogram call: {' -> '.join(fr.stack + (target,))}")
+        if len(fr.stack) >= MAX_CALL_DEPTH:
+            s = fr.stack
+            chain = " -> ".join(s[:3] + ("...",) + s[-2:] if len(s) > 6 else s)
+            kind = "local subprograms" if b.call is not None else "subprograms"
+            raise self.error(b.line, col, f"{'LL' if b.call is not None else 'L'} {target}: {kind} nested more than "
+                             f"{MAX_CALL_DEPTH} deep "
+                             f"({chain} -> {target}); the limit of open subprogram calls is {MAX_CALL_DEPTH}")
+
+    def call_local(self, b: IsgBlock, fr: Frame) -> None:
+        target, col = b.call
+        sec = fr.local.get(target)
+        if sec is None:
+            msg = f"unknown subprogram '{target}'"
+            near = [n for n in fr.local if _folds(n) & _folds(target)]
+            if near:
+                msg += f"; did you mean '{near[0]}'?"
+            elif fr.local:
+                msg += f" (local subprograms here: {', '.join(sorted(fr.local))})"
+            else:
+                msg += " (this file defines no local subprogram '%L name')"
+            raise self.error(b.line, col, msg)
+        self.enter(b, col, target, fr)
+        sub = Frame(fr.name, fr.local, fr.params, fr.stack + (target,), fr.calls + ((fr.name, b.line),))
+        self.run_level(sec, sub, top=False)
+
+    def run_level(self, sec: Section, sub: Frame, top: bool) -> None:
+        saved, saved_name = self.frame, self.name
+        self.frame, self.name = sub, sub.name
+        try:
+            self.declare(sec, top)
+            self.section(sec)
+        finally:
+            self.frame, self.name = saved, saved_name
+
+    def call_global(self, b: IsgBlock, fr: Frame) -> None:
+        fname, col, pexprs = b.gcall
+        params = {k: f(self) for k, f in pexprs.items()}
+        path = self.find_file(fname, b.line, col)
+        if path not in self.files:
+            text = self.read_file(path, fname, b.line, col)
+            self.files[path] = parse(path, text, self.cfg.max_blocks)
+        main, local = self.files[path]
+        label = os.path.basename(path)
+        self.enter(b, col, label, fr)
+        sub = Frame(path, local, params, fr.stack + (label,), fr.calls + ((fr.name, b.line),))
+        self.run_level(main, sub, top=False)
+
+    def find_file(self, fname: str, line: int, col: int) -> str:
+        """A global subprogram: the program's folder, then [machine] subprogram_path. A path written
+        for the controller (C:\\...\\name.nc) is looked up by its file name; names compare without
+        case, with or without ``.nc``."""
+        base = fname.replace("\\", "/").rsplit("/", 1)[-1]
+        dirs = [os.path.dirname(os.path.abspath(self.name)), *self.cfg.subprogram_path]
+        wanted = {(base + ext).upper() for ext in SUB_EXTENSIONS}
+        for d in dirs:
+            try:
+                names = sorted(os.listdir(d))
+            except OSError:
+                continue
+            for n in names:
+                if n.upper() in wanted:
+                    return os.path.join(d, n)
+        raise self.error(line, col, f"global subprogram '{fname}': no file {base} (or {base}.nc) in "
+                         f"{' or '.join(dirs)} (give its folder in the setup: [machine] subprogram_path; a local "
+                         "subprogram of this file is defined as '%L name' and called with 'LL name')")
+
+    def read_file(self, path: str, fname: str, line: int, col: int) -> str:
+        what = f"subprogram {fname}: {path}"
+        try:
+            st = os.stat(path)
+            if stat.S_ISDIR(st.st_mode):
+                raise self.error(line, col, f"{what} is a directory, not a program file")
+            if not stat.S_ISREG(st.st_mode):
+                raise self.error(line, col, f"{what} is not a regular file")
+            if st.st_size > MAX_SUB_BYTES:
+                raise self.error(line, col, f"{what} has {st.st_size:,} bytes, more than the {MAX_SUB_BYTES:,} a "
+                                 "subprogram file may have")
+            with open(path, "rb") as f:
+                data = f.read(MAX_SUB_BYTES + 1)
+        except OSError as e:
+            raise self.error(line, col, f"{what} cannot be read ({e.strerror})") from None
+        return data.decode("utf-8-sig", errors="replace")
+
     # -- G33 -------------------------------------------------------------------------------------
-    def thread_block(self, b: IsgBlock, src: Src, motion, leads: dict[str, Word], values: dict[int, float],
+    def thread_block(self, b: IsgBlock, src: Src, leads: dict[str, Word], values: dict[int, float],
                      cols: dict[int, int]) -> None:
         if len(leads) > 1:
             a, w = list(leads.items())[1]
@@ -461,7 +721,7 @@ class Isg(Interpreter):
             raise self.error(b.line, col, "G33 without a lead: program it without sign on I, J or K "
                              "(mm per revolution along X, Y or Z), e.g. 'G33 Z48 K1.5'")
         if not values:
-            return  # G33 (and the lead) selected, no motion in this block
+            return
         end = self.target(values)
         self.check_position(b.line, end, cols)
         lead, axis = self.lead
@@ -470,10 +730,26 @@ class Isg(Interpreter):
     # -- circles ---------------------------------------------------------------------------------
     def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float],
                cols: dict[int, int]) -> None:
+        if self.centre_abs:  # G161: I/J/K are absolute centre coordinates -> relative to the start
+            sh = self.shift()
+            words = {a: Word(a, w.value + sh["IJK".index(a)] - self.pos["IJK".index(a)], w.raw, w.col)
+                     for a, w in words.items()}
+            if self.diameter and "I" in words:
+                w = words["I"]
+                words["I"] = Word("I", w.value / 2.0, w.raw, w.col)
         centre = self.centre_words(b.line, words, ", relative to the start")
         end = self.target(values)
         self.check_position(b.line, end, cols)
         self.arc(src, end, centre, self.motion == 2)
+
+
+def _element_keys(name: str, dims: tuple) -> list[str]:
+    if not dims:
+        return [name]
+    keys = [name]
+    for d in dims:
+        keys = [f"{k}[{i}]" for k in keys for i in range(d)]
+    return keys
 
 
 def _ends_program(b: IsgBlock) -> bool:
@@ -485,27 +761,26 @@ def _ends_sub(b: IsgBlock) -> bool:
 
 
 def static_counts(main: Section, local: dict[str, Section]) -> dict | None:
-    """Blocks each body executes, its calls included, without running it: name (None for the
-    main program) -> (count, whether it ends the program with M30/M02). Calls are unconditional,
-    so one count per subprogram holds for every call. Worked out by an explicit depth-first walk
-    (no recursion: a chain of calls may be as long as the file). None when a call names an
-    unknown subprogram or is recursive (errors when they run)."""
+    """Blocks each body executes, its calls included, without running it (only for bodies without
+    control flow): name (None for the main program) -> (count, whether it ends the program). None
+    when a call names an unknown subprogram or is recursive (errors when they run)."""
     counts: dict = {}
     bodies = {None: main, **local}
-    stack = [[None, 0, 0]]  # frames: [name, next block index, blocks so far]
+    stack = [[None, 0, 0]]
     open_names = {None}
     while stack:
         frame = stack[-1]
         name, k, total = frame
         blocks = bodies[name].blocks
-        pushed = ended = False
+        pushed = False
+        ended = False
         while k < len(blocks):
             b = blocks[k]
             callee = b.call[0] if b.call is not None else None
             if callee is not None:
                 if callee not in local or callee in open_names:
                     return None
-                if callee not in counts:  # count it first, then come back to this block
+                if callee not in counts:
                     frame[1], frame[2] = k, total
                     stack.append([callee, 0, 0])
                     open_names.add(callee)

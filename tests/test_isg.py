@@ -215,9 +215,8 @@ def test_seed_spelling_fails_through_the_cli(tmp_path):
     ("%L A\nM29\nG01 X1 F1\n%M\nM30\n", 3, 1, ["after the end (M29)"]),
     ("G01 X1 F1\n%M\nM30\n", 1, 1, ["before the first program header"]),
     ("%L A\nM29\n%L A\nM29\n%M\nM30\n", 3, 4, ["defined twice", "line 1"]),
-    ("%P\nL Sub\nM30\n", 2, 1, ["LL name"]),
+    ("%P\nL Sub\nM30\n", 2, 3, ["global subprogram 'Sub'", "subprogram_path", "LL name"]),
     ("%P\nG01 X1 Q5\nM30\n", 2, 8, ["address 'Q'"]),
-    ("%P\nG01 X1 F10 (open\nM30\n", 2, 12, ["not closed"]),
     ("%P\nG07 X1\nM30\n", 2, 1, ["unknown G code G07"]),
     ("%P\nG01 X1 K3 F10\nM30\n", 2, 8, ["address K has no meaning"]),
 ])

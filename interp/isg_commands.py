@@ -1,0 +1,171 @@
+"""ISG ``#`` commands (docs/dialects/isg.md, "# commands"): those that do not change the tool path
+pass with one warning each; ``#CS`` translations are applied; what the simulator cannot model
+(kinematic transformations, RTCP, rotated coordinate systems) stops with exit 2 naming it.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+from .errors import CutsimError
+from .isg_lang import Cursor, expression
+
+# commands without effect on the tool path -> what they do
+PASSIVE = {
+    "MSG": "operator message", "FLUSH": "wait for the block preparation", "CONTOUR": "contouring mode",
+    "HSC": "high speed cutting settings", "CHANNEL": "channel settings", "FILENAME": "file name for output",
+    "IDENT": "program identification", "DELETE": "delete a file", "VECTOR": "vector velocity limits",
+    "TOOL": "tool data", "ORI": "orientation mode", "KIN": "kinematics selection (acts with #TRAFO ON)",
+    "TIME": "time settings", "SLOPE": "acceleration profile", "SET": "settings", "EXPORT": "export",
+    "SIGNAL": "signal", "WAIT": "wait", "TIMER": "timer", "OPTIONAL": "optional execution", "SYN": "synchronisation",
+    "MEAS": "measurement settings", "SUPPRESS": "suppress", "STROKE": "stroke settings", "CLEAR": "clear",
+    "AX": "axis settings", "CAX": "C axis settings", "PROG": "program settings", "PUT": "put", "INIT": "init",
+    "MACHINE": "machine data", "AXLINK": "axis link", "PATH": "path settings", "OVERRIDE": "override",
+    "ACHSE": "axis settings", "SAVE": "save", "RESTORE": "restore",
+}
+# commands whose ON form changes the tool path in a way the simulator does not model
+NOT_MODELLED = {
+    "TRAFO": "a kinematic transformation", "RTCP": "tool centre point control (RTCP)",
+    "TLAX": "a tool axis transformation", "ACS": "an axial coordinate system", "CYL": "a cylinder transformation",
+    "TRANS": "a transformation", "FACE": "face machining", "PTP": "point-to-point motion",
+    "SPLINE": "spline interpolation", "TANGFEED": "tangential feed", "BCS": "a basic coordinate system",
+    "PCS": "a part coordinate system", "KINORG": "a kinematic origin", "MIRROR": "mirroring",
+    "SCALE": "scaling", "POLAR": "polar coordinates", "AKT": "transformations",
+}
+
+
+def warn(m, st, name: str, text: str) -> None:
+    what = PASSIVE.get(name, "")
+    w = re.match(r"[A-Za-z]+", text)
+    m.warn_once(("#", name), st.src, f"#{name}{' ' + w.group(0).upper() if w else ''} ({what}) does not "
+                "change the tool path: accepted, not simulated")
+
+
+def command(m, st, name: str, text: str, col: int) -> None:
+    """Run one ``#`` command of block ``st`` on the interpreter ``m``."""
+    line = st.block.line
+    head = text.split("[", 1)[0].split()
+    first = head[0].upper() if head else ""
+    if name in PASSIVE:
+        warn(m, st, name, text)
+        return
+    if name == "CS":
+        return cs(m, st, text, col)
+    if name == "MCS":
+        if first == "ON":
+            m.mcs = True
+        elif first == "OFF":
+            m.mcs = False
+        else:
+            raise m.error(line, col, f"#MCS {first} is not modelled by the simulator (a move in machine "
+                          "coordinates): only #MCS ON / #MCS OFF")
+        return
+    if name == "ROTATION":
+        if first == "OFF":
+            return
+        angle = re.search(r"ANGLE\s*=\s*([-+0-9.]+)", text, re.I)
+        if angle and float(angle.group(1)) % 360 == 0:
+            return
+        raise m.error(line, col, "#ROTATION ON (a rotated coordinate system) is not modelled by the simulator")
+    if name in NOT_MODELLED:
+        if first == "OFF" or (name in ("TRAFO", "RTCP", "TLAX", "ACS", "CYL", "TRANS", "FACE", "BCS", "PCS",
+                                       "MIRROR", "SCALE", "POLAR") and first == "OFF"):
+            m.warn_once(("#", name, "OFF"), st.src, f"#{name} OFF: nothing to switch off in the simulation")
+            return
+        raise m.error(line, col, f"#{name} {first}: {NOT_MODELLED[name]} is not modelled by the simulator "
+                      "(exit rather than a wrong tool path)")
+    raise m.error(line, col, f"#{name} is not known to the simulator")
+
+
+def _values(m, st, text: str, i: int, col: int) -> tuple[list, int]:
+    """A bracketed list ``[a, b, , c]`` at ``text[i]`` -> (values, None where empty), index after it."""
+    depth, j, parts, start = 0, i + 1, [], i + 1
+    while j < len(text):
+        c = text[j]
+        if c == "[":
+            depth += 1
+        elif c == "]":
+            if depth == 0:
+                parts.append((start, text[start:j]))
+                break
+            depth -= 1
+        elif c == "," and depth == 0:
+            parts.append((start, text[start:j]))
+            start = j + 1
+        j += 1
+    else:
+        raise CutsimError(m.name, st.block.line, col, "']' expected to close the list")
+    out = []
+    for k, piece in parts:
+        if not piece.strip():
+            out.append(None)
+            continue
+        cur = Cursor(m.name, st.block.line, text, k)
+        v = expression(cur)(m)
+        cur.skip()
+        if cur.i != k + len(piece):
+            raise cur.error("',' or ']' expected")
+        if isinstance(v, str):
+            raise CutsimError(m.name, st.block.line, col, f"\"{v}\" is not a number")
+        out.append(v)
+    return out, j + 1
+
+
+def cs(m, st, text: str, col: int) -> None:
+    """#CS DEF [id] [v1,v2,v3,a1,a2,a3], #CS ON [id] [...], #CS ON [id], #CS ON, #CS OFF [ALL],
+    #CS MODE ...: translations are applied; a rotation that is not a whole turn is an error."""
+    line = st.block.line
+    s = text.strip()
+    mm = re.match(r"([A-Za-z]+)\s*(.*)$", s)
+    if not mm:
+        raise m.error(line, col, "#CS needs DEF, ON or OFF")
+    op, rest = mm.group(1).upper(), mm.group(2)
+    if op == "MODE":
+        m.warn_once(("#", "CS MODE"), st.src, "#CS MODE does not change the tool path here: accepted")
+        return
+    if op == "OFF":
+        if rest.strip().upper().startswith("ALL"):
+            m.cs.clear()
+        elif m.cs:
+            m.cs.pop()
+        return
+    if op not in ("DEF", "ON"):
+        raise m.error(line, col, f"#CS {op}: only #CS DEF, #CS ON and #CS OFF are known")
+    lists = []
+    i = 0
+    while i < len(rest):
+        if rest[i] == "[":
+            vals, i = _values(m, st, rest, i, col)
+            lists.append(vals)
+        elif rest[i] in " \t":
+            i += 1
+        else:
+            raise m.error(line, col, f"unexpected '{rest[i]}' in #CS {op}")
+    ident, vec = None, None
+    if len(lists) == 2:
+        ident, vec = lists
+    elif len(lists) == 1 and (len(lists[0]) > 1 or op == "DEF"):
+        vec = lists[0]
+    elif len(lists) == 1:
+        ident = lists[0]
+    ident = int(ident[0]) if ident and ident[0] is not None else None
+    if vec is not None:
+        comps = [0.0 if v is None else float(v) for v in vec] + [0.0] * 6
+        t, rot = tuple(comps[:3]), comps[3:6]
+        for a in rot:
+            if a % 360 != 0:
+                raise m.error(line, col, f"#CS {op} with a rotation ({', '.join(f'{v:g}' for v in rot)} degrees) is not "
+                              "modelled by the simulator (a rotated machining plane); only translations are applied")
+        key = ident if ident is not None else (max(m.cs_defs) + 1 if m.cs_defs else 1)
+        m.cs_defs[key] = t
+        m.cs_last = key
+        if op == "ON":
+            m.cs.append(t)
+        return
+    key = ident if ident is not None else getattr(m, "cs_last", None)
+    if key is None or key not in m.cs_defs:
+        raise m.error(line, col, f"#CS ON{'' if ident is None else f' [{ident}]'}: no coordinate system "
+                      f"{'defined' if ident is None else str(ident) + ' defined'} (#CS DEF first)")
+    m.cs.append(m.cs_defs[key])
+    if not all(math.isfinite(v) for v in m.cs_defs[key]):  # pragma: no cover - values come from expressions
+        raise m.error(line, col, "#CS values out of range")

@@ -1,0 +1,727 @@
+"""ISG (TwinCAT CNC) program text -> statements: blocks with their words, assignments, calls and
+``#`` commands, and the ``$`` control statements; sections (``%name``, ``%L name``) with their
+control structures matched (docs/dialects/isg.md).
+
+Expressions are compiled here (interp/isg_lang.py) and evaluated when the block runs
+(interp/isg.py). This module imports neither the interpreter nor the core.
+"""
+from __future__ import annotations
+
+import re
+import unicodedata
+from dataclasses import dataclass, field
+
+from .errors import CutsimError
+from .isg_lang import CONTROL, IDENT, Cursor, compile_expr, expression, param, primary, var_ref
+from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
+                    iter_lines, parse_number)
+
+LETTERS = set("NGMXYZIJKFSTDLHABCUVWE")
+EXTRA_AXES = set("ABCUVW")
+LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKABCUVWE"}, "F": (COORD_LIMIT, "mm/min"),
+          "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTDH"}}
+NAME = re.compile(r"(?:\w|[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f])+")
+FILE_NAME = re.compile(r"[^\s;(\[\]]+")
+SPINDLE_ATTR = re.compile(r"\.([A-Za-z_]\w*)")
+HEADER = re.compile(r"%(?:(?P<local>[Ll])[ \t]+(?P<lname>\S+)|[ \t]*(?P<mname>[^\s(;]+))")
+COMMAND = re.compile(r"#\s*([A-Za-z_]+)(?:[ \t]+([A-Za-z_]+))?")
+MACRO_DEF = re.compile(r'\s*(?:N[0-9]+\s+)?"([^"\\]+)"\s*=\s*"((?:[^"\\]|\\.)*)"\s*(?:;.*)?$')
+MACRO_USE = re.compile(r'"([^"\\]+)"')
+MAX_MACRO_DEPTH = 16
+BLOCK_LINES = block_lines(r"[^\s;%(#]")
+
+
+def nfc(s: str) -> str:
+    return unicodedata.normalize("NFC", s)
+
+
+@dataclass
+class IsgBlock(Block):
+    call: tuple[str, int] | None = None  # LL name: (subprogram name, column of the name)
+    gcall: tuple[str, int, dict] | None = None  # L name: (file name, column, {"@P1": closure})
+    offsets: list[Word] = field(default_factory=list)  # S.OFFSET words
+    items: list = field(default_factory=list)  # in order: ("w", Word) | ("x", letter, f, raw, col) | ("a", ...)
+    args: dict = field(default_factory=dict)  # column of a G word -> its argument list (G805[...])
+    gvalues: dict = field(default_factory=dict)  # column of a G/M word -> value closure (M200=40)
+    commands: list = field(default_factory=list)  # (NAME, text after it, column)
+    goto: tuple | None = None  # ("N", f, col) | ("S", name or f, col)
+    cond: object = None  # $IF <cond> $GOTO ... in one line: the condition
+    target: str = ""  # the label this line defines ("N10" for N10:, "[NAME]")
+
+    @property
+    def empty(self) -> bool:
+        return not (self.items or self.call or self.gcall or self.offsets or self.commands or self.goto)
+
+
+@dataclass
+class Ctrl:
+    """A control statement: $IF cond, $ELSE, $FOR P1 = a, b, c, ..."""
+    line: int
+    col: int
+    kw: str
+    expr: object = None
+    var: tuple | None = None  # $FOR: (kind, key closure, column)
+    exprs: tuple = ()  # $FOR: start, end, step
+    label: str = ""
+    match: dict = field(default_factory=dict)  # filled by match_control
+
+
+@dataclass
+class VarDecl:
+    line: int
+    col: int
+    scope: str
+    name: str  # upper case, without indices
+    dims: tuple[int, ...]
+    init: list  # closures (one per element given)
+
+
+@dataclass
+class Section:
+    kind: str  # "main" | "local"
+    name: str
+    line: int
+    col: int
+    blocks: list = field(default_factory=list)  # IsgBlock and Ctrl
+    decls: list[VarDecl] = field(default_factory=list)
+    ended: bool = False
+    labels: dict = field(default_factory=dict)  # "N10" / "[NAME]" -> index
+
+    @property
+    def flow(self) -> bool:
+        return any(isinstance(b, Ctrl) or b.goto is not None or b.gcall is not None for b in self.blocks)
+
+
+# -- one line ----------------------------------------------------------------------------------------
+def skip_comment(prog: str, line: int, text: str, i: int) -> int:
+    """A ``( ... )`` comment at ``text[i]``: the index after its ``)``; without one the comment runs
+    to the end of the line (real programs write ``(comment`` that way)."""
+    j = text.find(")", i + 1)
+    return len(text) if j < 0 else j + 1
+
+
+def scan(prog: str, lineno: int, text: str):
+    """One line (not a header, not inside #COMMENT or #VAR) -> IsgBlock, Ctrl or None (blank)."""
+    cur = Cursor(prog, lineno, text)
+    block = IsgBlock(line=lineno, col=1)
+    cur.skip()
+    if cur.peek() == "/":  # block skip: the simulator runs the block (skip switch off)
+        cur.i += 1
+    seen: dict[str, int] = {}
+    while True:
+        cur.skip()
+        if cur.i >= len(text):
+            break
+        c = text[cur.i]
+        col = cur.i + 1
+        if c == ";":
+            break
+        if c == "(":
+            cur.i = skip_comment(prog, lineno, text, cur.i)
+            continue
+        if c == "$":
+            return control(cur, block)
+        if c == "#":
+            command(cur, block)
+            break
+        if c == "[" and not block.items and not block.target:
+            m = re.compile(r"\[\s*([A-Za-z_][A-Za-z0-9_]*)\s*\]").match(text, cur.i)
+            if not m:
+                raise cur.error("a label is a name in '[ ]' at the start of a block ([NAME])")
+            block.target = f"[{m.group(1).upper()}]"
+            cur.i = m.end()
+            continue
+        if c == "@" or (c in "Vv" and cur.peek(1) == ".") or (c in "Pp" and (cur.peek(1).isdigit() or cur.peek(1) == "[")):
+            assignment(cur, block)
+            continue
+        if not (c.isascii() and c.isalpha()):
+            raise cur.error(f"unexpected character '{c}'")
+        word(cur, block, seen)
+    if not block.label and block.empty and not block.target:
+        return None
+    return block
+
+
+def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
+    text, lineno, prog = cur.text, cur.line, cur.prog
+    col = cur.i + 1
+    letter = text[cur.i].upper()
+    cur.i += 1
+    if letter == "N" and cur.peek().isdigit():
+        cur.i = block_number(prog, lineno, text, cur.i, block, must_open=False)
+        if cur.peek() == ":":
+            cur.i += 1
+            block.target = block.label
+        return
+    if letter == "L":
+        return call(cur, block, col)
+    if letter == "S" and cur.peek() == "." and SPINDLE_ATTR.match(text, cur.i):
+        return spindle_attr(cur, block, col)
+    if letter not in LETTERS or letter == "N":
+        m = IDENT.match(text, col - 1)
+        what = m.group(0) if m else letter
+        raise CutsimError(prog, lineno, col, f"address '{letter}' is not used by the ISG dialect" if len(what) == 1
+                          else f"'{what}' is not an ISG address or command (address '{letter}' is not used by "
+                          "the ISG dialect)")
+    if letter in seen and letter not in "GMH":
+        raise CutsimError(prog, lineno, col, f"address {letter} appears twice in one block")
+    seen[letter] = col
+    cur.skip()
+    c = cur.peek()
+    if letter in "GMH" or (c and (c.isdigit() or c in ".+-\u2212")):
+        value, raw, cur.i = parse_number(prog, lineno, text, cur.i, letter, *LIMITS[letter], col=col)
+        w = Word(letter, value, raw, col)
+        block.words.append(w)
+        block.items.append(("w", w))
+        if letter in "GM":
+            code_extras(cur, block, col)
+        return
+    if c == "=":
+        cur.i += 1
+        cur.skip()
+        f = expression(cur)
+    elif c in "[@" or c.isalpha():
+        f = primary(cur)
+    else:
+        raise cur.error(f"malformed number after {letter}")
+    raw = text[col:cur.i].strip()
+    block.items.append(("x", letter, f, raw, col))
+
+
+def code_extras(cur: Cursor, block: IsgBlock, col: int) -> None:
+    """What may follow a G or M number: an argument list ``G805[1, 2, 3]`` or a value ``M200=40``."""
+    if cur.peek() == "[":
+        cur.i += 1
+        args = [expression(cur)]
+        cur.skip()
+        while cur.peek() == ",":
+            cur.i += 1
+            args.append(expression(cur))
+            cur.skip()
+        if cur.peek() != "]":
+            raise cur.error("']' expected to close the argument list")
+        cur.i += 1
+        block.args[col] = args
+        return
+    j = cur.i
+    t = cur.text
+    while j < len(t) and t[j] in " \t":
+        j += 1
+    if j < len(t) and t[j] == "=" and not t.startswith("==", j):
+        cur.i = j + 1
+        cur.skip()
+        block.gvalues[col] = expression(cur)
+
+
+def spindle_attr(cur: Cursor, block: IsgBlock, col: int) -> None:
+    text, prog, lineno = cur.text, cur.prog, cur.line
+    m = SPINDLE_ATTR.match(text, cur.i)
+    attr = m.group(1)
+    if attr.upper() != "OFFSET":
+        raise CutsimError(prog, lineno, cur.i + 2, f"unknown spindle attribute S.{attr} (only S.OFFSET is supported)")
+    if block.offsets:
+        raise CutsimError(prog, lineno, col, "two spindle offsets (S.OFFSET) in one block")
+    j = m.end()
+    while j < len(text) and text[j] in " \t":
+        j += 1
+    if j < len(text) and text[j] == "=":
+        j += 1
+        while j < len(text) and text[j] in " \t":
+            j += 1
+    value, raw, cur.i = parse_number(prog, lineno, text, j, "S.OFFSET=", COORD_LIMIT, "degrees", col=col)
+    block.offsets.append(Word("S.OFFSET", value, raw, col))
+
+
+def call(cur: Cursor, block: IsgBlock, col: int) -> None:
+    """``LL name`` (local subprogram), ``L name`` / ``L path\\name.nc`` (global subprogram file),
+    ``L CYCLE [NAME = file @P1 = ..]`` (a cycle: a global subprogram with call parameters)."""
+    text, prog, lineno = cur.text, cur.prog, cur.line
+    if block.call is not None or block.gcall is not None:
+        raise CutsimError(prog, lineno, col, "two subprogram calls in one block")
+    if cur.peek() in "lL":
+        cur.i += 1
+        cur.skip()
+        m = NAME.match(text, cur.i)
+        if not m:
+            raise cur.error("LL must be followed by the name of a local subprogram")
+        block.call = (nfc(m.group(0)), cur.i + 1)
+        cur.i = m.end()
+        return
+    cur.skip()
+    if cur.at_word("CYCLE"):
+        cur.i += 5
+        cur.skip()
+        block.gcall = cycle_args(cur)
+        return
+    m = FILE_NAME.match(text, cur.i)
+    if not m:
+        raise cur.error("L must be followed by the name of a subprogram file (L name.nc; a local subprogram "
+                        "is called with LL name)")
+    start = cur.i + 1
+    cur.i = m.end()
+    params: dict = {}
+    cur.skip()
+    if cur.peek() == "[":
+        cur.i += 1
+        params = cycle_params(cur)
+    block.gcall = (m.group(0), start, params)
+
+
+def cycle_params(cur: Cursor) -> dict:
+    """``@P1 = expr, @P2 = expr ...]`` after the '[' (commas optional): {"@P1": closure}."""
+    params: dict = {}
+    while True:
+        cur.skip()
+        c = cur.peek()
+        if c == "]":
+            cur.i += 1
+            return params
+        if c == ",":
+            cur.i += 1
+            continue
+        if c == "@" and cur.peek(1) in "Pp":
+            m = re.compile(r"@[Pp]([0-9]+)\s*=").match(cur.text, cur.i)
+            if not m:
+                raise cur.error("a call parameter is written @P<n> = value")
+            cur.i = m.end()
+            params["@P" + str(int(m.group(1)))] = expression(cur)
+            continue
+        if not c:
+            raise cur.error("']' expected to close the call's parameters")
+        raise cur.error(f"unexpected '{c}' in the call's parameters (@P<n> = value)")
+
+
+def cycle_args(cur: Cursor) -> tuple:
+    """``L CYCLE [NAME = file.nc, @P1 = ...]``: (file name, its column, parameters)."""
+    if cur.peek() != "[":
+        raise cur.error("L CYCLE needs its parameters in '[ ]': L CYCLE [NAME = file.nc ...]")
+    m = re.compile(r"\[\s*NAME\s*=\s*(\"[^\"]*\"|[^\s,\]]+)", re.I).match(cur.text, cur.i)
+    if not m:
+        raise cur.error("L CYCLE [...] must name the cycle first: L CYCLE [NAME = file.nc ...]")
+    cur.i = m.end()
+    return (m.group(1).strip('"'), m.start(1) + 1, cycle_params(cur))
+
+
+def assignment(cur: Cursor, block: IsgBlock) -> None:
+    """``P1 = expr``, ``@P1 = expr``, ``V.P.NAME[i] = expr`` (also V.L., V.S., V.E., V.G.)."""
+    col = cur.i + 1
+    c = cur.peek()
+    if c in "Vv":
+        scope, keyf, _ = var_ref(cur)
+        target = ("V", scope, keyf)
+    else:
+        at = c == "@"
+        if at:
+            cur.i += 1
+            if cur.peek() not in "Pp":
+                raise cur.error("'@' must be followed by P and a number (@P1)")
+        cur.i += 1
+        if cur.peek() == "[":
+            idx = primary(cur)
+            target = ("P", "@P" if at else "P", idx)
+        else:
+            m = re.compile(r"[0-9]+").match(cur.text, cur.i)
+            if not m:
+                raise cur.error("P must be followed by the parameter's number")
+            key = ("@P" if at else "P") + str(int(m.group(0)))
+            cur.i = m.end()
+            target = ("P", key, None)
+    cur.skip()
+    if cur.peek() != "=" or cur.text.startswith("==", cur.i):
+        name = cur.text[col - 1:cur.i].strip()
+        raise cur.error(f"'=' expected: {name} is assigned with {name} = value (a parameter or variable is "
+                        "used in a word as X[...])")
+    cur.i += 1
+    f = expression(cur)
+    block.items.append(("a", target, f, col))
+
+
+def command(cur: Cursor, block: IsgBlock) -> None:
+    m = COMMAND.match(cur.text, cur.i)
+    if not m:
+        raise cur.error("'#' must be followed by a command name (#MSG, #FLUSH WAIT, #CS ON ...)")
+    name = m.group(1).upper()
+    rest = cur.text[m.end(1):]
+    block.commands.append((name, _strip_comment(rest), cur.i + 1))
+    cur.i = len(cur.text)
+
+
+def _strip_comment(s: str) -> str:
+    """The command's text up to a ';' comment that is not inside a string."""
+    out, q = [], False
+    for ch in s:
+        if ch == '"':
+            q = not q
+        if ch == ";" and not q:
+            break
+        out.append(ch)
+    return "".join(out).strip()
+
+
+def control(cur: Cursor, block: IsgBlock):
+    """A ``$`` control statement. Only a block number may stand before it; ``$IF cond $GOTO ..`` is
+    one line (a conditional jump); ``$GOTO`` may also close a block of words."""
+    col = cur.i + 1
+    m = IDENT.match(cur.text, cur.i + 1)
+    kw = m.group(0).upper() if m else ""
+    if kw not in CONTROL:
+        raise cur.error(f"unknown control statement ${kw} (the simulator knows "
+                        f"{', '.join('$' + k for k in sorted(CONTROL))})")
+    cur.i = m.end()
+    if kw == "GOTO":
+        goto(cur, block, col)
+        return block
+    if block.items or block.call or block.gcall or block.offsets:
+        raise CutsimError(cur.prog, cur.line, col, f"${kw} must open its block (only a block number may stand before it)")
+    st = Ctrl(cur.line, col, kw, label=block.label)
+    if kw in ("IF", "ELSEIF", "WHILE", "SWITCH", "CASE", "ENDDO"):
+        cur.skip()
+        if cur.i >= len(cur.text) or cur.peek() == ";":
+            raise cur.error(f"${kw} needs {'a value' if kw in ('SWITCH', 'CASE') else 'a condition'}")
+        st.expr = expression(cur)
+    elif kw == "FOR":
+        for_head(cur, st)
+    cur.skip()
+    if kw == "IF" and cur.peek() == "$":
+        m2 = IDENT.match(cur.text, cur.i + 1)
+        if m2 and m2.group(0).upper() == "GOTO":
+            gcol = cur.i + 1
+            cur.i = m2.end()
+            goto(cur, block, gcol)
+            block.cond = st.expr
+            return block
+    while cur.i < len(cur.text) and cur.peek() == "(":
+        cur.i = skip_comment(cur.prog, cur.line, cur.text, cur.i)
+        cur.skip()
+    if cur.i < len(cur.text) and cur.peek() != ";":
+        raise cur.error(f"${kw} must stand alone in its block: move '{cur.text[cur.i:].strip()[:20]}' to the next line")
+    return st
+
+
+def for_head(cur: Cursor, st: Ctrl) -> None:
+    """``$FOR P1 = start, end, step`` (also V. variables as the counter)."""
+    cur.skip()
+    col = cur.i + 1
+    c = cur.peek()
+    if c in "Vv" and cur.peek(1) == ".":
+        scope, keyf, _ = var_ref(cur)
+        st.var = ("V", scope, keyf, col)
+    elif c in "Pp" or c == "@":
+        f = param(cur)  # only to move past it; the key is read from the text
+        key = cur.text[col - 1:cur.i].upper().replace(" ", "")
+        if "[" in key:
+            raise CutsimError(cur.prog, cur.line, col, "$FOR counts with a plain parameter (P1) or a variable")
+        st.var = ("P", key, f, col)
+    else:
+        raise cur.error("$FOR needs a counter: $FOR P1 = start, end, step")
+    cur.skip()
+    if cur.peek() != "=":
+        raise cur.error("'=' expected: $FOR P1 = start, end, step")
+    cur.i += 1
+    parts = [expression(cur)]
+    for _ in range(2):
+        cur.skip()
+        if cur.peek() != ",":
+            raise cur.error("$FOR needs start, end and step separated by ',': $FOR P1 = 0, 10, 1")
+        cur.i += 1
+        parts.append(expression(cur))
+    st.exprs = tuple(parts)
+
+
+def goto(cur: Cursor, block: IsgBlock, col: int) -> None:
+    cur.skip()
+    c = cur.peek()
+    if c == "[":
+        m = re.compile(r"\[\s*([A-Za-z_][A-Za-z0-9_]*)\s*\]").match(cur.text, cur.i)
+        if not m:
+            raise cur.error("$GOTO [NAME] names a label in '[ ]'")
+        block.goto = ("S", f"[{m.group(1).upper()}]", col)
+        cur.i = m.end()
+    elif c in "Nn":
+        cur.i += 1
+        cur.skip()
+        f = primary(cur)
+        block.goto = ("N", f, col)
+    elif c in "Vv" and cur.peek(1) == ".":
+        f = primary(cur)
+        block.goto = ("V", f, col)
+    else:
+        raise cur.error("$GOTO needs its target: $GOTO N100 or $GOTO [NAME]")
+    cur.skip()
+    while cur.peek() == "(":
+        cur.i = skip_comment(cur.prog, cur.line, cur.text, cur.i)
+        cur.skip()
+    if cur.i < len(cur.text) and cur.peek() != ";":
+        raise cur.error("the jump $GOTO is the last thing in its block")
+
+
+# -- #VAR declarations -------------------------------------------------------------------------------
+DECL = re.compile(r"\s*(?:N[0-9]+\s+)?[Vv]\.([A-Za-z])\.([A-Za-z_][A-Za-z0-9_]*)((?:\s*\[\s*[0-9]+\s*\])*)")
+
+
+def declaration(prog: str, lineno: int, text: str) -> VarDecl | None:
+    """One line between #VAR and #ENDVAR: ``V.P.NAME``, ``V.L.ARR[3][2]``, ``= value`` or ``= [a, b]``."""
+    s = text.strip()
+    if not s or s.startswith(";") or s.startswith("("):
+        return None
+    m = DECL.match(text)
+    if not m:
+        col = len(text) - len(text.lstrip()) + 1
+        raise CutsimError(prog, lineno, col, "a #VAR block declares variables V.P.NAME, V.L.NAME or V.S.NAME "
+                          "(with [n] for arrays and '= value')")
+    scope = m.group(1).upper()
+    col = m.start(0) + len(m.group(0)) - len(m.group(0).lstrip()) + 1
+    if scope not in "PLS":
+        raise CutsimError(prog, lineno, col, f"V.{scope}. variables are not declared in the program: only V.P., "
+                          "V.L. and V.S. (V.E. and V.G. come from the controller; give them in the setup's [variables])")
+    dims = tuple(int(d) for d in re.findall(r"[0-9]+", m.group(3)))
+    for d in dims:
+        if not 1 <= d <= 10_000:
+            raise CutsimError(prog, lineno, col, f"array size {d} must be 1 to 10,000")
+    cur = Cursor(prog, lineno, text, m.end())
+    cur.skip()
+    if cur.peek() == ":":  # a type (: INT, : REAL ...) is accepted and not checked
+        tm = IDENT.match(text, cur.i + 1) or IDENT.match(text, cur.i + 2)
+        cur.i = tm.end() if tm else cur.i + 1
+        cur.skip()
+    init: list = []
+    if cur.peek() == "=":
+        cur.i += 1
+        cur.skip()
+        if cur.peek() == "[" and dims:
+            cur.i += 1
+            while True:
+                cur.skip()
+                if cur.peek() == "]":
+                    cur.i += 1
+                    break
+                if cur.peek() == ",":
+                    cur.i += 1
+                    continue
+                if cur.peek() == "[":
+                    cur.i += 1
+                    continue
+                init.append(expression(cur))
+        else:
+            init.append(expression(cur))
+    cur.skip()
+    while cur.peek() == "]" or cur.peek() == ",":
+        cur.i += 1
+        cur.skip()
+    if cur.i < len(text) and cur.peek() not in ";(":
+        raise cur.error("unexpected text after the declaration")
+    return VarDecl(lineno, col, scope, f"V.{scope}.{m.group(2).upper()}", dims, init)
+
+
+# -- macros (string substitution) ---------------------------------------------------------------------
+def expand_macros(prog: str, lineno: int, text: str, macros: dict) -> str:
+    """Replace every ``"NAME"`` outside a #MSG text by the macro's content (recursively)."""
+    if '"' not in text or text.lstrip().startswith("#"):
+        return text
+    for _ in range(MAX_MACRO_DEPTH):
+        out, i, changed = [], 0, False
+        code = text.split(";", 1)[0] if '"' not in text.split(";", 1)[0][-1:] else text
+        for m in MACRO_USE.finditer(code):
+            name = m.group(1)
+            before = code[:m.start()].rstrip()
+            if before.endswith("=") and not before.endswith("=="):
+                continue  # a string value (V.E.X = "text"), not a macro
+            if name not in macros:
+                raise CutsimError(prog, lineno, m.start() + 1, f"macro \"{name}\" is not defined: define it with "
+                                  f"\"{name}\" = \"...\" before it is used (a macro from another file is not "
+                                  "known to the simulator)")
+            out.append(text[i:m.start()])
+            out.append(macros[name])
+            i = m.end()
+            changed = True
+        if not changed:
+            return text
+        out.append(text[i:])
+        text = "".join(out)
+    raise CutsimError(prog, lineno, 1, f"macros nested more than {MAX_MACRO_DEPTH} deep")
+
+
+# -- a whole file -------------------------------------------------------------------------------------
+def header(name: str, lineno: int, indent: int, text: str) -> Section:
+    m = HEADER.match(text)
+    if not m:
+        raise CutsimError(name, lineno, indent + 1, "'%' must be followed by a program name ('%name' or '%L name')")
+    if m.group("local"):
+        nm = m.group("lname")
+        col = indent + m.start("lname") + 1
+        if not NAME.fullmatch(nm):
+            bad = next(c for c in nm if not NAME.match(c))
+            raise CutsimError(name, lineno, col + nm.index(bad),
+                              f"subprogram name '{nm}' may hold only letters, digits and '_'")
+        sec = Section("local", nfc(nm), lineno, col)
+    else:
+        sec = Section("main", nfc(m.group("mname")), lineno, indent + m.start("mname") + 1)
+    tail = text[m.end():].lstrip()
+    if tail.startswith("("):
+        j = tail.find(")")
+        tail = "" if j < 0 else tail[j + 1:].lstrip()
+    if tail and not tail.startswith(";"):
+        raise CutsimError(name, lineno, indent + len(text) - len(tail) + 1,
+                          "unexpected text after the program name (a title goes in parentheses, a comment after ';')")
+    return sec
+
+
+def _directive(stripped: str) -> str:
+    m = re.match(r"(?:N[0-9]+\s*)?#\s*([A-Za-z]+)(?:[ \t]+([A-Za-z]+))?", stripped)
+    if not m:
+        return ""
+    return (m.group(1) + (" " + m.group(2) if m.group(2) else "")).upper()
+
+
+def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section, dict[str, Section], list]:
+    """The file -> (main program, local subprograms by name, further main programs)."""
+    if max_blocks is not None:
+        check_length(name, text, max_blocks, BLOCK_LINES)
+    loose = Section("main", "", 1, 1)
+    sections: list[Section] = []
+    macros: dict[str, str] = {}
+    mode, mode_line = "", 0
+    for lineno, line in iter_lines(text):
+        stripped = line.lstrip()
+        d = _directive(stripped) if "#" in stripped[:12] else ""
+        if mode == "comment":
+            if d == "COMMENT END":
+                mode = ""
+            continue
+        sec = sections[-1] if sections else loose
+        if mode == "var":
+            if d == "ENDVAR":
+                mode = ""
+            else:
+                decl = declaration(name, lineno, line)
+                if decl is not None:
+                    sec.decls.append(decl)
+            continue
+        if d == "COMMENT BEGIN":
+            mode, mode_line = "comment", lineno
+            continue
+        if d == "VAR":
+            mode, mode_line = "var", lineno
+            continue
+        if stripped.startswith("%"):
+            sections.append(header(name, lineno, len(line) - len(stripped), stripped))
+            continue
+        md = MACRO_DEF.match(line)
+        if md:
+            macros[md.group(1)] = md.group(2).replace('\\"', '"')
+            continue
+        b = scan(name, lineno, expand_macros(name, lineno, line, macros))
+        if b is None:
+            continue
+        if sec.ended:
+            raise CutsimError(name, lineno, 1, f"block after the end (M29) of subprogram '{sec.name}' "
+                              "belongs to no program: start a program with '%name' or '%L name'")
+        sec.blocks.append(b)
+        if sec.kind == "local" and isinstance(b, IsgBlock) and _ends_sub(b):
+            sec.ended = True
+    if mode:
+        what = "#COMMENT BEGIN" if mode == "comment" else "#VAR"
+        raise CutsimError(name, mode_line, 1, f"{what} is not closed by {'#COMMENT END' if mode == 'comment' else '#ENDVAR'}")
+    return assemble(name, loose, sections)
+
+
+def assemble(name: str, loose: Section, sections: list[Section]):
+    mains = [s for s in sections if s.kind == "main"]
+    if len(mains) > 1:
+        s = mains[1]
+        raise CutsimError(name, s.line, s.col, f"a second main program '%{s.name}' (the first is "
+                          f"'%{mains[0].name}' at line {mains[0].line}); a file holds one main program")
+    if mains and (loose.blocks or loose.decls):
+        first = loose.blocks[0] if loose.blocks else loose.decls[0]
+        raise CutsimError(name, first.line, 1, "block before the first program header ('%name' or '%L name')")
+    if mains:
+        main = mains[0]
+    elif loose.blocks or loose.decls:
+        main = loose
+    else:
+        raise CutsimError(name, 1, 1, "no main program: the file needs a '%name' program ended by M30")
+    local: dict[str, Section] = {}
+    for i, s in enumerate(sections):
+        if s.kind != "local":
+            continue
+        if s.name in local:
+            raise CutsimError(name, s.line, s.col, f"local subprogram '{s.name}' is defined twice (first at line "
+                              f"{local[s.name].line})")
+        if not s.ended:
+            nxt = sections[i + 1].line if i + 1 < len(sections) else None
+            where = f"before line {nxt}" if nxt else "before the end of the file"
+            raise CutsimError(name, s.line, s.col, f"local subprogram '{s.name}' is not ended: M29 (or M17) missing {where}")
+        local[s.name] = s
+    for sec in [main, *local.values()]:
+        match_control(name, sec)
+    return main, local
+
+
+def _ends_sub(b: IsgBlock) -> bool:
+    return any(w.letter == "M" and w.value in (17, 29) for w in b.words)
+
+
+OPENERS = {"IF": "ENDIF", "WHILE": "ENDWHILE", "FOR": "ENDFOR", "DO": "ENDDO", "SWITCH": "ENDSWITCH"}
+CLOSERS = {v: k for k, v in OPENERS.items()}
+LOOPS = ("WHILE", "FOR", "DO")
+
+
+def match_control(name: str, sec: Section) -> None:
+    """Pair every control statement with its structure: ``st.match`` holds the indices the run
+    loop jumps to (``end``, ``next`` branch, ``cases``, the ``loop`` a $BREAK/$CONTINUE leaves)."""
+    stack: list[tuple[Ctrl, int]] = []
+    for i, st in enumerate(sec.blocks):
+        if isinstance(st, IsgBlock):
+            if st.target:
+                sec.labels.setdefault(st.target, i)
+            elif st.label and st.label not in sec.labels:
+                sec.labels.setdefault(st.label + "?", i)  # a plain block number: a jump target too
+            continue
+        kw = st.kw
+        if st.label:
+            sec.labels.setdefault(st.label + "?", i)
+        if kw in OPENERS:
+            st.match = {"branches": []}
+            stack.append((st, i))
+        elif kw in ("ELSEIF", "ELSE"):
+            top = stack[-1][0] if stack else None
+            if top is None or top.kw != "IF" or top.match.get("else") is not None:
+                raise CutsimError(name, st.line, st.col, f"${kw} does not match the current control block "
+                                  f"({'$' + top.kw + ' at line ' + str(top.line) if top else 'no $IF is open'})")
+            top.match["branches"].append(i)
+            if kw == "ELSE":
+                top.match["else"] = i
+            st.match = {"if": stack[-1][1]}
+        elif kw in ("CASE", "DEFAULT"):
+            top = stack[-1][0] if stack else None
+            if top is None or top.kw != "SWITCH":
+                raise CutsimError(name, st.line, st.col, f"${kw} outside a $SWITCH")
+            top.match["branches"].append(i)
+        elif kw in CLOSERS:
+            opener = CLOSERS[kw]
+            if not stack or stack[-1][0].kw != opener:
+                what = f"the open ${stack[-1][0].kw} at line {stack[-1][0].line}" if stack else f"no ${opener} is open"
+                raise CutsimError(name, st.line, st.col, f"unexpected ${kw}: it does not match the current control "
+                                  f"block ({what})")
+            top, j = stack.pop()
+            top.match["end"] = i
+            st.match = {"open": j}
+            for k in top.match["branches"]:
+                sec.blocks[k].match["end"] = i
+        elif kw in ("BREAK", "CONTINUE"):
+            target = None
+            for top, j in reversed(stack):
+                if top.kw in LOOPS or (kw == "BREAK" and top.kw == "SWITCH"):
+                    target = j
+                    break
+            if target is None:
+                raise CutsimError(name, st.line, st.col, f"${kw} outside a loop" + (" or $SWITCH" if kw == "BREAK" else ""))
+            st.match = {"loop": target}
+    if stack:
+        top, _ = stack[-1]
+        raise CutsimError(name, top.line, top.col, f"${top.kw} is not closed: ${OPENERS[top.kw]} missing")
+    # the open statement of each structure learns its end (already), the closers their opener
+    for st in sec.blocks:
+        if isinstance(st, Ctrl) and st.kw in ("BREAK", "CONTINUE"):
+            loop = sec.blocks[st.match["loop"]]
+            st.match["end"] = loop.match["end"]
