@@ -5,6 +5,7 @@ See docs/dialects.md for what the simulator assumes where the manuals are silent
 from __future__ import annotations
 
 import math
+import re
 from bisect import bisect_left
 from dataclasses import dataclass
 
@@ -62,8 +63,56 @@ LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKE"}, "F": (COORD_LIMIT, "mm/
           "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTDLQ"}}
 
 
+# The happy path of ``scan``: a line of plain words ``<letter><number>`` (no comment, no R, no &,
+# no parameter values) with an optional block number first. Such a line is split by one regular
+# expression; every other line (and any word of it that needs a check to fail) goes the long way,
+# which gives the same Block or the error. Only blanks and tabs separate words here.
+_NUM = r"[+\-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
+PLAIN_LINE = re.compile(rf"[ \t]*(?:[Nn]([0-9]+)[ \t]*)?((?:[A-MO-QS-Za-mo-qs-z]{_NUM}[ \t]*)*)")
+PLAIN_WORD = re.compile(rf"([A-Za-z])({_NUM})[ \t]*")
+_PLAIN_LIMITS = {**{k.lower(): v[0] for k, v in LIMITS.items() if k in LETTERS},
+                 **{k: v[0] for k, v in LIMITS.items() if k in LETTERS}}
+
+
+def scan_plain(lineno: int, text: str) -> Block | None | bool:
+    """``text`` as a Block when it is a plain line (see PLAIN_LINE) whose words all pass their
+    checks; None for an empty line; False when the line needs the full scanner."""
+    m = PLAIN_LINE.fullmatch(text)
+    if m is None:
+        return False
+    number, rest = m.groups()
+    block = Block(lineno, 1)
+    if number is not None:
+        if len(number) > 8 and len(number.lstrip("0")) > 8:  # beyond 99 999 999: the long way says so
+            return False
+        block.label = "N" + number
+    elif not rest:
+        return None if not text.strip() else False
+    if rest:
+        words = block.words
+        seen = ""
+        new = tuple.__new__
+        for w in PLAIN_WORD.finditer(rest):
+            letter, raw = w.groups()
+            limit = _PLAIN_LIMITS.get(letter)
+            if limit is None:
+                return False
+            letter = letter.upper()
+            if letter in seen and letter not in "GM":
+                return False
+            seen += letter
+            value = float(raw)
+            if not -limit <= value <= limit:
+                return False
+            words.append(new(Word, (letter, value, raw, m.start(2) + w.start() + 1, None)))
+    return block
+
+
 def scan(name: str, lineno: int, text: str) -> Block | None:
     """One CNC8x6 line -> Block (None for a blank line)."""
+    block = scan_plain(lineno, text)
+    if block is not False:
+        return block
     block = Block(line=lineno, col=1)
     i, n = 0, len(text)
     seen: dict[str, int] = {}
@@ -133,6 +182,9 @@ def param_number(name: str, lineno: int, col: int, digits: str) -> int:
 
 # Every line that is not blank is a block (also a comment alone: an empty block).
 BLOCK_LINES = block_lines(r"[^\s]")
+# Where a program may jump (a G73 word in any spelling: g73, G073, G+73.0, also inside a comment):
+# a program without one runs streamed (Cnc8x6.stream).
+JUMP = re.compile(r"[Gg]\+?0*73")
 
 
 def parse(name: str, text: str, max_blocks: int | None = None) -> list[Block]:
@@ -178,6 +230,13 @@ class Cnc8x6(Interpreter):
 
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
+        """Interpret the program: streamed when it cannot jump, else from the list of its blocks."""
+        if JUMP.search(text) is None:
+            return self.stream(text)
+        return self.run_blocks(text)
+
+    def run_blocks(self, text: str) -> canon.Program:
+        """Scan every block, count the G73 loops, then execute (jumps need the blocks at hand)."""
         blocks = parse(self.name, text, self.cfg.max_blocks)
         labels: dict[int, int] = {}
         for idx, b in enumerate(blocks):
@@ -204,6 +263,37 @@ class Cnc8x6(Interpreter):
                     continue
                 del loops[pc]
             pc += 1
+        else:
+            if self.after_ramp is not None and self.after_ramp[1] == 1:
+                src = self.after_ramp[0]
+                raise self.error(src.line, src.col, "a thread with runout or lead-in must be followed by an empty block")
+        self.program.blocks = self.executed
+        self.program.final_position = tuple(self.pos)
+        return self.program
+
+    def stream(self, text: str) -> canon.Program:
+        """``run`` for a program without G73: each line is scanned and executed in turn and not
+        kept, so memory does not grow with the number of blocks. The result and every error are
+        those of ``run``: that scans the whole file before it executes, so when a block fails here
+        the rest of the file is scanned first and its first syntax error, if any, is the error."""
+        name = self.name
+        check_length(name, text, self.cfg.max_blocks, BLOCK_LINES)
+        lines = iter_lines(text)
+        for lineno, line in lines:
+            b = scan(name, lineno, line)
+            if b is None:
+                continue
+            try:
+                self.count_block(b)
+                ended = self.block(b, None, 0)[1]
+            except CutsimError:
+                for lineno, line in lines:  # a syntax error later in the file comes first
+                    scan(name, lineno, line)
+                raise
+            if ended:
+                for lineno, line in lines:  # the blocks after the program end are checked, not run
+                    scan(name, lineno, line)
+                break
         else:
             if self.after_ramp is not None and self.after_ramp[1] == 1:
                 src = self.after_ramp[0]

@@ -11,6 +11,7 @@ import math
 import re
 import unicodedata
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from .errors import CutsimError
 
@@ -18,6 +19,9 @@ from .errors import CutsimError
 # ``-00120.000``).  The Unicode minus sign appears in OCR'd manuals and is accepted.  ``[0-9]``,
 # not ``\d``: the latter matches every script's digits.
 NUMBER = re.compile(r"[+\-\u2212]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
+# The happy path of parse_number: an ASCII number not glued to a point, a digit or any non-ASCII
+# character (those go the long way, which names what is wrong).
+PLAIN_NUMBER = re.compile(r"[+\-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?![0-9.]|[^\x00-\x7f])")
 
 # -- limits (documented in docs/dialects/cnc8x6.md and isg.md) ---------------------------------------
 COORD_LIMIT = 99_999.9999  # |coordinate|, offsets, lengths, leads and feeds (mm, mm/rev, mm/min)
@@ -94,10 +98,10 @@ def check_range(program: str, line: int, col: int, word: str, value: float, lo: 
     return value
 
 
-@dataclass(frozen=True, slots=True)
-class Word:
+class Word(NamedTuple):
     """One address word. ``value`` is the number, ``param`` the R parameter it reads (``FR10``),
-    ``raw`` the text as written (needed for rules like "E needs a decimal point")."""
+    ``raw`` the text as written (needed for rules like "E needs a decimal point"). Immutable; a
+    named tuple because a program has millions of them (cheaper to make than a frozen dataclass)."""
 
     letter: str
     value: float | None
@@ -128,6 +132,12 @@ def parse_number(program: str, line: int, text: str, i: int, what: str,
     point or digit run (``1.2.3``) is malformed; a digit of another script is refused; a value
     beyond ``limit`` in magnitude (default: the widest any address allows) is an error naming
     ``what`` and the number, at ``col`` (the word's column; default the number's)."""
+    m = PLAIN_NUMBER.match(text, i)
+    if m is not None:  # the happy path: the same result without the checks' calls
+        raw = m.group()
+        value = float(raw)
+        if -limit <= value <= limit:  # never true for NaN
+            return value, raw, m.end()
     m = NUMBER.match(text, i)
     if not m:
         j = i + 1 if i < len(text) and text[i] in "+-\u2212" else i
