@@ -14,6 +14,7 @@ What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinu
 """
 from __future__ import annotations
 
+import copy
 import math
 import os
 import re
@@ -22,21 +23,135 @@ from dataclasses import dataclass, field
 
 from . import canon
 from .canon import Src
+from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
+from . import sinumerik_drill as drill
 from .sinumerik_cycles import CYCLES, compensate_records, run_cycle
-from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, PASS_LIMIT, R_LIMIT, RANGES, Assign, BinOp, Call, Def,
-                             Frame, FuncCall, Goto, Line, Neg, Num, Repeat, Ret, RIndex, Stmt, Str, SubCall,
-                             SubprogramMissing, Unit, Var, Word, range_message, split_units)
+from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
+from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
+                             BinOp, Branch, Call, Case, Command, Def, Frame, FuncCall, Goto, Index, Line, Neg, Not,
+                             Num, Repeat, Ret, RIndex, Stmt, Str, SubCall, SubprogramMissing, Unit, Var, Word,
+                             range_message, split_units)
 
-KNOWN_G = {0, 1, 2, 3, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506}
+KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506}
 KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
-# calls with no geometric effect (messages, high-speed settings, blank definition for the HMI)
-IGNORED_CALLS = {"MSG", "WORKPIECE", "CYCLE832", "G_GROUP", "SETMS"}
+# calls with no geometric effect (high-speed settings, blank definition for the HMI)
+IGNORED_CALLS = {"WORKPIECE", "CYCLE832"}
+# language calls that do not change the tool path: one warning per kind (SETAL: an alarm, exit 2)
+LANG_CALLS = {"MSG", "SETAL", "FGROUP", "G_GROUP", "SETMS", "GROUP_BEGIN", "GROUP_END", "STOPRE", "WAITM",
+              "WAITMC", "WAITE", "SETM", "CLEARM", "CANCEL", "DISPLOF", "DISPLON", "PRESETON", "SPOS", "SPOSA",
+              "FA", "POS", "POSA", "WRTPR", "MSG_", "SBLOF", "SBLON", "STOPFIFO", "STARTFIFO"}
+NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
+         "WHENEVER": "(a synchronized action) is not simulated: its condition and action are ignored",
+         "ID": "(a synchronized action) is not simulated: its condition and action are ignored",
+         "MSG": "(a message on the operator screen) changes nothing on the tool path",
+         "FGROUP": "(the axes the feed applies to) is not simulated: F is the path feed of X/Y/Z"}
+# what PROC ... SAVE puts back on return (the machine functions append theirs: units, frames, ...)
+SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "feed", "comp", "d_no"]
+# keywords that are never a subprogram file, even with a file of that name beside the program
+NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES)
+MAX_ARRAY = 1_000_000  # elements of one array (DEF REAL A[1000, 1000])
 MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
 MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
 R_NAME = re.compile(r"R[0-9]+")
 AXIS_LETTER = {0: "I", 1: "J", 2: "K"}  # the centre address of each axis
+
+
+COMPARE = {"==": lambda a, b: a == b, "<>": lambda a, b: a != b, "<": lambda a, b: a < b, ">": lambda a, b: a > b,
+           "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b}
+
+
+def to_text(v) -> str:
+    """A value as the << operator and MSG show it: strings as they are, numbers shortest."""
+    return v if isinstance(v, str) else f"{v:.10g}"
+
+
+def convert(typ: str, v, length: int = 0):
+    """A value as stored in a variable of type ``typ`` (Job Planning, type conversions): INT rounds
+    to the nearest whole number (halves away from 0), BOOL is 0 or 1, STRING takes a number's text;
+    None when the value cannot be converted (a string for a number)."""
+    if typ in ("STRING", "AXIS"):
+        s = to_text(v)
+        return s[:length] if length else s
+    if isinstance(v, str):
+        if typ == "CHAR" and len(v) == 1:
+            return float(ord(v))
+        return None
+    if typ == "INT":
+        return float(math.floor(abs(v) + 0.5) * (1 if v >= 0 else -1))
+    if typ == "BOOL":
+        return float(v != 0)
+    return float(v)
+
+
+@dataclass
+class Slot:
+    """A scalar variable (or a system variable / setup datum once read or written)."""
+    type: str
+    value: object
+    length: int = 0
+
+    def get(self):
+        return self.value
+
+    def set(self, v) -> bool:
+        c = convert(self.type, v, self.length)
+        if c is None:
+            return False
+        self.value = c
+        return True
+
+
+@dataclass
+class RSlot:
+    """An R parameter (its dictionary and key), so a VAR parameter can stand for it."""
+    params: dict
+    key: str
+
+    def get(self):
+        return self.params.get(self.key, 0.0)
+
+    def set(self, v) -> bool:
+        if isinstance(v, str):
+            return False
+        self.params[self.key] = float(v)
+        return True
+
+
+@dataclass
+class ArrayVar:
+    """DEF REAL A[3, 4]: its type, dimensions and the values row by row."""
+    type: str
+    dims: tuple
+    values: list
+    length: int = 0
+
+    def element(self, idx: list[float], m, line: int, col: int):
+        if len(idx) != len(self.dims):
+            raise m.error(line, col, f"the array has {len(self.dims)} dimension(s), not {len(idx)}")
+        flat = 0
+        for i, n in zip(idx, self.dims):
+            if i != int(i) or not 0 <= i < n:
+                raise m.error(line, col, f"array index {i:.10g} out of range 0 to {n - 1}")
+            flat = flat * n + int(i)
+        return ElemSlot(self, flat)
+
+
+@dataclass
+class ElemSlot:
+    array: ArrayVar
+    k: int
+
+    def get(self):
+        return self.array.values[self.k]
+
+    def set(self, v) -> bool:
+        c = convert(self.array.type, v, self.array.length)
+        if c is None:
+            return False
+        self.array.values[self.k] = c
+        return True
 
 
 @dataclass
@@ -54,7 +169,10 @@ class Block:
     gs: list[tuple[int, int]] = field(default_factory=list)  # (code, column)
     ms: list[tuple[int, int]] = field(default_factory=list)
     calls: list[Stmt] = field(default_factory=list)  # Call | SubCall | Ret
-    jumps: list[Stmt] = field(default_factory=list)  # Goto | Repeat
+    jumps: list[Stmt] = field(default_factory=list)  # Goto | Repeat | Case | Branch
+    # bare machine keywords (name, column) of sinumerik_lang.MACHINE_COMMANDS: ``settings`` removes
+    # the ones it implements; any left over is an error (``unsupported``)
+    commands: list[tuple[str, int]] = field(default_factory=list)
 
 
 class Sinumerik(ModalMachine):
@@ -76,6 +194,10 @@ class Sinumerik(ModalMachine):
         self.unit_program = name  # the file of the line being executed (subprograms from NAME.spf)
         self.main: Unit | None = None
         self.subs: dict[str, Unit] = {}
+        self.cfg_vars = {str(k).upper().replace(" ", ""): v for k, v in cfg.variables.items()}
+        self.sysvars: dict[str, Slot] = {}  # system variables and setup data read or written so far
+        self.warned: set[str] = set()  # command kinds warned about (one warning each)
+        self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
 
     # -- values ----------------------------------------------------------------------------------
     def tool_radius(self) -> float:
@@ -104,8 +226,11 @@ class Sinumerik(ModalMachine):
             if isinstance(v, str):
                 raise self.error(line, col, "a string cannot be negated")
             return -v
-        if isinstance(node, Var):
-            return self.variable(node, line)
+        if isinstance(node, Not):
+            v = self.num(self._ev(node.operand, line, node.col), line, node.col)
+            return float(~self.whole_value(v, line, node.col)) if node.bits else float(not v)
+        if isinstance(node, (Var, Index)):
+            return self.slot(node, line, write=False).get()
         if isinstance(node, RIndex):
             i = self.num(self._ev(node.index, line, col), line, node.col)
             return self.params.get(self.r_index(i, line, node.col), 0.0)
@@ -119,24 +244,66 @@ class Sinumerik(ModalMachine):
             return self.binop(node, line, col)
         raise TypeError(f"not an expression node: {node!r}")  # pragma: no cover
 
-    def variable(self, node: Var, line: int):
-        name = node.name
-        if R_NAME.fullmatch(name):
+    def slot(self, node, line: int, write: bool):
+        """Where a name reads and writes: an R parameter, a local variable or array element (VAR
+        parameters share their caller's slot), a system variable or a setup [variables] name."""
+        name, col = node.name, node.col
+        index = node.index if isinstance(node, Index) else ()
+        if R_NAME.fullmatch(name) and not index:
             if len(name[1:].lstrip("0")) > len(str(R_LIMIT)):
-                raise self.error(line, node.col, f"{name}: there are the parameters R0 to R{R_LIMIT}")
-            return self.params.get(self.r_index(float(int(name[1:])), line, node.col), 0.0)
-        if name in self.vars:
-            return self.vars[name]
-        if name in ("TRUE", "FALSE"):
-            return 1.0 if name == "TRUE" else 0.0
-        raise self.error(line, node.col, f"unknown variable '{name}' (declare it with DEF)")
+                raise self.error(line, col, f"{name}: there are the parameters R0 to R{R_LIMIT}")
+            return RSlot(self.params, self.r_index(float(int(name[1:])), line, col))
+        if name.startswith("$"):
+            return self.system_slot(name, index, line, col, write)
+        held = self.vars.get(name)
+        if isinstance(held, ArrayVar):
+            if not index:
+                raise self.error(line, col, f"'{name}' is an array: write {name}[index]")
+            return held.element([self.num(self.ev(i, line, col), line, col) for i in index], self, line, col)
+        if held is not None:
+            if index:
+                raise self.error(line, col, f"'{name}' is not an array")
+            return held
+        if name in ("TRUE", "FALSE") and not write:
+            return Slot("BOOL", 1.0 if name == "TRUE" else 0.0)
+        if not index and name in self.cfg_vars:
+            return self.system_slot(name, (), line, col, write)
+        raise self.error(line, col, f"unknown variable '{name}' (declare it with DEF, or give a global one a "
+                         f"value in the setup: [variables] \"{name}\" = ...)")
 
-    def binop(self, node: BinOp, line: int, col: int) -> float:
+    def system_slot(self, name: str, index: tuple, line: int, col: int, write: bool):
+        """A system variable ($P_..., $AA_IW[X], $A_DBB[5]) or global datum, keyed as written (upper
+        case, the index evaluated): what the program wrote, else the setup's [variables] value."""
+        parts = []
+        for i in index:
+            if isinstance(i, Var) and i.name not in self.vars and not R_NAME.fullmatch(i.name):
+                parts.append(i.name)  # an axis or channel name: $AA_IW[X]
+                continue
+            v = self.ev(i, line, col)
+            parts.append(v if isinstance(v, str) else f"{v:.10g}")
+        key = name + (f"[{','.join(parts)}]" if parts else "")
+        if key not in self.sysvars:
+            if key not in self.cfg_vars and not write:
+                raise self.error(line, col, f"{key} is not known to the simulator (give it a value in the setup: "
+                                 f"[variables] \"{key}\" = ...)")
+            v = self.cfg_vars.get(key, 0.0)
+            self.sysvars[key] = Slot("STRING" if isinstance(v, str) else "REAL",
+                                     v if isinstance(v, str) else float(v))
+        return self.sysvars[key]
+
+    def whole_value(self, v: float, line: int, col: int) -> int:
+        if v != int(v):
+            raise self.error(line, col, f"a whole number is needed here, not {v:.10g}")
+        return int(v)
+
+    def binop(self, node: BinOp, line: int, col: int):
         op = node.op
         a = self._ev(node.left, line, col)
         b = self._ev(node.right, line, col)
-        if op in ("==", "<>") and isinstance(a, str) and isinstance(b, str):
-            return float((a == b) == (op == "=="))
+        if op == "<<":
+            return to_text(a) + to_text(b)
+        if op in COMPARE and isinstance(a, str) and isinstance(b, str):
+            return float(COMPARE[op](a, b))
         a, b = self.num(a, line, col), self.num(b, line, col)
         if op in ("+", "-", "*", "/"):
             if op == "/" and b == 0:
@@ -145,7 +312,18 @@ class Sinumerik(ModalMachine):
             if not math.isfinite(r):
                 raise self.error(line, node.col, f"{a:.10g} {op} {b:.10g} overflows: the result is not a finite number")
             return r
-        return float({"==": a == b, "<>": a != b, "<": a < b, ">": a > b, "<=": a <= b, ">=": a >= b}[op])
+        if op in COMPARE:
+            return float(COMPARE[op](a, b))
+        if op in ("AND", "OR", "XOR"):
+            return float(bool(a) and bool(b) if op == "AND" else bool(a) or bool(b) if op == "OR" else bool(a) != bool(b))
+        x, y = self.whole_value(a, line, node.col), self.whole_value(b, line, node.col)
+        if op in ("DIV", "MOD") and y == 0:
+            raise self.error(line, node.col, "division by zero")
+        if op == "DIV":
+            return float(int(x / y))
+        if op == "MOD":
+            return float(x - y * int(x / y))
+        return float({"B_AND": x & y, "B_OR": x | y, "B_XOR": x ^ y}[op])
 
     def fn(self, f: str, args: list, line: int, col: int) -> float:
         try:
@@ -202,7 +380,7 @@ class Sinumerik(ModalMachine):
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
         self.main, self.subs = split_units(self.name, text)
-        stack = [Frame(self.main, pc=0)]
+        stack = [Frame(self.main, pc=0, scope=self.vars)]
         ended = False
         last_line = 1
         while stack and not ended:
@@ -227,10 +405,7 @@ class Sinumerik(ModalMachine):
             fr.pc += 1
             if not ln.stmts:
                 continue
-            self.executed += 1
-            if self.executed > self.cfg.max_blocks:
-                raise self.error(ln.line, 1, f"the program does not end: more than {self.cfg.max_blocks:,} blocks executed "
-                                 "(a jump loop; the limit is [simulation] max_blocks)")
+            self.count_block(ln)
             ended = self.block(ln, fr, stack)
         if self.comp_buf is not None:
             self.flush_comp(None, last_line)
@@ -244,39 +419,78 @@ class Sinumerik(ModalMachine):
         program. States are remembered by hash; a hash seen before keeps its full state, and only
         the full state seen again is the proof (no false alarm from a hash collision)."""
         key = (tuple((id(f.unit), f.pc, f.count, f.stop, f.restart, f.ret, f.kind) for f in stack),
-               tuple(sorted(self.params.items())), tuple(sorted((k, repr(v)) for k, v in self.vars.items())))
+               tuple(sorted(self.params.items())), tuple(sorted((k, repr(v)) for k, v in self.vars.items())),
+               tuple(sorted((k, repr(v)) for k, v in self.sysvars.items())))
         h = hash(key)
         if h not in self.loop_hashes:
             self.loop_hashes.add(h)
             return
         if self.loop_states.get(h) == key:
-            raise self.error(line, st.col, f"the program does not end: {st.kind} {st.label} comes back with every R parameter "
+            what = f"{st.kind} {st.label}" if isinstance(st, Goto) else st.kind
+            raise self.error(line, st.col, f"the program does not end: {what} comes back with every R parameter "
                              "and variable unchanged, so it loops forever")
         self.loop_states[h] = key
 
     def error(self, line: int, col: int, message: str) -> CutsimError:
         return CutsimError(self.unit_program, line, col, message)
 
-    def find_label(self, unit: Unit, label: str, line: int, col: int) -> int:
-        if label not in unit.labels:
+    def block_limit(self, b) -> CutsimError:
+        return self.error(b.line, 1, f"the program does not end: more than {self.cfg.max_blocks:,} blocks executed "
+                          "(a jump loop; the limit is [simulation] max_blocks)")
+
+    def nearest(self, unit: Unit, label: str, cur: int, forward: bool) -> int | None:
+        """The nearest line holding ``label`` after (forward) or at/before ``cur``."""
+        lines = unit.all_labels.get(label, ())
+        if forward:
+            return next((i for i in lines if i > cur), None)
+        return next((i for i in reversed(lines) if i <= cur), None)
+
+    def find_label(self, unit: Unit, label: str, line: int, col: int, kind: str = "GOTO",
+                   cur: int = -1) -> int | None:
+        """The jump destination the Siemens way: GOTOF searches forwards, GOTOB backwards, GOTO and
+        GOTOC forwards then backwards (a label written twice: the nearest in that direction).
+        GOTOC gives None when the label is missing; the others are errors."""
+        if label not in unit.all_labels:
+            if kind == "GOTOC":
+                return None
             raise self.error(line, col, f"label {label} does not exist in {'the program' if unit is self.main else unit.name}")
-        return unit.labels[label]
+        fwd = self.nearest(unit, label, cur, forward=True)
+        back = self.nearest(unit, label, cur, forward=False)
+        idx = fwd if kind == "GOTOF" else back if kind == "GOTOB" else (fwd if fwd is not None else back)
+        if idx is None and kind == "GOTOC":
+            return None
+        if idx is None:
+            where = "before" if kind == "GOTOF" else "after"
+            raise self.error(line, col, f"{kind} jumps {'forward' if kind == 'GOTOF' else 'back'}, but {label} "
+                             f"comes only {where} this block")
+        return idx
 
     def find_sub(self, name: str, line: int, col: int) -> Unit:
+        """A subprogram: a PROC or %_N_NAME_SPF of the program's own file, else NAME.spf (.mpf, .nc)
+        beside the program, else in the setup's [machine] subprogram_path folders, in that order.
+        A file whose blocks are all inside ``PROC NAME`` runs that PROC's body."""
         if name in self.subs:
             return self.subs[name]
-        d = os.path.dirname(os.path.abspath(self.name))
-        try:
-            cands = [f for f in os.listdir(d) if os.path.splitext(f)[0].upper() == name and
-                     os.path.splitext(f)[1].upper() in (".SPF", ".MPF", ".NC")]
-        except OSError:
-            cands = []
-        if not cands:
+        if name in NOT_FILES:
+            raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support")
+        path = None
+        for d in (os.path.dirname(os.path.abspath(self.name)), *self.cfg.subprogram_path):
+            try:
+                cands = sorted(f for f in os.listdir(d) if os.path.splitext(f)[0].upper() in (name, f"_N_{name}_SPF")
+                               and os.path.splitext(f)[1].upper() in (".SPF", ".MPF", ".NC", ""))
+            except OSError:
+                cands = []
+            cands = [f for f in cands if os.path.splitext(f)[1]] or cands
+            if cands:
+                path = os.path.join(d, cands[0])
+                break
+        if path is None:
             raise SubprogramMissing(self.unit_program, line, col, f"subprogram {name} is not defined (PROC {name} in "
-                                    f"this file, or {name}.spf beside it)")
-        path = os.path.join(d, sorted(cands)[0])
+                                    f"this file, {name}.spf beside it or in [machine] subprogram_path)")
         text = self.read_sub(path, name, line, col)
         unit, more = split_units(path, text)
+        if not any(ln.stmts for ln in unit.lines) and more:
+            unit = more.get(name) or next(iter(more.values()))  # the file is its PROC
         unit.name = name
         self.subs[name] = unit
         for k, u in more.items():
@@ -315,10 +529,13 @@ class Sinumerik(ModalMachine):
         blk = self.evaluate(ln)
         motion, new_comp = self.modal_codes(blk.gs, line)
         end = self.settings(src, blk, motion)
+        self.unsupported(blk, line)
         self.comp_on(new_comp, src, line)
+        moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
         self.move(ln, src, blk.words, motion)
         if new_comp == 40 and self.comp_buf is not None:
             self.flush_comp(src, line)
+        drill.after_block(self, src, moved, blk.calls)
         if self.calls(blk, src, line, stack):
             return False
         for st in blk.jumps:
@@ -334,7 +551,8 @@ class Sinumerik(ModalMachine):
         return end
 
     def evaluate(self, ln: Line) -> Block:
-        """Assignments and DEFs take effect in order; words are evaluated and range-checked."""
+        """Assignments and DEFs take effect in order; words are evaluated and range-checked;
+        commands are warned about or handed on (Block.commands); G4 takes its F/S as the dwell."""
         line = ln.line
         blk = Block()
         for st in ln.stmts:
@@ -342,36 +560,129 @@ class Sinumerik(ModalMachine):
                 self.assign(st, line)
             elif isinstance(st, Def):
                 self.define(st, line)
+            elif isinstance(st, Word) and st.address in self.vars and st.mode is None:
+                self.assign(Assign(st.col, st.address, st.value), line)  # PROC P(REAL B): B=B+1
             elif isinstance(st, Word):
-                self.word(st, line, blk)
-            elif isinstance(st, (Goto, Repeat)):
+                self.word(self.axis_word(st, line) if st.address == "AX" else st, line, blk)
+            elif isinstance(st, (Goto, Repeat, Case, Branch)):
                 blk.jumps.append(st)
+            elif isinstance(st, Command):
+                self.command(st, ln, blk)
+            elif isinstance(st, Call) and st.name in LANG_CALLS:
+                self.lang_call(st, ln)
             elif isinstance(st, (Call, SubCall, Ret)):
                 blk.calls.append(st)
+        if any(code == 4 for code, _ in blk.gs):
+            self.dwell(blk, line)
         return blk
+
+    def axis_word(self, st: Word, line: int) -> Word:
+        """AX[name]=value: the word of the axis the expression names (an axis letter, or an AXIS
+        variable holding one)."""
+        node = st.axis
+        if isinstance(node, Var) and node.name not in self.vars:
+            name = node.name
+        elif node is not None:
+            name = self.ev(node, line, st.col)
+        else:
+            raise self.error(line, st.col, "AX[..] takes one axis name")
+        if not isinstance(name, str) or not re.fullmatch(r"[A-Z][0-9]*", name.upper()):
+            raise self.error(line, st.col, "AX[..] needs an axis name (X, Y, Z or a declared axis)")
+        return Word(st.col, name.upper(), st.value, st.mode)
+
+    def command(self, st: Command, ln: Line, blk: Block) -> None:
+        """A bare keyword: language commands without effect on the tool path get one warning per
+        kind; machine commands go on to ``settings`` through ``Block.commands``."""
+        if st.name in MACHINE_COMMANDS:
+            blk.commands.append((st.name, st.col))
+            return
+        if st.name == "EXTERN":
+            return  # a declaration: the call finds the subprogram by itself
+        what = NOTES.get(st.name, "changes nothing on the tool path")
+        self.note(Src(self.unit_program, ln.line, st.col, ln.nlabel or ln.label), st.name, f"{st.name} {what}")
+
+    def note(self, src: Src, kind: str, message: str) -> None:
+        if kind not in self.warned:
+            self.warned.add(kind)
+            self.warn(src, message + " (not simulated; warned once)")
+
+    def lang_call(self, st: Call, ln: Line) -> None:
+        """MSG(..), SETAL(..), FGROUP(..), ... : their arguments are evaluated (errors count); SETAL
+        raises the alarm it names: the program stops there (exit 2)."""
+        line = ln.line
+        vals = [None if a.value is None else self.ev(a.value, line, a.col) for a in st.args]
+        if st.name == "SETAL":
+            raise self.error(line, st.col, f"SETAL({', '.join(to_text(v) for v in vals if v is not None)}): the "
+                             "program raises an alarm here and the controller stops it")
+        src = Src(self.unit_program, line, st.col, ln.nlabel or ln.label)
+        text = f" \"{vals[0]}\"" if st.name == "MSG" and vals and isinstance(vals[0], str) else ""
+        self.note(src, st.name, f"{st.name}{text} {NOTES.get(st.name, 'changes nothing on the tool path')}")
+
+    def dwell(self, blk: Block, line: int) -> None:
+        """G4 F<seconds> / G4 S<spindle revolutions>: a dwell, alone in its block with its F or S;
+        the tool stands still (the modal feed and speed stay as they were)."""
+        col = next(c for code, c in blk.gs if code == 4)
+        times = [blk.words.pop(a) for a in ("F", "S") if a in blk.words]
+        if len(times) != 1:
+            raise self.error(line, col, "G4 needs its dwell time: G4 F<seconds> or G4 S<revolutions>")
+        moving = [a for a in blk.words if a in "XYZ" or a in ("I", "J", "K", "CR")]
+        if moving:
+            raise self.error(line, blk.words[moving[0]].col, "G4 (dwell) stands in a block without motion")
+        blk.gs = [(code, c) for code, c in blk.gs if code != 4]
 
     def assign(self, st: Assign, line: int) -> None:
         v = self.ev(st.value, line, st.col)
-        if R_NAME.fullmatch(st.name):
-            self.params[st.name] = self.num(v, line, st.col)
-        elif st.name in self.vars:
-            self.vars[st.name] = v
-        else:
-            raise self.error(line, st.col, f"unknown variable '{st.name}' (declare it with DEF)")
+        target = Index(st.name, st.index, st.col) if st.index else Var(st.name, st.col)
+        slot = self.slot(target, line, write=True)
+        if not slot.set(v):
+            raise self.error(line, st.col, f"{st.name} takes a number, not the string \"{v}\"")
 
     def define(self, st: Def, line: int) -> None:
         for d in st.decls:
             if R_NAME.fullmatch(d.name) or d.name in EXPR_ADDRESSES or len(d.name) == 1:
                 raise self.error(line, d.col, f"'{d.name}' is an address or parameter and cannot be a variable name")
-            val = 0.0 if st.type != "STRING" else ""
+            blank = "" if st.type in ("STRING", "AXIS") else 0.0
+            if d.dims:
+                self.vars[d.name] = self.new_array(st, d, line, blank)
+                continue
+            slot = Slot(st.type, blank, d.length)
             if d.init is not None:
-                val = self.ev(d.init, line, d.col)
-                if st.type == "INT" and not isinstance(val, str):
-                    val = float(math.trunc(val))
-            self.vars[d.name] = val
+                init = d.init
+                if st.type == "AXIS" and isinstance(init, Var) and init.name not in self.vars:
+                    init = Str(init.name)  # DEF AXIS AXN=X: the axis name
+                val = self.ev(init, line, d.col)
+                if not slot.set(val):
+                    raise self.error(line, d.col, f"{d.name} ({st.type}) takes a number, not the string \"{val}\"")
+            self.vars[d.name] = slot
+
+    def new_array(self, st: Def, d, line: int, blank) -> ArrayVar:
+        dims = []
+        for e in d.dims:
+            n = self.num(self.ev(e, line, d.col), line, d.col)
+            if n != int(n) or not 1 <= n <= MAX_ARRAY:
+                raise self.error(line, d.col, f"array dimension {n:.10g}: whole numbers 1 to {MAX_ARRAY:,}")
+            dims.append(int(n))
+        size = math.prod(dims)
+        if size > MAX_ARRAY:
+            raise self.error(line, d.col, f"array {d.name} has {size:,} elements, more than {MAX_ARRAY:,}")
+        arr = ArrayVar(st.type, tuple(dims), [blank] * size, d.length)
+        if d.init is None:
+            return arr
+        if d.init and d.init[0] == "REP":
+            vals = [self.ev(d.init[1], line, d.col)] * size
+        else:
+            vals = [self.ev(e, line, d.col) for e in d.init]
+            if len(vals) > size:
+                raise self.error(line, d.col, f"{len(vals)} initial values for the {size} elements of {d.name}")
+        for k, v in enumerate(vals):
+            if not ElemSlot(arr, k).set(v):
+                raise self.error(line, d.col, f"{d.name} ({st.type}) takes numbers, not the string \"{v}\"")
+        return arr
 
     def word(self, st: Word, line: int, blk: Block) -> None:
         val = self.ev(st.value, line, st.col)
+        if machine.word(self, st, val, line, blk):  # units, frames, extra axes, T="name", M1=3 (sinumerik_machine)
+            return
         if st.address in ("G", "M"):
             v = self.num(val, line, st.col)
             known = KNOWN_G if st.address == "G" else KNOWN_M
@@ -389,6 +700,7 @@ class Sinumerik(ModalMachine):
 
     def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, int | None]:
         """Apply the block's modal G codes; the motion (G0..G3) and the G40/G41/G42 it names."""
+        gs = machine.g_codes(self, gs, line)  # G70/G71/G700/G710, G54.., G53, G64.. (sinumerik_machine)
         motion = None
         new_comp = None
         for code, col in gs:
@@ -406,6 +718,7 @@ class Sinumerik(ModalMachine):
 
     def settings(self, src: Src, blk: Block, motion: int | None) -> bool:
         """Spindle, tool (T, D, M6), feed and the motion mode; True when an M2/M30 ends the program."""
+        machine.settings(self, src, blk)  # frames, TRAORI, CYCLE800, F under G700 (sinumerik_machine)
         line, words = src.line, blk.words
         direction = self.spindle_code(line, blk.ms)
         end = any(code in (2, 30) for code, _ in blk.ms)
@@ -437,6 +750,8 @@ class Sinumerik(ModalMachine):
         return end
 
     def change_tool(self, src: Src) -> None:
+        if machine.change_tool(self, src):  # T0 M6 empties the spindle (sinumerik_machine)
+            return
         if self.tool_pre is None:
             raise self.error(src.line, 1, "M6 without a tool: program T<number> first")
         if self.cfg.tool_radii and self.tool_pre not in self.cfg.tool_radii:
@@ -462,15 +777,16 @@ class Sinumerik(ModalMachine):
     def calls(self, blk: Block, src: Src, line: int, stack: list[Frame]) -> bool:
         """Cycles, subprogram calls (NAME, L<n> P<n>) and RET/M17; True when the block hands over
         to another frame (a call or a return)."""
-        for st in blk.calls:
+        for st in drill.modal_call(self, blk.calls, line):  # MCALL CYCLE8x(..) / MCALL alone
             if isinstance(st, Ret):
                 self.ret(stack)
                 return True
             if isinstance(st, Call):
                 if st.name in IGNORED_CALLS:
                     continue
-                if st.name not in CYCLES:
-                    raise self.error(line, st.col, f"unknown cycle or function {st.name}")
+                if st.name not in CYCLES:  # a PROC with parameters: NAME(1, , R3)
+                    self.call_proc(st, src, blk.words, stack)
+                    return True
                 args = [(None if a.value is None else self.ev(a.value, line, a.col), a.col) for a in st.args]
                 run_cycle(self, st.name, args, src, st.col)
                 continue
@@ -489,42 +805,118 @@ class Sinumerik(ModalMachine):
             raise self.error(line, words["P"].col, "P (repeat count) only goes with a subprogram call")
         return False
 
-    def jump(self, st: Goto | Repeat, line: int, stack: list[Frame]) -> bool:
-        """GOTO (True when taken) or REPEAT (always taken)."""
+    def jump(self, st, line: int, stack: list[Frame]) -> bool:
+        """GOTO/Branch/CASE (True when taken) or REPEAT (always taken)."""
         fr = stack[-1]
         cur = fr.pc - 1
+        if isinstance(st, Branch):
+            if st.cond is not None and bool(self.num(self.ev(st.cond, line, st.col), line, st.col)) != st.when:
+                return False
+            fr.pc = st.target
+            if st.target <= cur:
+                self.check_loop(stack, line, st)
+            return True
+        if isinstance(st, Case):
+            st = self.case_jump(st, line)
+            if st is None:
+                return False
         if isinstance(st, Goto):
             if st.cond is not None and not self.num(self.ev(st.cond, line, st.col), line, st.col):
                 return False
-            idx = self.find_label(fr.unit, st.label, line, st.col)
-            if st.kind == "GOTOF" and idx <= cur:
-                raise self.error(line, st.col, f"GOTOF jumps forward, but {st.label} comes before this block")
-            if st.kind == "GOTOB" and idx > cur:
-                raise self.error(line, st.col, f"GOTOB jumps back, but {st.label} comes after this block")
+            idx = self.find_label(fr.unit, st.label, line, st.col, st.kind, cur)
+            if idx is None:  # GOTOC: no alarm when the label is missing
+                return False
             fr.pc = idx
             if idx <= cur:
                 self.check_loop(stack, line, st)
             return True
-        a = self.find_label(fr.unit, st.start, line, st.col)
+        return self.repeat(st, line, stack)
+
+    def case_jump(self, st: Case, line: int) -> Goto | None:
+        """The jump of the first CASE value equal to the expression, else DEFAULT (None: go on)."""
+        v = self.ev(st.value, line, st.col)
+        for const, goto in st.branches:
+            c = self.ev(const, line, st.col)
+            if isinstance(c, str) != isinstance(v, str):
+                raise self.error(line, st.col, "CASE compares a string with a number")
+            if c == v:
+                return goto
+        return st.default
+
+    def repeat(self, st: Repeat, line: int, stack: list[Frame]) -> bool:
+        fr = stack[-1]
+        cur = fr.pc - 1
+        a = self.find_label(fr.unit, st.start, line, st.col, "GOTOB", cur)
         n = self.num(self.ev(st.count, line, st.col), line, st.col)
         if n != int(n) or not 1 <= n <= PASS_LIMIT:
             raise self.error(line, st.col, f"REPEAT P must be a whole number from 1 to {PASS_LIMIT} (got {n:.10g})")
-        if len(stack) > MAX_STACK:
-            raise self.error(line, st.col, f"REPEAT sections and subprograms nested deeper than {MAX_STACK} "
-                             "(a REPEAT inside the section it repeats?)")
         if st.end is None:
             if a >= cur:
                 raise self.error(line, st.col, f"REPEAT {st.start}: the label must come before this block")
             stop = cur
         else:
-            b = self.find_label(fr.unit, st.end, line, st.col)
+            b = self.nearest(fr.unit, st.end, a, forward=True)
+            if b is None:
+                b = self.find_label(fr.unit, st.end, line, st.col, "GOTO", cur)
             if b < a:
                 raise self.error(line, st.col, f"REPEAT {st.start} {st.end}: the end label comes before the start")
             stop = b + 1
+        if len(stack) > MAX_STACK or a <= cur < stop:
+            raise self.error(line, st.col, f"REPEAT sections and subprograms nested deeper than {MAX_STACK} "
+                             "(a REPEAT inside the section it repeats?)")
+        self.repeat_estimate(stack, fr.unit, a, stop, int(n), line, st)
         stack.append(Frame(fr.unit, pc=a, stop=stop, restart=a, ret=cur + 1, count=int(n), kind="repeat",
-                           calls=fr.calls))
+                           calls=fr.calls, scope=fr.scope))
         return True
 
+    def section_blocks(self, unit: Unit, a: int, stop: int, depth: int = 0) -> int:
+        """Blocks one pass of lines [a, stop) runs, with the nested REPEATs of constant count
+        multiplied out (the CNC8x6 G73 count; other jumps and calls count as one block)."""
+        key = (id(unit), a, stop)
+        if key in self.repeat_sizes:
+            return self.repeat_sizes[key]
+        total = 0
+        for idx in range(a, min(stop, len(unit.lines))):
+            ln = unit.lines[idx]
+            total += 1 if ln.stmts else 0
+            for st in ln.stmts:
+                if isinstance(st, Repeat) and isinstance(st.count, Num) and depth < MAX_STACK:
+                    s0 = unit.all_labels.get(st.start, [None])[0]
+                    if s0 is None or s0 >= idx:
+                        continue
+                    end = (unit.labels.get(st.end, idx - 1) + 1) if st.end else idx
+                    if s0 <= idx < end:
+                        continue
+                    total += int(st.count.value) * self.section_blocks(unit, s0, end, depth + 1)
+        self.repeat_sizes[key] = total
+        return total
+
+    def repeat_estimate(self, stack: list[Frame], unit: Unit, a: int, stop: int, n: int, line: int, st) -> None:
+        """A REPEAT whose passes (times the passes still to come of the REPEATs around it) would
+        run past [simulation] max_blocks is refused at once, not after running millions of blocks."""
+        est = n * self.section_blocks(unit, a, stop)
+        for f in stack:
+            if f.kind == "repeat" or f.count > 1:
+                est *= max(f.count, 1)
+        if self.executed + est > self.cfg.max_blocks:
+            raise self.error(line, st.col, f"the program does not end in time: REPEAT {st.start} would run about "
+                             f"{est:,} blocks, more than the {self.cfg.max_blocks:,} of [simulation] max_blocks")
+
+    def call_proc(self, st: Call, src: Src, words: dict[str, Value], stack: list[Frame]) -> None:
+        """NAME(args) / L140(2): a subprogram with parameters (an unknown name is an error naming
+        it as a cycle, function or subprogram)."""
+        try:
+            unit = self.find_sub(st.name, src.line, st.col)
+        except SubprogramMissing:
+            raise self.error(src.line, st.col, f"unknown cycle, function or subprogram {st.name} (no PROC {st.name} "
+                             f"in this file, no {st.name}.spf beside it or in [machine] subprogram_path)") from None
+        self.call_sub(unit, src, words, stack, st.col, st.args)
+
+    def unsupported(self, blk: Block, line: int) -> None:
+        """A machine keyword ``settings`` did not take (it implements the ones it knows) is an
+        error at its column: running on as if it were not there would cut elsewhere."""
+        for name, col in blk.commands:
+            raise self.error(line, col, f"{name} is not supported by the simulator")
 
     def ret(self, stack: list[Frame]) -> None:
         while stack and stack[-1].kind == "repeat":
@@ -536,9 +928,13 @@ class Sinumerik(ModalMachine):
         if len(stack) <= 1:
             stack[:] = []  # RET / M17 in the main program ends it
             return
-        stack.pop()
+        fr = stack.pop()
+        if fr.saved is not None:  # PROC ... SAVE
+            self.restore_modal(fr.saved)
+        self.vars = stack[-1].scope
 
-    def call_sub(self, unit: Unit, src: Src, words: dict[str, Value], stack: list[Frame], col: int) -> None:
+    def call_sub(self, unit: Unit, src: Src, words: dict[str, Value], stack: list[Frame], col: int,
+                 args: tuple = ()) -> None:
         n = 1
         if "P" in words:
             p = words.pop("P")
@@ -547,9 +943,50 @@ class Sinumerik(ModalMachine):
             n = int(p.value)
         if len(stack) > 16:
             raise self.error(src.line, col, "subprograms nested deeper than 16 levels (recursion?)")
+        scope = self.bind(unit, args, src.line, col)
         calls = stack[-1].calls + ((src.program, src.line),)
+        saved = self.save_modal() if unit.proc is not None and unit.proc.save else None
         stack.append(Frame(unit, pc=0, stop=len(unit.lines), restart=0, ret=stack[-1].pc, count=n, kind="unit",
-                           calls=calls))
+                           calls=calls, scope=scope, saved=saved))
+        self.vars = scope
+
+    def bind(self, unit: Unit, args: tuple, line: int, col: int) -> dict:
+        """The called PROC's parameters: values (converted to their type; an omitted one takes its
+        default or 0) and VAR parameters sharing the caller's variable, R parameter or element."""
+        params = unit.proc.params if unit.proc is not None else ()
+        if len(args) > len(params):
+            raise self.error(line, args[len(params)].col if args[len(params)].col else col,
+                             f"{unit.name} takes {len(params)} parameter(s), not {len(args)}")
+        scope: dict = {}
+        for k, p in enumerate(params):
+            arg = args[k] if k < len(args) else None
+            given = arg is not None and arg.value is not None
+            if p.var:
+                if not given:
+                    raise self.error(line, arg.col if arg else col,
+                                     f"{unit.name}: parameter {k + 1} ({p.name}) is VAR: pass a variable")
+                if not isinstance(arg.value, (Var, Index)):
+                    raise self.error(line, arg.col, f"{unit.name}: parameter {k + 1} ({p.name}) is VAR: pass a "
+                                     "variable, an R parameter or an array element, not a value")
+                scope[p.name] = self.slot(arg.value, line, write=True)
+                continue
+            v = self.ev(arg.value, line, arg.col) if given else (
+                self.ev(p.default, line, col) if p.default is not None else ("" if p.type in ("STRING", "AXIS") else 0.0))
+            slot = Slot(p.type, "" if p.type in ("STRING", "AXIS") else 0.0)
+            if not slot.set(v):
+                raise self.error(line, arg.col if given else col,
+                                 f"{unit.name}: parameter {k + 1} ({p.name}) is {p.type}, not the string \"{v}\"")
+            scope[p.name] = slot
+        return scope
+
+    def save_modal(self) -> dict:
+        """PROC ... SAVE: the modal state to put back on return (the G groups and what settings
+        keeps modal; SAVED_MODAL lists the attributes, extended by the machine functions)."""
+        return {a: copy.copy(getattr(self, a)) for a in SAVED_MODAL if hasattr(self, a)}
+
+    def restore_modal(self, saved: dict) -> None:
+        for a, v in saved.items():
+            setattr(self, a, v)
 
     # -- motion ----------------------------------------------------------------------------------
     def axis_targets(self, words: dict[str, Value]) -> dict[int, float]:
@@ -563,6 +1000,7 @@ class Sinumerik(ModalMachine):
 
     def move(self, ln: Line, src: Src, words: dict[str, Value], motion_word) -> None:
         line = ln.line
+        machine.move(self, src, words)  # WCS -> machine: units, frames, extra axes (sinumerik_machine)
         cols = {i: words[a].col for i, a in enumerate("XYZ") if a in words}
         targets = self.axis_targets(words)
         if not targets and motion_word not in (2, 3) and not any(k in words for k in ("I", "J", "K", "CR")):
@@ -582,7 +1020,7 @@ class Sinumerik(ModalMachine):
         if AXIS_LETTER[nrm] in words:
             raise self.error(line, words[AXIS_LETTER[nrm]].col,
                              f"{AXIS_LETTER[nrm]} is not in the plane {self.plane} of the circle")
-        cw = self.motion == 2
+        cw = (self.motion == 2) != machine.state(self).arc_flip  # a mirror turns G2 into G3
         centre = self.radius_centre(line, words, end, cw) if "CR" in words else self.given_centre(line, words)
         self.arc(src, end, (centre[0], centre[1], centre[2]), cw)
 

@@ -6,8 +6,10 @@ Reading a block goes in phases, as in LinuxCNC's rs274ngc: ``strip_comment`` and
 ``statement`` after the other into the block's ``Line``. Expressions become ``Expr`` nodes
 (``Num``, ``Str``, ``Neg``, ``Var``, ``RIndex``, ``FuncCall``, ``BinOp``) evaluated when the block
 runs; statements become ``Stmt`` nodes (``Word``, ``Assign``, ``Def``, ``Goto``, ``Repeat``,
-``Call``, ``SubCall``, ``Ret``, ``Proc``). ``split_units`` groups the lines into the main program
-and its subprograms. Both the interpreter (interp/sinumerik.py) and the cycles
+``Call``, ``SubCall``, ``Ret``, ``Proc``, ``Command``, ``Case``, ``Branch``). ``split_units`` groups
+the lines into the main program and its subprograms, and ``lower`` turns the structured control
+flow (IF/ELSE/ENDIF, WHILE, FOR, LOOP, REPEAT/UNTIL) into conditional jumps to line indices
+(``Branch``), so the executor only ever follows jumps. Both the interpreter (interp/sinumerik.py) and the cycles
 (interp/sinumerik_cycles.py) import from here; this module imports neither.
 """
 from __future__ import annotations
@@ -20,16 +22,36 @@ from dataclasses import dataclass, field
 from .errors import CutsimError
 from .lexer import split_lines
 
-ADDRESSES = set("GMXYZIJKFSTDLP")  # single-letter addresses with a number
-EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P"}
-KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "IF", "REPEAT", "PROC", "RET", "ENDIF"}
+EXTRA_AXES = set("ABCUVW")  # axis letters beyond X/Y/Z: words for them need the setup's [machine] axes
+ADDRESSES = set("GMXYZIJKFSTDLP") | EXTRA_AXES  # single-letter addresses with a number
+EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P"} | EXTRA_AXES
+STRUCTURED = {"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "UNTIL"}
+KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "OF", "DEFAULT",
+            "TO", "AND", "OR", "XOR", "NOT", "DIV", "MOD", "B_AND", "B_OR", "B_XOR", "B_NOT"} | STRUCTURED
 TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
-JUMPS = ("GOTOF", "GOTOB", "GOTO")
-IGNORED_WORDS = {"STOPRE", "SUPA", "FFWON", "FFWOF", "SOFT", "BRISK", "CFC", "CFTCP", "G601", "G602",
-                 "DIAMOF", "TRAFOOF", "M17"}
+JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
+IGNORED_WORDS = {"FFWON", "FFWOF", "SOFT", "BRISK", "CFC", "CFTCP", "CFIN", "G601", "G602", "G603",
+                 "DIAMOF", "M17"}
+# Bare keywords without parameters read as ``Command`` (never a subprogram, never a file name):
+# LANG_COMMANDS change nothing on the tool path and get one warning per kind (docs: "Warnings");
+# MACHINE_COMMANDS are for interp/sinumerik.py's settings (frames, units, compensation...), which
+# consumes those it implements from ``Block.commands``; any left over is an error.
+LANG_COMMANDS = {"STOPRE", "DISPLOF", "DISPLON", "SBLOF", "SBLON", "GROUP_BEGIN", "GROUP_END", "ACTBLOCNO",
+                 "WAITM", "WAITE", "WAITMC", "PRESETON", "STOPFIFO", "STARTFIFO", "SETMS", "CPRECON", "CPRECOF",
+                 "UPATH", "SPATH", "FNORM", "FLIN", "FCUB", "BTAN", "BAUTO", "BNAT", "ETAN", "EAUTO", "ENAT",
+                 "G_GROUP", "FIFOCTRL", "RMBBL", "RMIBL", "RMEBL", "RMNBL", "TRAILOF", "SPOF"}
+MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "SUPA",
+                    "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "DRFOF", "TRAFOOF", "TRAORI", "TRANSMIT",
+                    "TRACYL", "DIAMON", "DIAM90", "CUT2D", "CUT2DF", "CUT3DC", "CDON", "CDOF", "CDOF2",
+                    "ORIWKS", "ORIMKS", "ORIAXES", "ORIVECT", "ORICONCW", "ORICONCCW", "TOFRAME", "TOROT",
+                    "PAROT", "PAROTOF", "TOROTOF", "G500", "DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN",
+                    "DYNFINISH", "FGREF", "OFFN"}
+SYNC_WORDS = {"WHEN", "WHENEVER", "EVERY", "FROM", "DO"}  # synchronized actions: the rest of the block
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
          "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2}
 LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
+SYS_RE = re.compile(r"\$[A-Za-z_][A-Za-z0-9_]*")  # a system variable ($P_TOOLNO, $AA_IW, $MA_...)
+EXP_RE = re.compile(r"EX[+\-]?[0-9]+", re.I)  # 10EX-5: the manuals' exponent
 NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 R_ASSIGN_RE = re.compile(r"[Rr]([0-9]+)\s*=")
 AC_IC_RE = re.compile(r"(AC|IC)\s*\(", re.I)
@@ -110,6 +132,22 @@ class Var:
 
 
 @dataclass(frozen=True)
+class Not:
+    """NOT x (B_NOT: ``bits``)"""
+    operand: Expr
+    col: int
+    bits: bool = False
+
+
+@dataclass(frozen=True)
+class Index:
+    """NAME[i, j]: an array element, or a system variable with its index ($AA_IW[X], $A_DBB[5])."""
+    name: str
+    index: tuple
+    col: int
+
+
+@dataclass(frozen=True)
 class RIndex:
     """R[expr]"""
     index: Expr
@@ -131,7 +169,7 @@ class BinOp:
     col: int  # the operator's column
 
 
-Expr = Num | Str | Neg | Var | RIndex | FuncCall | BinOp
+Expr = Num | Str | Neg | Not | Var | Index | RIndex | FuncCall | BinOp
 
 
 # ---------------------------------------------------------------------------------------------
@@ -143,20 +181,25 @@ class Word:
     address: str
     value: Expr
     mode: str | None = None  # AC | IC | None (the modal G90/G91)
+    ext: int | None = None  # the address extension: M1=3, S1=1000 (spindle 1)
+    axis: Expr | None = None  # AX[expr]=value: the axis named by an AXIS expression (address "AX")
 
 
 @dataclass(frozen=True)
 class Assign:
     col: int
-    name: str  # R<n> or a DEF variable
+    name: str  # R<n>, a DEF variable, a system variable ($...) or a setup [variables] name
     value: Expr
+    index: tuple = ()  # A[i, j] = ...
 
 
 @dataclass(frozen=True)
 class Decl:
     name: str
-    init: Expr | None
+    init: Expr | tuple | None  # an expression, or the element values of an array (SET(..), (..))
     col: int
+    dims: tuple = ()  # array dimensions (expressions)
+    length: int = 0  # STRING[n]
 
 
 @dataclass(frozen=True)
@@ -169,7 +212,7 @@ class Def:
 @dataclass(frozen=True)
 class Goto:
     col: int
-    kind: str  # GOTOF | GOTOB | GOTO
+    kind: str  # GOTOF | GOTOB | GOTO | GOTOC
     label: str
     cond: Expr | None = None  # IF <cond> GOTO..
 
@@ -209,12 +252,63 @@ class Ret:
 
 
 @dataclass(frozen=True)
+class Param:
+    """A formal parameter of a PROC: ``REAL A``, ``INT B=5``, ``VAR REAL C``, ``VAR REAL D[,3]``."""
+    name: str
+    type: str
+    var: bool
+    default: Expr | None
+    col: int
+    array: bool = False
+
+
+@dataclass(frozen=True)
 class Proc:
+    col: int
+    name: str
+    params: tuple = ()
+    save: bool = False  # SAVE: the modal state comes back on return
+
+
+@dataclass(frozen=True)
+class Command:
+    """A bare keyword (STOPRE, TRANS, DISPLOF, ...) or a synchronized action (WHENEVER ...)."""
     col: int
     name: str
 
 
-Stmt = Word | Assign | Def | Goto | Repeat | Call | SubCall | Ret | Proc
+@dataclass(frozen=True)
+class Case:
+    """CASE expr OF v1 GOTOF L1 v2 GOTOB L2 DEFAULT GOTOF L3"""
+    col: int
+    value: Expr
+    branches: tuple  # (Expr, Goto), ...
+    default: Goto | None
+
+
+@dataclass(frozen=True)
+class Structured:
+    """IF/ELSE/ENDIF, WHILE, FOR, LOOP, REPEAT/UNTIL as read; ``lower`` turns them into Branch."""
+    col: int
+    kind: str
+    cond: Expr | None = None
+    var: str = ""  # FOR: the counter
+    start: Expr | None = None
+    end: Expr | None = None
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A jump to line index ``target`` of the unit, taken when ``cond`` is None or its truth is
+    ``when`` (the lowered structured control flow)."""
+    col: int
+    target: int
+    cond: Expr | None
+    when: bool
+    kind: str  # the keyword it came from (for messages)
+
+
+Stmt = Word | Assign | Def | Goto | Repeat | Call | SubCall | Ret | Proc | Command | Case | Structured | Branch
 
 
 @dataclass
@@ -232,8 +326,10 @@ class Unit:
 
     name: str
     lines: list[Line]
-    labels: dict[str, int] = field(default_factory=dict)
+    labels: dict[str, int] = field(default_factory=dict)  # the first line of each label
     program: str = ""  # the file its lines are in
+    proc: Proc | None = None  # its PROC statement (parameters, SAVE)
+    all_labels: dict[str, list[int]] = field(default_factory=dict)  # every line of each label, in order
 
 
 @dataclass
@@ -247,10 +343,18 @@ class Frame:
     count: int = 0
     kind: str = "unit"  # unit | repeat
     calls: tuple = ()
+    scope: dict = field(default_factory=dict)  # the local variables of the (sub)program level
+    saved: object = None  # PROC ... SAVE: the modal state to put back on return
 
 
 # ---------------------------------------------------------------------------------------------
 # reading: characters -> expressions and statements
+# Binary operators from the lowest priority to the highest (Job Planning, "Priority of the
+# operations"): comparisons, <<, OR, XOR, AND, B_OR, B_XOR, B_AND, + -, * / DIV MOD.
+COMPARISONS = ("==", "<>", "<=", ">=", "<", ">")
+WORD_LEVELS = (("OR",), ("XOR",), ("AND",), ("B_OR",), ("B_XOR",), ("B_AND",))
+
+
 class _Scanner:
     """Character scanner for one line (comment removed)."""
 
@@ -281,6 +385,21 @@ class _Scanner:
         self.i = m.end()
         return m.group(0).upper()
 
+    def peek_word(self) -> str:
+        """The name at the cursor (upper case) without consuming it."""
+        self.ws()
+        m = NAME_RE.match(self.s, self.i)
+        return m.group(0).upper() if m else ""
+
+    def take_word(self, word: str) -> bool:
+        if self.peek_word() == word:
+            self.i += len(word)
+            return True
+        return False
+
+    def at_end(self) -> bool:
+        return not self.peek()
+
     def close(self, ch: str) -> None:
         if self.peek() != ch:
             raise self.err(self.i + 1, f"'{ch}' expected")
@@ -305,18 +424,39 @@ class _Scanner:
         self.i = j
         return float(m.group(0).replace("\u2212", "-"))
 
-    # expressions: comparison > additive > multiplicative > unary > primary
+    # expressions, by priority (COMPARISONS lowest, then <<, WORD_LEVELS, + -, * / DIV MOD, unary)
     def expr(self) -> Expr:
         self.enter(self.i + 1)
-        left = self.additive()
-        self.ws()
-        for op in ("==", "<>", "<=", ">=", "<", ">"):
-            if self.s.startswith(op, self.i):
-                opcol = self.i + 1
-                self.i += len(op)
-                left = BinOp(op, left, self.additive(), opcol)
+        left = self.concat()
+        while True:
+            self.ws()
+            op = next((o for o in COMPARISONS if self.s.startswith(o, self.i)), None)
+            if op is None or self.s.startswith("<<", self.i):
                 break
+            opcol = self.i + 1
+            self.i += len(op)
+            left = BinOp(op, left, self.concat(), opcol)
         self.depth -= 1
+        return left
+
+    def concat(self) -> Expr:
+        left = self.words(0)
+        while self.peek() == "<" and self.s.startswith("<<", self.i):
+            opcol = self.i + 1
+            self.i += 2
+            left = BinOp("<<", left, self.words(0), opcol)
+        return left
+
+    def words(self, level: int) -> Expr:
+        """OR, XOR, AND, B_OR, B_XOR, B_AND (level 0 .. 5), then the additive operators."""
+        if level == len(WORD_LEVELS):
+            return self.additive()
+        left = self.words(level + 1)
+        while self.peek_word() in WORD_LEVELS[level]:
+            op = self.peek_word()
+            opcol = self.i + 1
+            self.i += len(op)
+            left = BinOp(op, left, self.words(level + 1), opcol)
         return left
 
     def additive(self) -> Expr:
@@ -330,20 +470,29 @@ class _Scanner:
 
     def term(self) -> Expr:
         left = self.unary()
-        while self.peek() in ("*", "/"):
-            op = self.s[self.i]
-            self.i += 1
-            opcol = self.i
+        while True:
+            c = self.peek()
+            if c in ("*", "/"):
+                op = c
+            elif self.peek_word() in ("DIV", "MOD"):
+                op = self.peek_word()
+            else:
+                return left
+            opcol = self.i + 1
+            self.i += len(op)
             left = BinOp(op, left, self.unary(), opcol)
-        return left
 
     def unary(self) -> Expr:
         c = self.peek()
-        if c in ("-", "+", "\u2212") and c:
-            self.enter(self.i + 1)
-            self.i += 1
+        col = self.i + 1
+        w = self.peek_word()
+        if c in ("-", "+", "\u2212") and c or w in ("NOT", "B_NOT"):
+            self.enter(col)
+            self.i += len(w) if w in ("NOT", "B_NOT") else 1
             v = self.unary()
             self.depth -= 1
+            if w in ("NOT", "B_NOT"):
+                return Not(v, col, w == "B_NOT")
             return Neg(v) if c != "+" else v
         return self.primary()
 
@@ -354,30 +503,60 @@ class _Scanner:
             raise self.err(col, "expression expected at the end of the line")
         m = NUMBER_RE.match(self.s, self.i)
         if m:
-            self.digits(col, m.group(0))
-            self.i = m.end()
-            if self.i < len(self.s) and (self.s[self.i] == "." or self.s[self.i].isalpha()
-                                         and self.s[self.i].upper() not in ADDRESSES | {"R", "C", "A", "N"}):
-                raise self.err(col, f"malformed number '{self.s[col - 1:self.i + 1]}'")
-            return Num(float(m.group(0)))
+            return self.number(col, m)
         if c == "(":
             self.i += 1
             v = self.expr()
             self.close(")")
             return v
-        if c == '"':
-            j = self.s.find('"', self.i + 1)
+        if c in "\"'":
+            j = self.s.find(c, self.i + 1)
             if j < 0:
                 raise self.err(col, "unterminated string")
             v = Str(self.s[self.i + 1:j])
             self.i = j + 1
             return v
+        if c == "$":
+            m = SYS_RE.match(self.s, self.i)
+            if not m:
+                raise self.err(col, "a system variable name is expected after '$'")
+            self.i = m.end()
+            return self.indexed(m.group(0).upper(), col)
         if c.isalpha() or c == "_":
             return self.name_expr(col)
         raise self.err(col, f"unexpected character '{c}' in an expression")
 
+    def number(self, col: int, m) -> Num:
+        self.digits(col, m.group(0))
+        self.i = m.end()
+        value = float(m.group(0))
+        e = EXP_RE.match(self.s, self.i)
+        if e:
+            self.i = e.end()
+            exp = int(e.group(0)[2:])
+            if abs(exp) > 300:
+                raise self.err(col, f"the exponent EX{exp} is out of range")
+            value *= 10.0 ** exp
+        elif self.i < len(self.s) and (self.s[self.i] == "." or self.s[self.i].isalpha()
+                                       and self.s[self.i].upper() not in ADDRESSES | {"R", "C", "A", "N"}
+                                       and self.peek_word() not in KEYWORDS):
+            raise self.err(col, f"malformed number '{self.s[col - 1:self.i + 1]}'")
+        return Num(value)
+
+    def indexed(self, name: str, col: int) -> Expr:
+        """NAME or NAME[i, j] (array element, system variable with its index)."""
+        if self.peek() != "[":
+            return Var(name, col)
+        self.i += 1
+        idx = [self.expr()]
+        while self.peek() == ",":
+            self.i += 1
+            idx.append(self.expr())
+        self.close("]")
+        return Index(name, tuple(idx), col)
+
     def name_expr(self, col: int) -> Expr:
-        """A function call, R[expr] or a variable."""
+        """A function call, R[expr], an array element or a variable."""
         name = self.ident()
         if name in FUNCS:
             if self.peek() != "(":
@@ -396,11 +575,18 @@ class _Scanner:
             idx = self.expr()
             self.close("]")
             return RIndex(idx, col)
-        return Var(name, col)
+        if name in ("AC", "IC") and self.peek() == "(":
+            raise self.err(col, f"{name}(..) only goes with an address: X={name}(..)")
+        return self.indexed(name, col)
 
     # statements
     def label(self) -> str:
+        """A jump destination: a label, N<number> or a block number alone (GOTOF 40 = N40)."""
         self.ws()
+        m = re.match(r"N?([0-9]+)\b", self.s[self.i:], re.I)
+        if m:
+            self.i += m.end()
+            return "N" + str(int(m.group(1)))
         return self.ident()
 
     def statement(self, first: bool, ln: Line) -> bool:
@@ -414,6 +600,8 @@ class _Scanner:
             self.i += 1
             ln.nlabel = "N" + str(int(self.number_word()))
             return True
+        if c == "$":
+            return self.sys_assign(col, ln)
         mr = R_ASSIGN_RE.match(text, self.i)
         if mr:  # R<n>=expr
             if len(mr.group(1).lstrip("0")) > len(str(R_LIMIT)) or int(mr.group(1)) > R_LIMIT:
@@ -421,6 +609,9 @@ class _Scanner:
             self.i = mr.end()
             ln.stmts.append(Assign(col, "R" + str(int(mr.group(1))), self.expr()))
             return True
+        ext = re.match(r"([MSL])([0-9]+)\s*([=(])", text[self.i:], re.I)
+        if ext:
+            return self.extended(col, ext, ln)
         if up in ADDRESSES and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212":
             self.i += 1
             v = self.number_word()
@@ -433,25 +624,73 @@ class _Scanner:
         name = self.ident()
         if not name:  # pragma: no cover - check_text and the test above leave only ASCII names here
             raise self.err(col, f"unexpected character '{c}'")
+        return self.keyword(col, name, first, ln)
+
+    def keyword(self, col: int, name: str, first: bool, ln: Line) -> bool:
+        """A statement that starts with a name: keywords, commands, NAME(..), NAME=.., a call."""
         nxt = self.peek()
         reader = _KEYWORD_READERS.get(name)
-        if reader is not None:
+        if reader is not None and nxt != "=":
             st = reader(self, col, name)
             ln.stmts.append(st)
-            if isinstance(st, Proc):  # the rest of the line is its parameter list
-                self.i = len(text)
+            if isinstance(st, Proc) or isinstance(st, Command) and st.name == "EXTERN":
+                self.i = len(self.s)  # the rest of the line belongs to it
                 return False
             return True
+        if name in SYNC_WORDS or name in ("ID", "IDS") and nxt == "=":
+            ln.stmts.append(Command(col, "WHENEVER" if name in SYNC_WORDS else "ID"))
+            self.i = len(self.s)  # a synchronized action: the rest of the block is its condition/action
+            return False
         if name in IGNORED_WORDS:
+            return True
+        if (name in LANG_COMMANDS or name in MACHINE_COMMANDS) and nxt != "=" and nxt != "[":
+            if nxt == "(":
+                self.i += 1
+                ln.stmts.append(Call(col, name, tuple(self.arguments())))
+            else:
+                ln.stmts.append(Command(col, name))
             return True
         ln.stmts.append(self.named(col, name, nxt))
         return True
 
+    def extended(self, col: int, m, ln: Line) -> bool:
+        """M1=3, S1=1000 (an address with its extension) and L140(2) (an L call with parameters)."""
+        letter, num, sep = m.group(1).upper(), m.group(2), m.group(3)
+        self.i += m.end()
+        if letter == "L":
+            if sep != "(":
+                raise self.err(col, f"L{num}= is no statement: L<n> calls a subprogram")
+            ln.stmts.append(Call(col, f"L{int(num)}", tuple(self.arguments())))
+            return True
+        if sep == "(":
+            raise self.err(col, f"unexpected '(' after {letter}{num}")
+        ln.stmts.append(Word(col, letter, self.expr(), ext=int(num)))
+        return True
+
+    def sys_assign(self, col: int, ln: Line) -> bool:
+        """$NAME=expr or $NAME[i]=expr: a write to a system variable."""
+        target = self.primary()
+        if self.peek() != "=" or self.s.startswith("==", self.i):
+            raise self.err(col, "a system variable stands alone only on the left of '=': $NAME=<value>")
+        self.i += 1
+        name, idx = (target.name, ()) if isinstance(target, Var) else (target.name, target.index)
+        ln.stmts.append(Assign(col, name, self.expr(), idx))
+        return True
+
     def named(self, col: int, name: str, nxt: str) -> Stmt:
-        """NAME(args), NAME=value or NAME alone (a subprogram call)."""
+        """NAME(args), NAME=value, NAME[i]=value, AX[axis]=value or NAME alone (a subprogram call)."""
         if nxt == "(":
             self.i += 1
             return Call(col, name, tuple(self.arguments()))
+        if nxt == "[":
+            target = self.indexed(name, col)
+            if self.peek() != "=":
+                raise self.err(self.i + 1, f"'=' expected after {name}[..]")
+            self.i += 1
+            if name == "AX":
+                w = self.address_value(col, "AX")
+                return Word(col, "AX", w.value, w.mode, axis=target.index[0] if len(target.index) == 1 else None)
+            return Assign(col, name, self.expr(), target.index)
         if nxt == "=":
             self.i += 1
             if name in EXPR_ADDRESSES:
@@ -493,12 +732,24 @@ class _Scanner:
         self.close(")")
         return Word(col, name, v, mm.group(1).upper())
 
+    def rest_empty(self, what: str) -> None:
+        if not self.at_end():
+            raise self.err(self.i + 1, f"{what} stands alone in its block: nothing may follow it")
+
 
 def _read_def(sc: _Scanner, col: int, name: str) -> Def:
     sc.ws()
     typ = sc.ident()
     if typ not in TYPES:
-        raise sc.err(sc.i + 1, "DEF needs a type (REAL, INT, ...)")
+        raise sc.err(sc.i + 1, "DEF needs a type (REAL, INT, BOOL, CHAR, STRING[n], AXIS, FRAME)")
+    length = 0
+    if typ == "STRING" and sc.peek() == "[":
+        sc.i += 1
+        m = re.match(r"\s*([0-9]+)\s*\]", sc.s[sc.i:])
+        if not m:
+            raise sc.err(sc.i + 1, "STRING[n] needs its length as a number")
+        sc.i += m.end()
+        length = int(m.group(1))
     decls = []
     while True:
         sc.ws()
@@ -506,40 +757,90 @@ def _read_def(sc: _Scanner, col: int, name: str) -> Def:
         vname = sc.ident()
         if not vname:
             raise sc.err(vcol, "variable name expected after DEF")
+        dims: tuple = ()
+        if sc.peek() == "[":
+            dims = sc.indexed(vname, vcol).index
         init = None
         if sc.peek() == "=":
             sc.i += 1
-            init = sc.expr()
-        decls.append(Decl(vname, init, vcol))
+            init = _read_init(sc) if dims else sc.expr()
+        decls.append(Decl(vname, init, vcol, dims, length))
         if sc.peek() != ",":
             return Def(col, typ, tuple(decls))
         sc.i += 1
 
 
+def _read_init(sc: _Scanner) -> tuple:
+    """An array's initial values: SET(a, b, ..), (a, b, ..), REP(v) or one value for all."""
+    rep = sc.take_word("REP")
+    if not rep:
+        sc.take_word("SET")
+    if sc.peek() != "(":
+        return ("REP", sc.expr())
+    sc.i += 1
+    vals = [a.value if a.value is not None else Num(0.0) for a in sc.arguments()]
+    return ("REP", vals[0]) if rep and vals else tuple(vals)
+
+
 def _read_goto(sc: _Scanner, col: int, name: str, cond: Expr | None = None) -> Goto:
     target = sc.label()
     if not target:
-        raise sc.err(sc.i + 1, f"{name} needs a label")
+        raise sc.err(sc.i + 1, f"{name} needs a label or a block number")
     return Goto(col, name, target, cond)
 
 
-def _read_if(sc: _Scanner, col: int, name: str) -> Goto:
+def _read_if(sc: _Scanner, col: int, name: str) -> Stmt:
     cond = sc.expr()
+    if sc.at_end():
+        return Structured(col, "IF", cond)
     sc.ws()
     gcol = sc.i + 1
     g = sc.ident()
     if g not in JUMPS:
-        raise sc.err(gcol, "IF must be followed by a condition and GOTOF/GOTOB <label>")
+        raise sc.err(gcol, "IF <condition> is followed by GOTOF/GOTOB/GOTO/GOTOC <label>, or stands alone "
+                     "(IF ... ELSE ... ENDIF)")
     return _read_goto(sc, col, g, cond)
 
 
-def _read_repeat(sc: _Scanner, col: int, name: str) -> Repeat:
+def _read_cond(sc: _Scanner, col: int, name: str) -> Structured:
+    cond = sc.expr()
+    sc.rest_empty(f"{name} <condition>")
+    return Structured(col, name, cond)
+
+
+def _read_bare(sc: _Scanner, col: int, name: str) -> Structured:
+    sc.rest_empty(name)
+    return Structured(col, name)
+
+
+def _read_for(sc: _Scanner, col: int, name: str) -> Structured:
+    sc.ws()
+    vcol = sc.i + 1
+    var = sc.ident()
+    m = R_ASSIGN_RE.match(sc.s, vcol - 1)
+    if m:
+        var = "R" + str(int(m.group(1)))
+        sc.i = m.end() - 1
+    if not var or sc.peek() != "=":
+        raise sc.err(vcol, "FOR <variable> = <start> TO <end>")
+    sc.i += 1
+    start = sc.expr()
+    if not sc.take_word("TO"):
+        raise sc.err(sc.i + 1, "FOR <variable> = <start> TO <end>: TO expected")
+    end = sc.expr()
+    sc.rest_empty("FOR ... TO ...")
+    return Structured(col, "FOR", None, var, start, end)
+
+
+def _read_repeat(sc: _Scanner, col: int, name: str) -> Stmt:
+    if sc.at_end():
+        return Structured(col, "REPEAT")
     l1 = sc.label()
     if not l1:
-        raise sc.err(sc.i + 1, "REPEAT needs a label")
+        raise sc.err(sc.i + 1, "REPEAT needs a label (REPEAT <label> P=n) or stands alone (REPEAT ... UNTIL)")
     sc.ws()
     save = sc.i
-    l2 = sc.ident()
+    l2 = sc.label()
     count: Expr = Num(1.0)
     if l2 == "P" and sc.peek() == "=":
         l2 = ""
@@ -553,16 +854,101 @@ def _read_repeat(sc: _Scanner, col: int, name: str) -> Repeat:
     return Repeat(col, l1, l2 or None, count)
 
 
+def _read_case(sc: _Scanner, col: int, name: str) -> Case:
+    value = sc.expr()
+    if not sc.take_word("OF"):
+        raise sc.err(sc.i + 1, "CASE <expression> OF <value> GOTOF <label> ... DEFAULT GOTOF <label>")
+    branches, default = [], None
+    while not sc.at_end():
+        if sc.take_word("DEFAULT"):
+            default = _case_jump(sc, col)
+            break
+        const = sc.unary()
+        branches.append((const, _case_jump(sc, col)))
+    sc.rest_empty("CASE ... DEFAULT GOTOF <label>")
+    if not branches and default is None:
+        raise sc.err(col, "CASE needs at least one <value> GOTOF <label>")
+    return Case(col, value, tuple(branches), default)
+
+
+def _case_jump(sc: _Scanner, col: int) -> Goto:
+    sc.ws()
+    gcol = sc.i + 1
+    g = sc.ident()
+    if g not in JUMPS:
+        raise sc.err(gcol, "a CASE value is followed by GOTOF/GOTOB/GOTO/GOTOC <label>")
+    return _read_goto(sc, gcol, g)
+
+
 def _read_proc(sc: _Scanner, col: int, name: str) -> Proc:
-    pname = sc.label()
+    pname = sc.ident()
     if not pname:
         raise sc.err(sc.i + 1, "PROC needs the subprogram's name")
-    return Proc(col, pname)
+    params: list[Param] = []
+    if sc.peek() == "(":
+        sc.i += 1
+        while sc.peek() != ")":
+            params.append(_read_param(sc))
+            if sc.peek() == ",":
+                sc.i += 1
+            elif sc.peek() != ")":
+                raise sc.err(sc.i + 1, "',' or ')' expected in the parameter list")
+        sc.i += 1
+    save = False
+    while not sc.at_end():  # SAVE, DISPLOF, SBLOF, ACTBLOCNO ...: attributes
+        acol = sc.i + 1
+        attr = sc.ident()
+        if not attr:
+            raise sc.err(acol, "unexpected text after the PROC's parameter list")
+        save = save or attr == "SAVE"
+    return Proc(col, pname, tuple(params), save)
+
+
+def _read_param(sc: _Scanner) -> Param:
+    sc.ws()
+    pcol = sc.i + 1
+    var = sc.take_word("VAR")
+    sc.ws()
+    typ = sc.ident()
+    if typ not in TYPES:
+        raise sc.err(pcol, "a PROC parameter is [VAR] <type> <name> (REAL, INT, BOOL, CHAR, STRING[n], AXIS, FRAME)")
+    if typ == "STRING" and sc.peek() == "[":
+        j = sc.s.find("]", sc.i)
+        sc.i = len(sc.s) if j < 0 else j + 1
+    sc.ws()
+    ncol = sc.i + 1
+    pname = sc.ident()
+    if not pname:
+        raise sc.err(ncol, "a PROC parameter needs a name")
+    array = False
+    if sc.peek() == "[":  # VAR REAL A[,3]: an array parameter (dimensions as declared by the caller)
+        j = sc.s.find("]", sc.i)
+        sc.i = len(sc.s) if j < 0 else j + 1
+        array = True
+    default = None
+    if sc.peek() == "=":
+        sc.i += 1
+        default = sc.expr()
+    return Param(pname, typ, var, default, ncol, array)
+
+
+def _read_extern(sc: _Scanner, col: int, name: str) -> Command:
+    if not sc.ident():
+        raise sc.err(sc.i + 1, "EXTERN needs the subprogram's name")
+    return Command(col, "EXTERN")
+
+
+def _read_ret(sc: _Scanner, col: int, name: str) -> Ret:
+    if sc.peek() == "(":  # RET("label", ..) / RET(, , n): a return to a block; not simulated
+        raise sc.err(col, "RET with parameters (a return to another block) is not supported: use RET")
+    return Ret(col)
 
 
 _KEYWORD_READERS = {"DEF": _read_def, "GOTOF": _read_goto, "GOTOB": _read_goto, "GOTO": _read_goto,
-                    "IF": _read_if, "REPEAT": _read_repeat, "PROC": _read_proc,
-                    "RET": lambda sc, col, name: Ret(col)}
+                    "GOTOC": _read_goto, "IF": _read_if, "REPEAT": _read_repeat, "PROC": _read_proc,
+                    "RET": _read_ret, "CASE": _read_case, "EXTERN": _read_extern, "FOR": _read_for,
+                    "WHILE": _read_cond, "UNTIL": _read_cond, "ELSE": _read_bare, "ENDIF": _read_bare,
+                    "ENDWHILE": _read_bare, "ENDFOR": _read_bare, "LOOP": _read_bare, "ENDLOOP": _read_bare}
 
 
 def strip_comment(text: str) -> str:
@@ -594,22 +980,31 @@ def check_text(prog: str, lineno: int, text: str) -> None:
 def read_label(sc: _Scanner, ln: Line) -> None:
     """A leading ``NAME:`` label (with the N word before it, if any)."""
     m = LABEL_RE.match(sc.s)
-    if m and m.group(1).upper() not in KEYWORDS and len(m.group(1)) >= 2:
+    if m and m.group(1).upper() not in ("DEF", "IF", "CASE") and len(m.group(1)) >= 2:
         ln.label = m.group(1).upper()
         pre = re.match(r"\s*N([0-9]+)", sc.s)
         if pre:
-            ln.nlabel = "N" + pre.group(1)
+            ln.nlabel = "N" + str(int(pre.group(1)))
         sc.i = m.end()
 
 
+# Bytes that may end a file without being a block: Ctrl-Z (0x1A, the DOS end of file the
+# controllers' PC tools append) and NUL padding.
+FILE_END_BYTES = "\x1a\x00"
+
+
 def scan_line(prog: str, lineno: int, raw: str) -> Line:
-    """One block: comment off, characters checked, label, then its statements."""
+    """One block: comment off, characters checked, label, then its statements. A skip block
+    ``/`` at the start is read like any block (the skip level is off in the simulation)."""
     ln = Line(lineno, raw)
     text = strip_comment(raw)
-    if text.lstrip().startswith("%"):  # program header (%_N_NAME_MPF): handled by the splitter
-        return ln
-    check_text(prog, lineno, text)
-    sc = _Scanner(prog, lineno, text)
+    stripped = text.lstrip()
+    if stripped.startswith("%") or stripped.startswith("$PATH") or not stripped.strip(FILE_END_BYTES + " \t"):
+        return ln  # program header (%_N_NAME_MPF, ;$PATH=...), a blank line or the file's end bytes
+    check_text(prog, lineno, text.rstrip(FILE_END_BYTES + " \t"))
+    if stripped.startswith("/"):
+        text = text.replace("/", " ", 1)
+    sc = _Scanner(prog, lineno, text.rstrip(FILE_END_BYTES + " \t"))
     read_label(sc, ln)
     first = True
     while sc.statement(first, ln):
@@ -618,7 +1013,8 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
 
 
 def split_units(prog: str, text: str) -> tuple[Unit, dict[str, Unit]]:
-    """The main program and the subprograms (%_N_NAME_SPF headers, PROC NAME) of one file."""
+    """The main program and the subprograms (%_N_NAME_SPF headers, PROC NAME) of one file; their
+    structured control flow lowered to jumps (``lower``)."""
     lines = [scan_line(prog, k, raw) for k, raw in enumerate(split_lines(text), start=1)]
     main = Unit("MAIN", [], program=prog)
     subs: dict[str, Unit] = {}
@@ -629,7 +1025,13 @@ def split_units(prog: str, text: str) -> tuple[Unit, dict[str, Unit]]:
             cur = subs.setdefault(hdr.group(1).upper(), Unit(hdr.group(1).upper(), [], program=prog))
             continue
         if ln.stmts and isinstance(ln.stmts[0], Proc):
-            cur = subs.setdefault(ln.stmts[0].name, Unit(ln.stmts[0].name, [], program=prog))
+            proc = ln.stmts[0]
+            if cur is not main and cur.name == proc.name and not any(x.stmts for x in cur.lines):
+                cur.proc = proc  # %_N_NAME_SPF followed by PROC NAME(...)
+            elif cur is main and not any(x.stmts for x in main.lines):
+                cur = subs.setdefault(proc.name, Unit(proc.name, [], program=prog, proc=proc))
+            else:
+                cur = subs.setdefault(proc.name, Unit(proc.name, [], program=prog, proc=proc))
             continue
         cur.lines.append(ln)
     for u in [main, *subs.values()]:
@@ -637,4 +1039,76 @@ def split_units(prog: str, text: str) -> tuple[Unit, dict[str, Unit]]:
             for lab in (ln.label, ln.nlabel):
                 if lab:
                     u.labels.setdefault(lab, idx)
+                    u.all_labels.setdefault(lab, []).append(idx)
+        lower(prog, u)
     return main, subs
+
+
+_OPENERS = {"IF": ("ELSE", "ENDIF"), "WHILE": ("ENDWHILE",), "FOR": ("ENDFOR",), "LOOP": ("ENDLOOP",),
+            "REPEAT": ("UNTIL",)}
+_CLOSERS = {"ELSE": "IF", "ENDIF": "IF", "ENDWHILE": "WHILE", "ENDFOR": "FOR", "ENDLOOP": "LOOP", "UNTIL": "REPEAT"}
+MAX_STRUCT_DEPTH = 16  # IF/WHILE/FOR/LOOP/REPEAT nested in one (sub)program (Siemens: 16 levels)
+
+
+def lower(prog: str, unit: Unit) -> None:
+    """Replace the unit's structured statements by Branch jumps (line indices of the unit): IF c
+    jumps past its ELSE (or ENDIF) when c is false, ELSE jumps past ENDIF; WHILE c jumps past
+    ENDWHILE when c is false and ENDWHILE back to the WHILE; FOR sets its counter and jumps past
+    ENDFOR when it is beyond the end, ENDFOR counts up and jumps back after the FOR while it is
+    not; ENDLOOP jumps back after LOOP; UNTIL c jumps back after REPEAT while c is false. A closer
+    without its opener, or an opener left open, is an error at the opener's line."""
+    open_: list[tuple[int, Structured, int | None]] = []  # (line index, statement, ELSE index)
+    for idx, ln in enumerate(unit.lines):
+        st = next((s for s in ln.stmts if isinstance(s, Structured)), None)
+        if st is None:
+            continue
+        if ln.stmts[0] is not st or len(ln.stmts) > 1:
+            raise CutsimError(prog, ln.line, st.col, f"{st.kind} stands alone in its block")
+        if st.kind in _OPENERS:
+            if len(open_) >= MAX_STRUCT_DEPTH:
+                raise CutsimError(prog, ln.line, st.col, f"control structures nested deeper than {MAX_STRUCT_DEPTH} levels")
+            open_.append((idx, st, None))
+            continue
+        if not open_:
+            raise CutsimError(prog, ln.line, st.col, f"{st.kind} without {_CLOSERS[st.kind]}")
+        oidx, ost, else_idx = open_[-1]
+        if _CLOSERS[st.kind] != ost.kind:
+            oln = unit.lines[oidx]
+            raise CutsimError(prog, oln.line, ost.col, f"{ost.kind} (line {oln.line}) is closed by {st.kind} "
+                              f"in line {ln.line}: expected {' or '.join(_OPENERS[ost.kind])}")
+        if st.kind == "ELSE":
+            if else_idx is not None:
+                raise CutsimError(prog, ln.line, st.col, f"a second ELSE for the IF of line {unit.lines[oidx].line}")
+            open_[-1] = (oidx, ost, idx)
+            continue
+        open_.pop()
+        _lower_pair(unit, oidx, ost, else_idx, idx, st)
+    if open_:
+        oidx, ost, _ = open_[-1]
+        raise CutsimError(prog, unit.lines[oidx].line, ost.col,
+                          f"{ost.kind} without {_OPENERS[ost.kind][-1]} in {'the program' if unit.name == 'MAIN' else unit.name}")
+
+
+def _lower_pair(unit: Unit, o: int, ost: Structured, e: int | None, c: int, cst: Structured) -> None:
+    """Rewrite the opener at line index ``o`` (ELSE at ``e``) and its closer at ``c``."""
+    lines = unit.lines
+    if ost.kind == "IF":
+        lines[o].stmts = [Branch(ost.col, (e if e is not None else c) + 1, ost.cond, False, "IF")]
+        if e is not None:
+            lines[e].stmts = [Branch(lines[e].stmts[0].col, c + 1, None, True, "ELSE")]
+        lines[c].stmts = []
+    elif ost.kind == "WHILE":
+        lines[o].stmts = [Branch(ost.col, c + 1, ost.cond, False, "WHILE")]
+        lines[c].stmts = [Branch(cst.col, o, None, True, "ENDWHILE")]
+    elif ost.kind == "FOR":
+        counter = Var(ost.var, ost.col)
+        lines[o].stmts = [Assign(ost.col, ost.var, ost.start),
+                          Branch(ost.col, c + 1, BinOp(">", counter, ost.end, ost.col), True, "FOR")]
+        lines[c].stmts = [Assign(cst.col, ost.var, BinOp("+", counter, Num(1.0), cst.col)),
+                          Branch(cst.col, o + 1, BinOp("<=", counter, ost.end, cst.col), True, "ENDFOR")]
+    elif ost.kind == "LOOP":
+        lines[o].stmts = []
+        lines[c].stmts = [Branch(cst.col, o + 1, None, True, "ENDLOOP")]
+    else:  # REPEAT ... UNTIL
+        lines[o].stmts = []
+        lines[c].stmts = [Branch(cst.col, o + 1, cst.cond, False, "UNTIL")]
