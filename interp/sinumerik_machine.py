@@ -19,10 +19,13 @@ imports interp/sinumerik.py (that module imports this one).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field, replace
 
 from . import canon
+from .errors import CutsimError
 from .modal import PLANE_AXES, InterpConfig
+from .sinumerik_lang import COORD_LIMIT, RANGES, range_message
 
 INCH = 25.4
 AXES = "XYZ"
@@ -38,7 +41,7 @@ MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G)
 # M codes every 840D knows that do not change the tool path: spindle orientation and gear stages
 QUIET_M = {19, 40, 41, 42, 43, 44, 45}
 ROTARY_LETTERS = "ABC"
-EXTRA_LETTERS = "ABCUVW"
+AXIS_NAME = re.compile(r"[A-Z][0-9]*")  # an axis address: A, B, W, X2 (AX[X2]=..)
 FRAME_CMDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"}
 # commands that do not change the programmed tool path (what they do on the machine)
 ACCEPTED = {
@@ -239,12 +242,14 @@ def word(m, st, val, line: int, blk) -> bool:
             raise m.error(line, st.col, "address T appears twice in one block")
         blk.words["T"] = Word(float(tool_number(m, val, line, st.col)), None, st.col)
         return True
-    if addr in m.cfg.axes or (len(addr) == 1 and addr in EXTRA_LETTERS):
+    if addr in m.cfg.axes or addr not in RANGES and addr not in ("G", "M") and AXIS_NAME.fullmatch(addr):
         if addr not in m.cfg.axes:
             raise m.error(line, st.col, axis_message(addr))
         if addr in blk.words:
             raise m.error(line, st.col, f"address {addr} appears twice in one block")
         v = m.num(val, line, st.col)
+        if abs(v) > COORD_LIMIT:
+            raise m.error(line, st.col, range_message(addr, v, -COORD_LIMIT, COORD_LIMIT, "mm or degrees"))
         blk.words[addr] = Word(v, st.mode, st.col)
         return True
     if addr == "RPL":
@@ -521,6 +526,11 @@ def map_record(m, ms: Machine, r):
     if not isinstance(r, canon.MOTIONS):
         return r
     start, end = ms.to_machine(r.start), ms.to_machine(r.end)
+    for p in (end, ms.to_machine(r.center) if isinstance(r, canon.Arc) else end):
+        i = max(range(3), key=lambda k: abs(p[k]))
+        if abs(p[i]) > COORD_LIMIT:
+            raise CutsimError(r.src.program, r.src.line, r.src.col,
+                              range_message(f"the point {AXES[i]} in the machine", p[i], -COORD_LIMIT, COORD_LIMIT, "mm"))
     if isinstance(r, canon.Arc):
         n = PLANE_AXES[r.plane][2]
         flip = plane_image(m, ms, r.plane, r.src.line, r.src.col)
