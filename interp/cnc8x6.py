@@ -182,6 +182,7 @@ def param_number(name: str, lineno: int, col: int, digits: str) -> int:
 
 # Every line that is not blank is a block (also a comment alone: an empty block).
 BLOCK_LINES = block_lines(r"[^\s]")
+PLAIN_AXES = {"X": 0, "Y": 1, "Z": 2}
 # Where a program may jump (a G73 word in any spelling: g73, G073, G+73.0, also inside a comment):
 # a program without one runs streamed (Cnc8x6.stream).
 JUMP = re.compile(r"[Gg]\+?0*73")
@@ -344,12 +345,58 @@ class Cnc8x6(Interpreter):
     # -- one block (core.Interpreter.execute runs the steps in order) --------------------------------
     def block(self, b: Block, labels: dict[int, int], pc: int):
         """Execute one block: (jump or None, whether the program ended)."""
+        if self.after_ramp is None and not b.assigns and self.plain_block(b):
+            return None, False
         if self.ramp_rule(b):
             return None, False
         st = self.execute(b, Src(self.name, b.line, 1, b.label), (labels, pc))
         if st.done:
             return None, False
         return st.jump, st.result
+
+    def plain_block(self, b: Block) -> bool:
+        """The common block (only G00/G01, X, Y, Z and F words, none from a parameter; G00/G01
+        active) executed directly, with exactly the effect and the errors of ``execute``; False
+        (nothing done) for any other block, which then goes the long way."""
+        motion = feed = None
+        axes = []
+        for w in b.words:
+            letter = w[0]
+            if w[4] is not None:
+                return False
+            if letter in PLAIN_AXES:
+                axes.append((PLAIN_AXES[letter], w))
+            elif letter == "F":
+                feed = w[1]
+            elif letter == "G" and motion is None and (w[1] == 0.0 or w[1] == 1.0):
+                motion = int(w[1])
+            else:
+                return False
+        mode = self.motion if motion is None else motion
+        if mode > 1 or (feed is not None and feed <= 0):  # G02/G03/G33 active; F <= 0 is an error
+            return False
+        self.motion = mode
+        if feed is not None:
+            self.feed = feed
+        if axes:
+            pos = self.pos
+            end = pos[:]
+            if self.absolute:
+                for i, w in axes:
+                    end[i] = w[1]
+            else:
+                for i, w in axes:
+                    end[i] = pos[i] + w[1]
+            for v in end:
+                if not -COORD_LIMIT <= v <= COORD_LIMIT:
+                    self.check_position(b.line, end, {i: w.col for i, w in axes})
+            src = Src(self.name, b.line, 1, b.label)
+            end = (end[0], end[1], end[2])
+            if mode:
+                self.linear(src, end)
+            else:
+                self.rapid(src, end)
+        return True
 
     def ramp_rule(self, b: Block) -> bool:
         """After a thread with runout or lead-in: an empty block, then one with every axis. True

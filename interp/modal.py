@@ -48,6 +48,7 @@ class ModalMachine:
         self.name = name
         self.cfg = cfg
         self.pos: list[float] = list(cfg.start)
+        self._pos_t: Vec3 | None = None  # ``pos`` as the tuple the last move ended at (start_point)
         self.diameter = cfg.diameter_programming if cfg.machine_kind == "lathe" else False
         self.absolute = True
         self.per_rev = False
@@ -101,7 +102,7 @@ class ModalMachine:
     def set_diameter(self, on: bool) -> None:
         """Switch X between diameter and radius values; the tool does not move."""
         if on != self.diameter:
-            self.pos[0] = self.pos[0] * 2.0 if on else self.pos[0] / 2.0
+            self.pos[0] = self.pos[0] * 2.0 if on else self.pos[0] / 2.0  # (start_point sees the new value)
             self.diameter = on
 
     def target(self, values: dict[int, float], absolute: dict[int, bool] | None = None) -> Vec3:
@@ -150,9 +151,23 @@ class ModalMachine:
         return True
 
     # -- motions ---------------------------------------------------------------------------------
-    def rapid(self, src: Src, end: Vec3) -> None:
-        self.emit(canon.Rapid(src, tuple(self.pos), end, self.diameter))
+    def start_point(self) -> Vec3:
+        """``pos`` as a tuple: the very tuple the previous move ended at while ``pos`` still holds
+        its values (the same float objects), so consecutive records share it (half the memory of
+        a move's points); a new tuple when ``pos`` was changed since."""
+        p, t = self.pos, self._pos_t
+        if t is None or len(p) != 3 or t[0] is not p[0] or t[1] is not p[1] or t[2] is not p[2]:
+            t = self._pos_t = tuple(p)
+        return t
+
+    def moved(self, end) -> None:
+        """The tool is at ``end`` now."""
         self.pos = list(end)
+        self._pos_t = end if type(end) is tuple else None
+
+    def rapid(self, src: Src, end: Vec3) -> None:
+        self.emit(canon.Rapid(src, self.start_point(), end, self.diameter))
+        self.moved(end)
 
     def need_feed(self, src: Src) -> float:
         """The modal feed; 0.0 (with one warning) when none was programmed: the feed only changes
@@ -166,15 +181,15 @@ class ModalMachine:
 
     def linear(self, src: Src, end: Vec3) -> None:
         feed = self.need_feed(src)
-        self.emit(canon.Feed(src, tuple(self.pos), end, self.diameter, feed, self.per_rev))
-        self.pos = list(end)
+        self.emit(canon.Feed(src, self.start_point(), end, self.diameter, feed, self.per_rev))
+        self.moved(end)
 
     def arc(self, src: Src, end: Vec3, center: Vec3, clockwise: bool) -> None:
         """Arc about an absolute centre in the current plane; start = end in the plane is a full
         circle. The end must lie on the circle through the start."""
         feed = self.need_feed(src)
         a, b, _ = PLANE_AXES[self.plane]
-        start = tuple(self.pos)
+        start = self.start_point()
 
         def rad(p, i):  # physical coordinate (X as radius in diameter mode)
             return p[i] / 2.0 if (i == 0 and self.diameter) else p[i]
@@ -188,14 +203,14 @@ class ModalMachine:
                              f"arc end point is not on the circle (radius {r0:.4f} at the start, {r1:.4f} at the end)")
         full = abs(rad(end, a) - rad(start, a)) < 1e-9 and abs(rad(end, b) - rad(start, b)) < 1e-9
         self.emit(canon.Arc(src, start, end, self.diameter, center, self.plane, clockwise, full, feed, self.per_rev))
-        self.pos = list(end)
+        self.moved(end)
 
     def synced(self, src: Src, end: Vec3, lead: float, lead_axis: str | None, start_angle: float,
                leadin: canon.Ramp | None = None, runout: canon.Ramp | None = None) -> None:
         """G33. The tool ends at the programmed end point moved by the ramps' displacements."""
-        rec = canon.SyncedFeed(src, tuple(self.pos), end, self.diameter, lead, lead_axis, start_angle, leadin, runout)
+        rec = canon.SyncedFeed(src, self.start_point(), end, self.diameter, lead, lead_axis, start_angle, leadin, runout)
         self.emit(rec)
-        self.pos = list(rec.tool_end)
+        self.moved(rec.tool_end)
 
     def spindle(self, src: Src, direction: int | None, speed: float | None) -> None:
         if direction is not None:

@@ -126,3 +126,28 @@ PIECES = ["N", "n", "G", "X", "x", "Z", "F", "M", "S", "R", "I", "E", "Q", "A", 
 def test_plain_scanner_agrees_with_the_full_one(pieces):
     line = "".join(pieces)
     assert scanned(line) == full_scan(line)
+
+
+def long_way(text: str, cfg: InterpConfig):
+    """Every block through core.Interpreter.execute (the direct path for plain blocks off)."""
+    mp = pytest.MonkeyPatch()
+    mp.setattr(cnc8x6.Cnc8x6, "plain_block", lambda self, b: False)
+    try:
+        return outcome("run", text, cfg)
+    finally:
+        mp.undo()
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.lists(st.sampled_from(WORDS + ["G1", "G0", "X-0", "G-0", "Y-7.25", "G91", "G90"] * 3), max_size=5),
+                max_size=12), st.booleans())
+def test_plain_blocks_run_as_the_long_way(lines, mill):
+    text = "\n".join(f"N{k + 1} " + " ".join(ws) for k, ws in enumerate(lines))
+    cfg = MILL if mill else LATHE
+    assert outcome("run", text, cfg) == long_way(text, cfg)
+
+
+@pytest.mark.parametrize("path", programs(), ids=lambda p: str(p.relative_to(TESTS)))
+def test_test_programs_run_as_the_long_way(path):
+    text = path.read_text(encoding="utf-8", errors="replace")
+    assert outcome("run", text, LATHE) == long_way(text, LATHE)
