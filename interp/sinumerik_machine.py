@@ -36,7 +36,9 @@ SETTABLE_G = {54, 55, 56, 57, *range(505, 600)}
 PATH_G = {9: "exact stop for one block", 60: "exact stop", 64: "continuous-path mode", 601: "exact stop fine",
           602: "exact stop coarse", 603: "exact stop at interpolator end", 641: "continuous-path mode with rounding",
           642: "continuous-path mode with axial tolerances", 643: "block-internal rounding",
-          644: "rounding with maximum dynamics", 645: "rounding with tangential transitions"}
+          644: "rounding with maximum dynamics", 645: "rounding with tangential transitions",
+          450: "transition circle at outside corners of radius compensation",
+          451: "intersection at outside corners of radius compensation; simulated as G450, the part is the same"}
 MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G)
 # M codes every 840D knows that do not change the tool path: spindle orientation and gear stages
 QUIET_M = {19, 40, 41, 42, 43, 44, 45}
@@ -63,6 +65,9 @@ ACCEPTED = {
 }
 CALL_ACCEPTED = {"CYCLE832"}
 EPS = 1e-9
+# True once interp/sinumerik_drill.run_modal runs the modal cycle through ``in_wcs``; until then a
+# modal cycle after a move under a frame is an error (its holes would land in the wrong place)
+MODAL_CYCLES_IN_WCS = False
 
 Mat = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
 IDENT: Mat = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
@@ -484,24 +489,38 @@ def cycles_in_frame(m, ms: Machine, src, blk) -> None:
     are mapped into the machine afterwards (the cycles compute in the program's coordinates)."""
     from .sinumerik_cycles import CYCLES, run_cycle
     line = src.line
+    if any(getattr(st, "name", None) == "MCALL" for st in blk.calls):
+        return  # MCALL CYCLE8x(..) only names the modal cycle: it runs after the moves (in_wcs)
     keep = []
     for stmt in blk.calls:
         name, args = getattr(stmt, "name", None), getattr(stmt, "args", None)
         if args is None or name not in CYCLES:
             keep.append(stmt)
             continue
-        if ms.inch:
-            raise m.error(line, stmt.col, f"{name} under G70/G700 (inch) is not modelled: the cycles work in mm")
-        a = ms.frame.a if not ms.suppress else IDENT
-        g = _mul(tuple(zip(*a)), a)  # type: ignore  # A^T A: I for a rotation or a mirror
-        if any(abs(g[i][j] - (1.0 if i == j else 0.0)) > 1e-9 for i in range(3) for j in range(3)):
-            raise m.error(line, stmt.col, f"{name} under SCALE is not modelled: the tool would have to scale too")
         if any(a in blk.words for a in AXES) or m.comp_buf is not None:
             raise m.error(line, stmt.col, f"{name} under a frame: call the cycle in a block of its own, without "
                           "radius compensation")
         vals = [(None if x.value is None else m.ev(x.value, line, x.col), x.col) for x in args]
-        run_mapped(m, ms, lambda: run_cycle(m, name, vals, src, stmt.col))
+        in_wcs(m, lambda: run_cycle(m, name, vals, src, stmt.col), name, line, stmt.col)
     blk.calls[:] = keep
+
+
+def in_wcs(m, fn, name: str, line: int, col: int) -> None:
+    """Run ``fn`` -- a cycle that moves the interpreter through m.rapid/m.linear/m.arc in program
+    coordinates (mm) -- in the WCS of the active frames, its moves mapped into the machine. Without
+    a frame it just runs. For every caller of a cycle (a modal MCALL cycle too). Inch units and
+    SCALE are errors at ``line``:``col`` (the cycles compute with the tool radius in mm)."""
+    ms = state(m)
+    if ms.identity() or ms.sandbox:
+        fn()
+        return
+    if ms.inch:
+        raise m.error(line, col, f"{name} under G70/G700 (inch) is not modelled: the cycles work in mm")
+    a = ms.frame.a if not ms.suppress else IDENT
+    g = _mul(tuple(zip(*a)), a)  # type: ignore  # A^T A: I for a rotation or a mirror
+    if any(abs(g[i][j] - (1.0 if i == j else 0.0)) > 1e-9 for i in range(3) for j in range(3)):
+        raise m.error(line, col, f"{name} under SCALE is not modelled: the tool would have to scale too")
+    run_mapped(m, ms, fn)
 
 
 def run_mapped(m, ms: Machine, fn) -> None:
@@ -574,6 +593,9 @@ def move(m, src, words: dict) -> None:
                       "with T.. M6 first")
     if ms.identity() or ms.sandbox:
         return
+    if getattr(m, "mcall", None) is not None and any(a in words for a in AXES) and not MODAL_CYCLES_IN_WCS:
+        raise m.error(line, min(words[a].col for a in AXES if a in words),
+                      f"a modal cycle (MCALL {m.mcall[0]}) under a frame, an offset or inch units is not modelled yet")
     u = ms.unit()
     cur = ms.to_wcs(m.pos)
     given = [a for a in AXES if a in words]
