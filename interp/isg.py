@@ -19,7 +19,7 @@ from .canon import Src
 from .core import Code, Interpreter, Step
 from .errors import CutsimError
 from .isg_lang import SCOPES, truth
-from .isg_scan import Ctrl, IsgBlock, Section, nfc, parse
+from .isg_scan import Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
 from .lexer import COORD_LIMIT, Word, check_range, fmt_count
 from .modal import AXES, InterpConfig
 
@@ -49,14 +49,32 @@ G_CODES = {
     71: Code("units", "", "millimetres"),
     70: Code("units", "", "inches"),
 }
-# G codes that do not change the tool path: accepted with one warning each (docs/dialects/isg.md).
+# G codes that do not change the tool path (TwinCAT CNC programming manual, "G functions"):
+# accepted with one warning each. Those in G_AXIS_PARAMS take axis words as percentages or limits.
 G_HARMLESS = {
-    4: "dwell", 8: "curvature-dependent feed on", 9: "exact stop (non-modal)", 10: "stop dynamic block preparation",
-    11: "stop interpolation during block preparation", 60: "exact stop", 61: "velocity profile", 63: "override 100 %",
-    96: "constant cutting speed", 97: "constant spindle speed", 98: "negative software limit switch",
-    99: "positive software limit switch", 15: "feed override off (ISG G15)", 23: "smoothing mode (ISG G23)",
-    164: "circle centre correction", 193: "feed per revolution mode", 900: "feedforward", 901: "feedforward",
+    4: "dwell time", 8: "acceleration at block start", 9: "deceleration at block end",
+    10: "constant feed with tool radius compensation", 11: "adapted feed with tool radius compensation",
+    12: "corner deceleration off", 13: "corner deceleration on", 20: "mirroring off",
+    25: "linear transitions with tool radius compensation", 26: "circular transitions with tool radius compensation",
+    60: "exact stop", 61: "polynomial contouring (blends corners within the contour tolerance)",
+    63: "tapping without compensating chuck", 66: "synchronise cycle at block end", 69: "contour rotation off",
+    96: "constant cutting speed", 97: "constant spindle speed", 98: "negative software limit switches",
+    99: "positive software limit switches", 129: "G00 velocity weighting", 130: "axis acceleration weighting",
+    131: "acceleration weighting", 132: "axis ramp time weighting", 133: "ramp time weighting",
+    134: "geometric ramp time weighting", 164: "circle centre correction", 193: "time-related feed interpolation",
+    293: "path-related feed interpolation", 230: "axis G00 acceleration weighting",
+    231: "G00 acceleration weighting", 233: "G00 ramp time weighting", 333: "axis feedhold acceleration weighting",
+    334: "feedhold acceleration weighting", 900: "acceleration on block transitions", 901: "acceleration on block transitions",
 }
+G_AXIS_PARAMS = {4, 98, 99, 130, 132, 230, 333}
+# G codes that change the tool path in a way the simulator does not model: exit 2 naming them
+G_NOT_MODELLED = {
+    5: "tangential selection of tool radius compensation", 21: "mirroring on the Y axis",
+    22: "mirroring on the X axis", 23: "mirroring on X and Y", 351: "mirroring", 68: "contour rotation",
+    74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
+    303: "circle in space", 150: "spline", 151: "spline",
+}
+IMPLICIT_CALLS = set(range(80, 90)) | set(range(800, 820))  # implicit subroutine calls (configured files)
 M_CODES = {
     0: Code("stop", "", "program stop"),
     1: Code("stop", "", "optional stop"),
@@ -143,10 +161,14 @@ class Isg(Interpreter):
 
     # -- program structure -----------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
-        main, local = parse(self.name, text, self.cfg.max_blocks)
+        self.macros: dict[str, str] = {}
+        main, local = parse(self.name, text, self.cfg.max_blocks, self.macros)
         self.check_count(main, local)
         self.frame = Frame(self.name, local, {}, (), ())
         self.declare(main, top=True)
+        for other in main.others:
+            self.warn(Src(self.name, other.line, other.col), f"a further main program '%{other.name}' in this file "
+                      f"is not run (the file runs its first main program, '%{main.name}')")
         self.section(main)
         if not self.ended and self.last_block is not None:
             b = self.last_block
@@ -213,6 +235,11 @@ class Isg(Interpreter):
                 pc = self.control(sec, b, pc)
                 continue
             self.last_block = b
+            if b.deferred:
+                b = self.expand(b)
+                if b is None:
+                    pc += 1
+                    continue
             try:
                 ret = self.block(b, fr)
             except CutsimError as e:
@@ -226,6 +253,13 @@ class Isg(Interpreter):
                 pc = self.jump(sec, b)
                 continue
             pc += 1
+
+    def expand(self, b: IsgBlock):
+        """A line whose macro was not defined when it was read: expanded and read now."""
+        nb = scan(self.name, b.line, expand_macros(self.name, b.line, b.deferred, self.macros))
+        if isinstance(nb, Ctrl):
+            raise self.error(b.line, nb.col, f"${nb.kw} from a macro is not supported by the simulator")
+        return nb
 
     def jump(self, sec: Section, b: IsgBlock) -> int:
         kind, target, col = b.goto
@@ -414,7 +448,8 @@ class Isg(Interpreter):
         return out
 
     def check_g(self, st: Step, gs: list[Word]) -> None:
-        """The dialect's G table, then G codes that only get a warning; others are errors."""
+        """The dialect's G table; G codes that only get a warning; implicit subroutine calls (G80..G89,
+        G800..G819); the rest are errors naming the code."""
         line = st.block.line
         keep = []
         for g in gs:
@@ -422,28 +457,30 @@ class Isg(Interpreter):
             if code in G_HARMLESS:
                 self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
                                "accepted, not simulated")
-                if code == 4:
-                    st.words.pop("X", None)
-                    st.words.pop("F", None)
+                if code in G_AXIS_PARAMS:
+                    for a in "XYZABCUVWF":
+                        st.words.pop(a, None)
                 continue
-            if code in self.G_CODES or code is None:
+            if code in IMPLICIT_CALLS:
+                if st.result is not None:
+                    raise self.error(line, g.col, "two implicit subroutine calls in one block")
+                st.result = ("implicit", code, g)
+                continue
+            if code in self.G_CODES:
+                if g.col in st.block.args:
+                    raise self.error(line, g.col, f"G{g.raw} takes no argument list '[...]'")
+                if g.col in st.block.gvalues:
+                    raise self.error(line, g.col, f"G{g.raw} takes no value '= ...'")
                 keep.append(g)
                 continue
-            if 800 <= code <= 999:
-                raise self.error(line, g.col, f"G{g.raw} is a machine-specific G function (a cycle of the machine "
-                                 "maker): its effect is not known to the simulator")
+            if code in G_NOT_MODELLED:
+                raise self.error(line, g.col, f"G{g.raw} ({G_NOT_MODELLED[code]}) is not modelled by the simulator "
+                                 "(exit rather than a wrong tool path)")
             raise self.error(line, g.col, f"unknown G code G{g.raw}")
-        for col in st.block.args:
-            if not any(g.col == col for g in keep):
-                pass
         super().check_g(st, keep)
 
     def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
         line = st.block.line
-        if g.col in st.block.args:
-            raise self.error(line, g.col, f"G{g.raw} takes no argument list '[...]'")
-        if g.col in st.block.gvalues:
-            raise self.error(line, g.col, f"G{g.raw} takes no value '= ...'")
         if row.group == "diameter":  # G51/G52 act at once
             if self.cfg.machine_kind != "lathe":
                 raise self.error(line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
@@ -592,10 +629,14 @@ class Isg(Interpreter):
         b, src, fr = st.block, st.src, st.context
         if st.direction == 0:
             self.spindle(src, 0, None if st.speed is None else st.speed.value)
+        implicit = st.result
+        st.result = None
         if b.call is not None:
             self.call_local(b, fr)
         elif b.gcall is not None:
             self.call_global(b, fr)
+        if implicit is not None and not self.ended:
+            self.call_implicit(b, fr, implicit[1], implicit[2])
         if self.ended:
             st.result = True
             return
@@ -605,9 +646,10 @@ class Isg(Interpreter):
             self.ended = True
             st.result = True
         elif ends:
-            if not fr.stack:
-                raise self.error(b.line, ends[0][1].col, f"M{ends[0][1].raw} ends a subprogram; the main program ends "
-                                 "with M30")
+            if not fr.stack:  # a subprogram file run as the program: its end is the program's end
+                self.warn(src, f"M{ends[0][1].raw} ends a subprogram: the program (run as a main program) ends here")
+                self.end(src)
+                self.ended = True
             st.result = True
 
     # -- subprogram calls --------------------------------------------------------------------------
@@ -652,14 +694,32 @@ class Isg(Interpreter):
         fname, col, pexprs = b.gcall
         params = {k: f(self) for k, f in pexprs.items()}
         path = self.find_file(fname, b.line, col)
+        self.run_file(b, fr, path, fname, col, params)
+
+    def run_file(self, b: IsgBlock, fr: Frame, path: str, fname: str, col: int, params: dict) -> None:
         if path not in self.files:
             text = self.read_file(path, fname, b.line, col)
-            self.files[path] = parse(path, text, self.cfg.max_blocks)
+            self.files[path] = parse(path, text, self.cfg.max_blocks, self.macros)
         main, local = self.files[path]
         label = os.path.basename(path)
         self.enter(b, col, label, fr)
         sub = Frame(path, local, params, fr.stack + (label,), fr.calls + ((fr.name, b.line),))
         self.run_level(main, sub, top=False)
+
+    def call_implicit(self, b: IsgBlock, fr: Frame, code: int, g: Word) -> None:
+        """G80..G89 and G800..G819 call a subprogram the machine maker configures; the simulator runs
+        the file G<n>.nc from the program's folder or [machine] subprogram_path, the values of an
+        argument list G805[a, b, c] as @P1, @P2, @P3 (assumption, docs/dialects/isg.md)."""
+        args = [f(self) for f in b.args.get(g.col, [])]
+        name = f"G{code}"
+        try:
+            path = self.find_file(name, b.line, g.col)
+        except CutsimError:
+            raise self.error(b.line, g.col, f"G{g.raw} is an implicit subroutine call: the machine maker's "
+                             f"subprogram behind it is not known to the simulator (put it as {name}.nc in the "
+                             "program's folder or in the setup's [machine] subprogram_path)") from None
+        params = {f"@P{k + 1}": v for k, v in enumerate(args)}
+        self.run_file(b, fr, path, name, g.col, params)
 
     def find_file(self, fname: str, line: int, col: int) -> str:
         """A global subprogram: the program's folder, then [machine] subprogram_path. A path written
@@ -676,7 +736,8 @@ class Isg(Interpreter):
             for n in names:
                 if n.upper() in wanted:
                     return os.path.join(d, n)
-        raise self.error(line, col, f"global subprogram '{fname}': no file {base} (or {base}.nc) in "
+        alt = "" if base.upper().endswith(".NC") else f" (or {base}.nc)"
+        raise self.error(line, col, f"global subprogram '{fname}': no file {base}{alt} in "
                          f"{' or '.join(dirs)} (give its folder in the setup: [machine] subprogram_path; a local "
                          "subprogram of this file is defined as '%L name' and called with 'LL name')")
 

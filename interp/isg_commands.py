@@ -52,14 +52,10 @@ def command(m, st, name: str, text: str, col: int) -> None:
     if name == "CS":
         return cs(m, st, text, col)
     if name == "MCS":
-        if first == "ON":
-            m.mcs = True
-        elif first == "OFF":
-            m.mcs = False
-        else:
-            raise m.error(line, col, f"#MCS {first} is not modelled by the simulator (a move in machine "
-                          "coordinates): only #MCS ON / #MCS OFF")
-        return
+        if first == "OFF":
+            return
+        raise m.error(line, col, f"#MCS {first}: motion in machine coordinates (offsets and tool length switched "
+                      "off) is not modelled by the simulator")
     if name == "ROTATION":
         if first == "OFF":
             return

@@ -47,6 +47,9 @@ FUNCS = {
     "SIGN": (1, lambda x: float((x > 0) - (x < 0))), "MIN": (2, min), "MAX": (2, max),
 }
 CONSTS = {"TRUE": 1.0, "FALSE": 0.0, "PI": math.pi}
+# string conversions (messages and machine data texts): value -> string
+STR_FUNCS = {"REAL_TO_STR": lambda x: f"{x:.6f}".rstrip("0").rstrip(".") if isinstance(x, float) else str(x),
+             "INT_TO_STR": lambda x: str(int(x)) if not isinstance(x, str) else x}
 
 
 class Cursor:
@@ -123,6 +126,8 @@ def _apply(op: str, a, b, prog: str, line: int, col: int):
     if op in ("==", "!=", "<>"):
         eq = a == b
         return float(eq if op == "==" else not eq)
+    if op == "+" and isinstance(a, str) and isinstance(b, str):
+        return a + b  # string concatenation
     if isinstance(a, str) or isinstance(b, str):
         raise CutsimError(prog, line, col, f"operator {op} needs numbers, not a string")
     if op == "+":
@@ -281,6 +286,14 @@ def primary(cur: Cursor):
         return param(cur)
     if word in FUNCS:
         return call(cur, word)
+    if word in STR_FUNCS:
+        cur.i = m.end()
+        cur.skip()
+        if cur.peek() != "[":
+            raise cur.error(f"{word} needs its argument in '[ ]'")
+        arg = primary(cur)
+        fn = STR_FUNCS[word]
+        return lambda env: fn(arg(env))
     if word in CONSTS:
         cur.i = m.end()
         v = CONSTS[word]

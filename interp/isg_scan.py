@@ -47,10 +47,12 @@ class IsgBlock(Block):
     goto: tuple | None = None  # ("N", f, col) | ("S", name or f, col)
     cond: object = None  # $IF <cond> $GOTO ... in one line: the condition
     target: str = ""  # the label this line defines ("N10" for N10:, "[NAME]")
+    deferred: str = ""  # a line using a macro not defined when it was read: expanded when it runs
 
     @property
     def empty(self) -> bool:
-        return not (self.items or self.call or self.gcall or self.offsets or self.commands or self.goto)
+        return not (self.items or self.call or self.gcall or self.offsets or self.commands or self.goto
+                    or self.deferred)
 
 
 @dataclass
@@ -86,6 +88,7 @@ class Section:
     decls: list[VarDecl] = field(default_factory=list)
     ended: bool = False
     labels: dict = field(default_factory=dict)  # "N10" / "[NAME]" -> index
+    others: list = field(default_factory=list)  # further main programs of the file (not run)
 
     @property
     def flow(self) -> bool:
@@ -168,7 +171,7 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
     seen[letter] = col
     cur.skip()
     c = cur.peek()
-    if letter in "GMH" or (c and (c.isdigit() or c in ".+-\u2212")):
+    if (letter in "GMH" and c not in "@[Pp") or (c and (c.isdigit() or c in ".+-\u2212")):
         value, raw, cur.i = parse_number(prog, lineno, text, cur.i, letter, *LIMITS[letter], col=col)
         w = Word(letter, value, raw, col)
         block.words.append(w)
@@ -180,6 +183,11 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         cur.i += 1
         cur.skip()
         f = expression(cur)
+    elif c == "[" and re.match(r"\[\s*[A-Za-z_]{3,}\w*\s+[A-Za-z_]", text[cur.i:]) and \
+            not re.match(r"\[\s*(?:V\.|P\d|SIN|COS|TAN|ABS|SQRT?|INT|ROUND|FRACT)", text[cur.i:], re.I):
+        m = re.match(r"\[\s*([A-Za-z_]\w*)", text[cur.i:])
+        raise CutsimError(prog, lineno, col, f"{letter}[{m.group(1)} ...]: an axis-specific command "
+                          "is not modelled by the simulator")
     elif c in "[@" or c.isalpha():
         f = primary(cur)
     else:
@@ -514,10 +522,18 @@ def declaration(prog: str, lineno: int, text: str) -> VarDecl | None:
 
 
 # -- macros (string substitution) ---------------------------------------------------------------------
+class MacroMissing(CutsimError):
+    """A macro no file has defined (yet)."""
+
+
 def expand_macros(prog: str, lineno: int, text: str, macros: dict) -> str:
     """Replace every ``"NAME"`` outside a #MSG text by the macro's content (recursively)."""
-    if '"' not in text or text.lstrip().startswith("#"):
+    if '"' not in text:
         return text
+    cmd = re.search(r"(?:^|[\s:\]])#\s*[A-Za-z]", text)
+    if cmd:  # a # command's text (#MSG ["..."]) holds strings, not macros
+        head = text[:cmd.start()]
+        return expand_macros(prog, lineno, head, macros) + text[cmd.start():] if '"' in head else text
     for _ in range(MAX_MACRO_DEPTH):
         out, i, changed = [], 0, False
         code = text.split(";", 1)[0] if '"' not in text.split(";", 1)[0][-1:] else text
@@ -527,7 +543,7 @@ def expand_macros(prog: str, lineno: int, text: str, macros: dict) -> str:
             if before.endswith("=") and not before.endswith("=="):
                 continue  # a string value (V.E.X = "text"), not a macro
             if name not in macros:
-                raise CutsimError(prog, lineno, m.start() + 1, f"macro \"{name}\" is not defined: define it with "
+                raise MacroMissing(prog, lineno, m.start() + 1, f"macro \"{name}\" is not defined: define it with "
                                   f"\"{name}\" = \"...\" before it is used (a macro from another file is not "
                                   "known to the simulator)")
             out.append(text[i:m.start()])
@@ -573,15 +589,30 @@ def _directive(stripped: str) -> str:
     return (m.group(1) + (" " + m.group(2) if m.group(2) else "")).upper()
 
 
-def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section, dict[str, Section], list]:
-    """The file -> (main program, local subprograms by name, further main programs)."""
+def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | None = None):
+    """The file -> (main program, local subprograms by name). ``macros``: the program-global macro
+    table (``"NAME" = "text"``), shared by every file of a run; a line using a macro no file has
+    defined yet is expanded when it runs (a subprogram called before may define it)."""
     if max_blocks is not None:
         check_length(name, text, max_blocks, BLOCK_LINES)
     loose = Section("main", "", 1, 1)
     sections: list[Section] = []
-    macros: dict[str, str] = {}
+    macros = {} if macros is None else macros
     mode, mode_line = "", 0
+    pending, pending_line = None, 0
     for lineno, line in iter_lines(text):
+        code = line.split(";", 1)[0].rstrip()
+        if mode == "" and code.endswith("\\") and not line.lstrip().startswith("%"):
+            # a block continued on the next line ('\\' at the end): joined, reported at its first line
+            if pending is None:
+                pending, pending_line = "", lineno
+            pending += code[:-1] + " "
+            continue
+        if pending is not None:
+            if not line.strip() or line.lstrip().startswith(";"):
+                continue  # blank and comment lines inside a continued block
+            line, lineno = pending + line, pending_line
+            pending = None
         stripped = line.lstrip()
         d = _directive(stripped) if "#" in stripped[:12] else ""
         if mode == "comment":
@@ -610,7 +641,10 @@ def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section,
         if md:
             macros[md.group(1)] = md.group(2).replace('\\"', '"')
             continue
-        b = scan(name, lineno, expand_macros(name, lineno, line, macros))
+        try:
+            b = scan(name, lineno, expand_macros(name, lineno, line, macros))
+        except MacroMissing:
+            b = IsgBlock(line=lineno, col=1, deferred=line)
         if b is None:
             continue
         if sec.ended:
@@ -627,10 +661,6 @@ def parse(name: str, text: str, max_blocks: int | None = None) -> tuple[Section,
 
 def assemble(name: str, loose: Section, sections: list[Section]):
     mains = [s for s in sections if s.kind == "main"]
-    if len(mains) > 1:
-        s = mains[1]
-        raise CutsimError(name, s.line, s.col, f"a second main program '%{s.name}' (the first is "
-                          f"'%{mains[0].name}' at line {mains[0].line}); a file holds one main program")
     if mains and (loose.blocks or loose.decls):
         first = loose.blocks[0] if loose.blocks else loose.decls[0]
         raise CutsimError(name, first.line, 1, "block before the first program header ('%name' or '%L name')")
@@ -654,6 +684,7 @@ def assemble(name: str, loose: Section, sections: list[Section]):
         local[s.name] = s
     for sec in [main, *local.values()]:
         match_control(name, sec)
+    main.others = mains[1:]
     return main, local
 
 

@@ -210,8 +210,6 @@ def test_seed_spelling_fails_through_the_cli(tmp_path):
     ("%P\nM03 S1\nG33 Z10 K1.5 S.OFFSET=0 S.OFFSET=180\nM30\n", 3, 25, ["two spindle offsets"]),
     ("%P\nS.SPEED=3\nM30\n", 2, 3, ["unknown spindle attribute S.SPEED"]),
     # structure
-    ("%P\nG01 X1 F1\nM29\n", 3, 1, ["ends a subprogram", "M30"]),
-    ("%P\nM30\n%Q\nM30\n", 3, 2, ["second main program"]),
     ("%L A\nM29\nG01 X1 F1\n%M\nM30\n", 3, 1, ["after the end (M29)"]),
     ("G01 X1 F1\n%M\nM30\n", 1, 1, ["before the first program header"]),
     ("%L A\nM29\n%L A\nM29\n%M\nM30\n", 3, 4, ["defined twice", "line 1"]),
