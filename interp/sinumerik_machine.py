@@ -332,7 +332,7 @@ def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
                 ms.warn_once(m, None, key, f"{key}: no work offset in the setup, offset 0 (declare it: "
                              f"[work_offsets] {key} = [x, y, z])")
         elif code in (53, 153):
-            ms.suppress = True
+            suppress(m, ms, f"G{code}")
         elif code in PATH_G:
             ms.warn_once(m, None, f"G{code}", f"G{code} ({PATH_G[code]}) does not change the tool path; accepted")
         elif code in (41, 42) and flipped(ms, m.plane):
@@ -340,6 +340,17 @@ def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
         else:
             rest.append((code, col))
     return rest
+
+
+def suppress(m, ms: Machine, what: str) -> None:
+    """G53/G153/SUPA: this block's values are machine coordinates. Where the setup does not say
+    where the workpiece sits in the machine, they are workpiece coordinates too (one warning)."""
+    ms.suppress = True
+    offsets = m.cfg.work_offsets
+    if ms.settable not in offsets and (ms.settable != "G500" or not offsets):
+        ms.warn_once(m, None, "machine-coordinates", f"{what}: machine coordinates are taken as workpiece coordinates "
+                     f"(the setup does not place the workpiece: [work_offsets] {'G54' if ms.settable == 'G500' else ms.settable}"
+                     " = [x, y, z])")
 
 
 def flipped(ms: Machine, plane: str) -> bool:
@@ -366,7 +377,7 @@ def settings(m, src, blk) -> None:
                               "instruction in a block of its own")
             frame_cmd = (name, col)
         elif name == "SUPA":
-            ms.suppress = True
+            suppress(m, ms, "SUPA")
         elif name == "G500":
             ms.settable = "G500"
             ms.offset = tuple(map(float, m.cfg.work_offsets.get("G500", ZERO)))  # type: ignore

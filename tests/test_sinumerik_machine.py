@@ -262,3 +262,12 @@ def test_frames_place_the_slot_on_the_solid():
     res = cutsim.simulate(str(here / "frame-slot.mpf"), str(here / "frame-slot.toml"))
     recs = res.report["checks"]
     assert len(recs) == 4 and all(r["passed"] for r in recs), recs
+
+
+def test_machine_coordinates_without_offsets_warn_once():
+    """SUPA G0 Z0 (a CAM post's retract) with no offsets in the setup: machine Z0 is taken as
+    workpiece Z0, said once; with G54 declared the same block goes to machine Z0 silently."""
+    _, p = run(HEAD + "G54\nSUPA G0 Z0\nG53 G0 Z10\nM30\n")
+    assert sum("[work_offsets] G54 = [x, y, z]" in w and w.startswith("SUPA") for w in warnings(p)) == 1
+    _, p = run(HEAD + "G54\nSUPA G0 Z0\nM30\n", work_offsets={"G54": (0.0, 0.0, -300.0)})
+    assert close(p.moves[-1].end, (0.0, 0.0, 0.0)) and not any("SUPA" in w for w in warnings(p))
