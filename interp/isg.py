@@ -377,6 +377,12 @@ class Isg(Interpreter):
         raise self.error(line, col, f"{key} ({what} variable) is not known to the simulator (give it a value in the "
                          f"setup: [variables] \"{key}\" = ...)")
 
+    def exists(self, scope: str, key: str) -> bool:
+        """EXIST[V.x.NAME]: the variable is declared (or, for V.E./V.G., known from the setup)."""
+        if scope == "L":
+            return key in self.frame.vl
+        return key in self.vars or (scope not in ("P", "S") and key in self.cfg.variables)
+
     def _element(self, store: dict, key: str, line: int, col: int):
         v = store[key]
         if isinstance(v, tuple):

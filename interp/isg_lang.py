@@ -286,6 +286,19 @@ def primary(cur: Cursor):
         return param(cur)
     if word in FUNCS:
         return call(cur, word)
+    if word == "EXIST" and _is_call(cur, 5):
+        cur.i = m.end()
+        cur.skip()
+        cur.i += 1
+        cur.skip()
+        if not (cur.peek() in "Vv" and cur.peek(1) == "."):
+            raise cur.error("EXIST[...] asks for a variable: EXIST[V.P.NAME]")
+        scope, keyf, vcol = var_ref(cur)
+        cur.skip()
+        if cur.peek() != "]":
+            raise cur.error("']' expected to close EXIST[")
+        cur.i += 1
+        return lambda env: float(env.exists(scope, keyf(env)))
     if word in STR_FUNCS:
         cur.i = m.end()
         cur.skip()

@@ -602,7 +602,7 @@ def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | No
     pending, pending_line = None, 0
     for lineno, line in iter_lines(text):
         code = line.split(";", 1)[0].rstrip()
-        if mode == "" and code.endswith("\\") and not line.lstrip().startswith("%"):
+        if mode != "comment" and code.endswith("\\") and not line.lstrip().startswith("%"):
             # a block continued on the next line ('\\' at the end): joined, reported at its first line
             if pending is None:
                 pending, pending_line = "", lineno
