@@ -4,6 +4,8 @@
     nice -n 10 python3 bench/bench_interp.py --sizes 100000,1000000
     python3 bench/bench_interp.py --cases cnc8x6-lathe --modes interp --profile 30
                                                                    # top 30 functions (cProfile)
+    python3 bench/bench_interp.py --against /tmp/old/pkg           # each row also with another
+                                                                   # cutsim (PYTHONPATH) and the ratio
 
 Cases: a generated program of N plain linear blocks ``N.. G01 X.. Z.. F..`` (mill forms with Y as
 well) for each dialect and machine form: cnc8x6-lathe, cnc8x6-mill, isg-lathe, isg-mill,
@@ -130,7 +132,7 @@ def child(mode: str, case: str, prog: str, setup: str, profile: int) -> dict:
     return out
 
 
-def run_case(mode: str, case: str, n: int, work: str, profile: int = 0) -> dict:
+def run_case(mode: str, case: str, n: int, work: str, profile: int = 0, pythonpath: str | None = None) -> dict:
     prog = os.path.join(work, f"{case}-{n}.{'mpf' if case.startswith('sinumerik') else 'nc'}")
     setup = os.path.join(work, f"{case}.toml")
     if not os.path.exists(prog):
@@ -138,10 +140,11 @@ def run_case(mode: str, case: str, n: int, work: str, profile: int = 0) -> dict:
             f.write(program(case, n))
     with open(setup, "w") as f:
         f.write(setup_text(case))
+    env = dict(os.environ, PYTHONPATH=pythonpath) if pythonpath else None
     if mode == "moves":
         t0 = time.perf_counter()
-        p = subprocess.Popen(["cutsim", "moves", prog, "--setup", setup], stdout=subprocess.DEVNULL,
-                             stderr=subprocess.PIPE)
+        p = subprocess.Popen([sys.executable, "-m", "cutsim", "moves", prog, "--setup", setup],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, cwd=work)
         err = p.stderr.read()
         _, status, ru = os.wait4(p.pid, 0)
         p.returncode = os.waitstatus_to_exitcode(status)
@@ -150,7 +153,7 @@ def run_case(mode: str, case: str, n: int, work: str, profile: int = 0) -> dict:
             return {"error": err.decode(errors="replace").strip()[:200]}
         return {"wall_s": wall, "peak_rss": ru.ru_maxrss * 1024, "blocks": n + 1}
     cmd = [sys.executable, __file__, "--child", mode, case, prog, setup, str(profile)]
-    r = subprocess.run(cmd, capture_output=True, text=True)
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
     if profile:
         sys.stderr.write(r.stderr)
     if r.returncode != 0:
@@ -168,6 +171,8 @@ def main() -> None:
     ap.add_argument("--cases", default=",".join(CASES))
     ap.add_argument("--modes", default=",".join(MODES))
     ap.add_argument("--profile", type=int, default=0, help="print the top N functions of interpret() (cProfile)")
+    ap.add_argument("--against", help="a directory holding another cutsim package (e.g. an older commit's, "
+                    "laid out as cutsim/, cutsim/interp/, ...): every row is run with it too, as 'was'")
     ap.add_argument("--child", nargs=5, help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.child:
@@ -181,17 +186,24 @@ def main() -> None:
         for n in sizes:
             for case in a.cases.split(","):
                 for mode in a.modes.split(","):
-                    r = run_case(mode, case, n, work, a.profile)
-                    if "error" in r:
-                        print(f"{case:16} {mode:6} {n:>8} error: {r['error']}")
-                        continue
-                    secs = r["wall_s"] if mode == "moves" else r["interp_s"] + r.get("plan_s", 0.0)
-                    rate = r["blocks"] / secs
-                    added = r.get("added_bytes")
-                    per = f"{added / max(1, r['moves']):7.0f}" if added is not None else f"{'':7}"
-                    ok = "ok" if rate >= TARGET else "below" if mode == "interp" else ""
-                    print(f"{case:16} {mode:6} {r['blocks']:>8} {secs:7.2f} {rate:9.0f} {ok:>6} "
-                          f"{mib(r['peak_rss'])} {mib(added) if added is not None else '':>9} {per}", flush=True)
+                    runs = [("", None)] + ([("was", a.against)] if a.against else [])
+                    rates = []
+                    for tag, path in runs:
+                        r = run_case(mode, case, n, work, a.profile if not tag else 0, path)
+                        label = f"{mode} {tag}".strip()
+                        if "error" in r:
+                            print(f"{case:16} {label:6} {n:>8} error: {r['error']}")
+                            continue
+                        secs = r["wall_s"] if mode == "moves" else r["interp_s"] + r.get("plan_s", 0.0)
+                        rate = r["blocks"] / secs
+                        rates.append(rate)
+                        added = r.get("added_bytes")
+                        per = f"{added / max(1, r['moves']):7.0f}" if added is not None else f"{'':7}"
+                        ok = ("ok" if rate >= TARGET else "below") if mode == "interp" and not tag else ""
+                        print(f"{case:16} {label:6} {r['blocks']:>8} {secs:7.2f} {rate:9.0f} {ok:>6} "
+                              f"{mib(r['peak_rss'])} {mib(added) if added is not None else '':>9} {per}", flush=True)
+                    if len(rates) == 2:
+                        print(f"{'':16} {'speed-up':>15} {rates[0] / rates[1]:17.2f}x", flush=True)
             # each program is written once per size and removed with the directory
             for f in os.listdir(work):
                 if f.endswith((".nc", ".mpf")):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 Vec3 = tuple[float, float, float]
 
@@ -158,12 +159,15 @@ class Program:
         return None
 
 
+@lru_cache(maxsize=1024)
 def _fmt(v: float) -> str:
     s = f"{v:.6f}".rstrip("0").rstrip(".")
     return "0" if s in ("-0", "") else s
 
 
+@lru_cache(maxsize=256)
 def _vec(v: Vec3) -> str:
+    """Cached: a move's start is the previous move's end (equal values print alike; -0 prints 0)."""
     return "(" + " ".join(_fmt(c) for c in v) + ")"
 
 
@@ -196,5 +200,12 @@ def describe(rec) -> str:
     return f"{where} {body}"
 
 
+def transcript_lines(program: Program):
+    """The transcript line by line (each ending in a newline), for writing it out without holding
+    all of it in memory."""
+    for r in program.records:
+        yield describe(r) + "\n"
+
+
 def transcript(program: Program) -> str:
-    return "".join(describe(r) + "\n" for r in program.records)
+    return "".join(transcript_lines(program))

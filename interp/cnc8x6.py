@@ -69,9 +69,9 @@ LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKE"}, "F": (COORD_LIMIT, "mm/
 # which gives the same Block or the error. Only blanks and tabs separate words here.
 _NUM = r"[+\-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
 PLAIN_LINE = re.compile(rf"[ \t]*(?:[Nn]([0-9]+)[ \t]*)?((?:[A-MO-QS-Za-mo-qs-z]{_NUM}[ \t]*)*)")
-PLAIN_WORD = re.compile(rf"([A-Za-z])({_NUM})[ \t]*")
-_PLAIN_LIMITS = {**{k.lower(): v[0] for k, v in LIMITS.items() if k in LETTERS},
-                 **{k: v[0] for k, v in LIMITS.items() if k in LETTERS}}
+PLAIN_WORD = re.compile(rf"([A-Za-z])({_NUM})([ \t]*)")
+# letter as written -> (address, the largest magnitude it accepts)
+_PLAIN_LIMITS = {c: (k, v[0]) for k, v in LIMITS.items() if k in LETTERS for c in (k, k.lower())}
 
 
 def scan_plain(lineno: int, text: str) -> Block | None | bool:
@@ -92,19 +92,20 @@ def scan_plain(lineno: int, text: str) -> Block | None | bool:
         words = block.words
         seen = ""
         new = tuple.__new__
-        for w in PLAIN_WORD.finditer(rest):
-            letter, raw = w.groups()
-            limit = _PLAIN_LIMITS.get(letter)
-            if limit is None:
+        col = m.start(2) + 1
+        for letter, raw, gap in PLAIN_WORD.findall(rest):
+            row = _PLAIN_LIMITS.get(letter)
+            if row is None:
                 return False
-            letter = letter.upper()
+            letter, limit = row
             if letter in seen and letter not in "GM":
                 return False
             seen += letter
             value = float(raw)
             if not -limit <= value <= limit:
                 return False
-            words.append(new(Word, (letter, value, raw, m.start(2) + w.start() + 1, None)))
+            words.append(new(Word, (letter, value, raw, col, None)))
+            col += 1 + len(raw) + len(gap)
     return block
 
 
