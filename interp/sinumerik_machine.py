@@ -55,6 +55,7 @@ ACCEPTED = {
     "DYNNORM": "standard dynamics", "DYNPOS": "positioning dynamics", "DYNROUGH": "roughing dynamics",
     "DYNSEMIFIN": "semi-finishing dynamics", "DYNFINISH": "finishing dynamics",
     "FGREF": "reference radius for rotary-axis feed",
+    "NORM": "radius compensation approaches straight (the simulator's only way)",
     "COMPOF": "compressor off", "COMPON": "compressor on", "COMPCURV": "compressor (curvature)",
     "COMPCAD": "compressor (CAD)", "DRFOF": "handwheel offsets off", "FFWON": "feed forward on",
     "FFWOF": "feed forward off", "SOFT": "jerk-limited acceleration", "BRISK": "step acceleration",
@@ -390,6 +391,9 @@ def settings(m, src, blk) -> None:
         else:
             left.append((name, col))
     blk.commands[:] = left
+    for msg in ms.pending:  # SUPA's
+        m.warn(src, msg)
+    ms.pending.clear()
     keep = []
     for stmt in blk.calls:
         name, args = getattr(stmt, "name", None), getattr(stmt, "args", None)

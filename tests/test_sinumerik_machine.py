@@ -271,3 +271,19 @@ def test_machine_coordinates_without_offsets_warn_once():
     assert sum("[work_offsets] G54 = [x, y, z]" in w and w.startswith("SUPA") for w in warnings(p)) == 1
     _, p = run(HEAD + "G54\nSUPA G0 Z0\nM30\n", work_offsets={"G54": (0.0, 0.0, -300.0)})
     assert close(p.moves[-1].end, (0.0, 0.0, 0.0)) and not any("SUPA" in w for w in warnings(p))
+
+
+@pytest.mark.parametrize("commands,expected", [
+    ("TRANS X10 Y20 Z30", (10.0, 20.0, 30.0)),
+    ("TRANS X10\nATRANS X5", (15.0, 0.0, 0.0)),
+    ("TRANS X10\nAROT Z30\nTRANS Y20", (0.0, 20.0, 0.0)),  # TRANS replaces the whole frame, the turn too
+    ("TRANS X10\nAROT Z30\nTRANS", (0.0, 0.0, 0.0)),
+    ("TRANS X10\nAROT Z30\nROT", (0.0, 0.0, 0.0)),  # ROT alone clears the shift as well
+    ("TRANS X100\nAROT Z90\nATRANS X10", (100.0, 10.0, 0.0)),
+    ("ROT Z90\nATRANS X10", (0.0, 10.0, 0.0)),
+    ("G70\nTRANS X1\nAROT Z90\nATRANS X1", (25.4, 25.4, 0.0)),  # TRANS values are geometry: inch
+])
+def test_frame_composition(commands, expected):
+    """Where the WCS origin lands: G0 X0 Y0 Z0 after the frame instructions."""
+    mv = moves("G17 G90\nG54\n" + commands + "\nG0 X0 Y0 Z0\nM30\n")
+    assert close(mv[-1].end, expected, 1e-9), mv[-1].end
