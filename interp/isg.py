@@ -598,7 +598,7 @@ class Isg(Interpreter):
         return (end[0], end[1], end[2])
 
     def extra_axes(self, st: Step) -> None:
-        for a in sorted(set(st.words) & set("ABCUVWE")):
+        for a in sorted(set(st.words) & set("ABCUVW")):
             w = st.words.pop(a)
             if a not in self.cfg.axes:
                 raise self.error(st.block.line, w.col, f"axis {a} is not on this machine (declare it in the setup: "
@@ -612,6 +612,9 @@ class Isg(Interpreter):
     def convert_motion(self, st: Step) -> None:
         b, src, words, motion = st.block, st.src, st.words, st.motion
         self.extra_axes(st)
+        if "R" in words:
+            raise self.error(b.line, words["R"].col, "R (circle radius programming) is not supported by the simulator: "
+                             "program the circle centre with I, J, K")
         axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
         values = {i: w.value for i, w in axis_words.items()}
         cols = {i: w.col for i, w in axis_words.items()}

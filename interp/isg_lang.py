@@ -220,7 +220,7 @@ def unary(cur: Cursor):
             if c == "+":
                 return f
             return lambda env: -_num(f(env), cur, col, "sign")
-        if c == "!" or (c in "Nn" and cur.at_word("NOT") and not _is_call(cur, 3)):
+        if c == "!" or (c in "Nn" and cur.at_word("NOT")):
             col = cur.i + 1
             cur.i += 1 if c == "!" else 3
             f = unary(cur)

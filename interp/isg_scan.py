@@ -16,9 +16,9 @@ from .isg_lang import CONTROL, IDENT, Cursor, compile_expr, expression, param, p
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                     iter_lines, parse_number)
 
-LETTERS = set("NGMXYZIJKFSTDLHABCUVWE")
+LETTERS = set("NGMXYZIJKFSTDLHABCUVWR")
 EXTRA_AXES = set("ABCUVW")
-LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKABCUVWE"}, "F": (COORD_LIMIT, "mm/min"),
+LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKABCUVWR"}, "F": (COORD_LIMIT, "mm/min"),
           "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTDH"}}
 NAME = re.compile(r"(?:\w|[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f])+")
 FILE_NAME = re.compile(r"[^\s;(\[\]]+")
@@ -540,8 +540,8 @@ def expand_macros(prog: str, lineno: int, text: str, macros: dict) -> str:
         for m in MACRO_USE.finditer(code):
             name = m.group(1)
             before = code[:m.start()].rstrip()
-            if before.endswith("=") and not before.endswith("=="):
-                continue  # a string value (V.E.X = "text"), not a macro
+            if name not in macros and before[-1:] in set("=!<>+-*/,[(&|"):
+                continue  # a string in an expression (V.E.X = "text", V.E.M == "A"), not a macro
             if name not in macros:
                 raise MacroMissing(prog, lineno, m.start() + 1, f"macro \"{name}\" is not defined: define it with "
                                   f"\"{name}\" = \"...\" before it is used (a macro from another file is not "

@@ -1,0 +1,196 @@
+"""The ISG language of real TwinCAT CNC programs (issue 16): control structures, expressions,
+variables, # commands, work offsets, global subprograms, machine functions and extra axes.
+
+Golden transcripts (tests/golden/isg-lang/<name>.nc -> <name>.txt, run with setup.toml there;
+regenerate with CUTSIM_UPDATE_GOLDEN=1 and review the diff). Every number was checked by hand
+against the program and the TwinCAT CNC programming manual's semantics:
+
+- control.nc: $WHILE P1 < 3 feeds to X0, X10, X20 (Y5 Z-1); $FOR P2 = 1..4 moves to Y10 (P2 = 1)
+  and Y30 (P2 = 3): P2 = 2 is skipped by $CONTINUE and $BREAK leaves at P2 = 4; $SWITCH 4 runs
+  $CASE 4 (X44) and falls through to $CASE 5 (X55) up to its $BREAK; $DO ... $ENDDO P3 < 2 runs
+  twice (Z-2, Z-3); $IF .. $GOTO [DONE] and $GOTO N370 jump over X99 and X98; N370: G00 Z10.
+- expressions.nc: [2 + 3 * 4] = 14 and [[2 + 3] * 4] = 20; 2 ** 3 = 8; 11 MOD 3 = 2;
+  SIN[30] * 10 = COS[60] * 10 = 5 (degrees); SQRT[16] + SQR[3] = 13; ABS[-7] = 7;
+  INT[-2.7] + 10 = 8 (truncation); FRACT[2.75] * 4 = 3; ROUND[2.5] = 3; ATAN2[1, 1] = 45;
+  TAN[45] * 20 = 20; EXP[0] + LN[1] = 1; P1 = 6: P1 / 4 = 1.5, -P1 = -6; the AND/&&/NOT and
+  OR conditions are true (X50, Y50); "X 52.5 Y 10" with spaces and an unclosed "(" comment.
+- variables.nc: V.P.XS[0..2] = 10, 20, 30 at Y = V.L.STEP = 5, Z = -V.P.DEPTH = -2 for
+  P2 = 0 .. V.E.PASSES - 1 (V.E.PASSES = 3 from the setup); V.P.DEPTH becomes 3; the local
+  subprogram's own V.L.STEP = 7 gives X30 + 7 = 37 at Z-3 while the main program's V.L.STEP
+  stays 5 (Y10 after the call); V.E.MODE == "FINISH" (a string from the setup) raises to
+  V.G.SAFE_Z = 25.
+- commands.nc: #MSG, #FLUSH WAIT, #HSC pass; the #COMMENT block is not read; G54 (10, 20, 0)
+  puts X0 Y0 at machine (10, 20); G55 (50, 50, -5) puts X0 Y0 at (50, 50), Z (not programmed)
+  stays -1; G53 G00 Z10; #CS ON [5, 5, 0, 0, 0, 0] puts X1 Y1 at (6, 6), #CS OFF back at
+  (1, 1); G92 X0 Y0 there makes X10 Y10 machine (11, 11); M200=40, H7, M110 are machine
+  functions of the setup; A90 is tracked, X20 goes to 21.
+- global.nc: L CYCLE [NAME = pocket_sub.nc @P1 = 4 @P2 = -1.5] runs the file beside it: from
+  (10, 10, 2) incrementally Z[@P2 - 2] = -3.5 down to Z-1.5, a 4 mm square back to (10, 10) and
+  Z[2 - @P2] = +3.5 up to Z2; then L pocket_sub [@P1 = 2, @P2 = -3]: Z-3 and a 2 mm square.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from cutsim.cli import main
+from cutsim.interp import CutsimError, InterpConfig, interpret
+from cutsim.interp import canon
+
+HERE = Path(__file__).resolve().parent
+GOLDEN = HERE / "golden" / "isg-lang"
+SETUP = GOLDEN / "setup.toml"
+NAMES = ["control", "expressions", "variables", "commands", "global"]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_isg_language_golden(name):
+    prog = GOLDEN / f"{name}.nc"
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(SETUP)])
+    assert res.exit_code == 0, res.output
+    golden = GOLDEN / f"{name}.txt"
+    if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
+        golden.write_text(res.output)
+    assert res.output == golden.read_text()
+
+
+# -- unit checks on the interpreter (InterpConfig built directly) -------------------------------------
+def cfg(**kw) -> InterpConfig:
+    base = dict(dialect="isg", machine_kind="mill", start=(0.0, 0.0, 50.0))
+    base.update(kw)
+    return InterpConfig(**base)
+
+
+def run(text: str, name: str = "t.nc", **kw) -> canon.Program:
+    return interpret(name, text, cfg(**kw))
+
+
+def fails(text: str, **kw) -> CutsimError:
+    with pytest.raises(CutsimError) as e:
+        run(text, **kw)
+    return e.value
+
+
+def ends(prog) -> list:
+    return [m.end for m in prog.moves]
+
+
+def test_passive_commands_warn_once_each():
+    prog = run("%P\n#FLUSH WAIT\n#FLUSH WAIT\n#MSG [\"a\"]\n#CONTOUR MODE ON [DEV PATH_DEV=0.08]\nG01 X1 F100\nM30\n")
+    msgs = [m for _, m in prog.warnings]
+    assert sum("#FLUSH" in m for m in msgs) == 1 and sum("#MSG" in m for m in msgs) == 1
+    assert sum("#CONTOUR" in m for m in msgs) == 1
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+
+
+@pytest.mark.parametrize("text, what", [
+    ("#TRAFO ON", "kinematic transformation"),
+    ("#RTCP ON", "RTCP"),
+    ("#MCS ON", "machine coordinates"),
+    ("#CS ON [0, 0, 10, 0, 0, 45]", "rotation"),
+    ("#ROTATION ON [ANGLE=30]", "#ROTATION"),
+    ("G68 X0 Y0 R30", "contour rotation"),
+    ("G21", "mirroring"),
+    ("G41 D1", "radius compensation"),
+    ("G74 Z1", "homing"),
+    ("#FOO", "#FOO is not known"),
+])
+def test_what_changes_the_path_unmodelled_is_exit_2(text, what):
+    e = fails(f"%P\nG01 X1 F100\n{text}\nG01 X2\nM30\n")
+    assert e.line == 3 and what in e.message, str(e)
+
+
+def test_off_forms_pass():
+    prog = run("%P\n#TRAFO OFF\n#RTCP OFF\n#MCS OFF\n#CS OFF\n#CS OFF ALL\nG40 G01 X1 F100\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+
+
+def test_cs_def_then_on_by_id_and_nesting():
+    prog = run("%P\n#CS DEF [2] [10, 0, 0]\nG00 X1\n#CS ON [2]\nG00 X1\n#CS ON [0, 5, 0]\nG00 X1 Y1\n"
+               "#CS OFF\nG00 X1 Y1\n#CS OFF\nG00 X1 Y1\nM30\n")
+    assert [e[:2] for e in ends(prog)] == [(1, 0), (11, 0), (11, 6), (11, 1), (1, 1)]
+
+
+def test_external_variable_unset_names_the_setup_key():
+    e = fails("%P\nP1 = V.E.FEED_OVR\nM30\n")
+    assert (e.line, e.col) == (2, 6)
+    assert 'V.E.FEED_OVR' in e.message and '[variables] "V.E.FEED_OVR"' in e.message
+
+
+def test_machine_function_undeclared_names_the_setup_key():
+    e = fails("%P\nM200=40\nM30\n")
+    assert (e.line, e.col) == (2, 1) and "[machine] m_functions" in e.message
+    assert ends(run("%P\nM200=40 G01 X3 F10\nM30\n", m_functions=frozenset({200}))) == [(3.0, 0.0, 50.0)]
+    e = fails("%P\nH5\nM30\n")
+    assert "[machine] h_functions" in e.message
+
+
+def test_extra_axis_tracked_with_one_warning_and_undeclared_refused():
+    prog = run("%P\nG01 A10 X1 F100\nA20\nB0\nM30\n", axes={"A": "rotary", "B": "rotary"})
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    assert sum("axis A" in m for _, m in prog.warnings) == 1
+    assert not any("axis B" in m for _, m in prog.warnings)  # B0: it did not move
+    e = fails("%P\nG01 C10 F100\nM30\n")
+    assert (e.line, e.col) == (2, 5) and "[machine] axes" in e.message
+
+
+def test_work_offset_without_setup_value_is_zero_with_a_warning():
+    prog = run("%P\nG56 G00 X1\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    assert any("G56" in m and "[work_offsets]" in m for _, m in prog.warnings)
+
+
+def test_g161_absolute_circle_centre():
+    # from (10, 0) a half circle to (-10, 0) about the absolute centre (0, 0); with G54 (5, 5, 0)
+    # the centre is machine (5, 5)
+    prog = run("%P\nG54 G00 X10 Y0\nG161 G02 X-10 Y0 I0 J0 F100\nM30\n", work_offsets={"G54": (5.0, 5.0, 0.0)})
+    arc = prog.moves[-1]
+    assert arc.center[:2] == (5.0, 5.0) and arc.end[:2] == (-5.0, 5.0)
+
+
+def test_for_loop_with_negative_step_and_variables():
+    prog = run("%P\n#VAR\nV.P.I = 0\n#ENDVAR\n$FOR V.P.I = 3, 1, -1\nG01 X[V.P.I] F100\n$ENDFOR\nM30\n")
+    assert [e[0] for e in ends(prog)] == [3, 2, 1]
+
+
+def test_endless_loop_stops_at_max_blocks():
+    e = fails("%P\n$WHILE 1\nG01 X1 F100\n$ENDWHILE\nM30\n", max_blocks=1000)
+    assert "max_blocks" in e.message and "loop" in e.message
+
+
+def test_string_macro_and_deferred_macro_from_a_called_file(tmp_path):
+    (tmp_path / "defs.nc").write_text('"MOVE" = "G01 X7 F100"\nM29\n')
+    prog = run('%P\nL defs.nc\n"MOVE"\nM30\n', name=str(tmp_path / "main.nc"))
+    assert ends(prog) == [(7.0, 0.0, 50.0)]
+
+
+def test_global_subprogram_from_the_setup_path(tmp_path):
+    subs = tmp_path / "subs"
+    subs.mkdir()
+    (subs / "UP1.NC").write_text("G01 X[@P1] F100\nM17\n")
+    prog = run("%P\nL up1 [@P1 = 4]\nM30\n", name=str(tmp_path / "main.nc"), subprogram_path=(str(subs),))
+    assert ends(prog) == [(4.0, 0.0, 50.0)]
+    assert prog.moves[0].src.program == str(subs / "UP1.NC") and prog.moves[0].src.calls == ((str(tmp_path / "main.nc"), 2),)
+
+
+def test_implicit_subroutine_call_runs_its_file(tmp_path):
+    # G805[x, y, z]: the machine maker's subprogram G805.nc gets the list as @P1, @P2, @P3
+    (tmp_path / "G805.nc").write_text("G00 X[@P1] Y[@P2] Z[@P3]\nM17\n")
+    prog = run("%P\nG805[1, 2, 3]\nM30\n", name=str(tmp_path / "main.nc"))
+    assert ends(prog) == [(1.0, 2.0, 3.0)]
+    e = fails("%P\nG803\nM30\n", name=str(tmp_path / "main.nc"))
+    assert "implicit subroutine call" in e.message and "G803.nc" in e.message
+
+
+def test_continued_block_and_main_ended_by_m29():
+    prog = run("%SUB\nG01 X1 \\\n  Y2 F100\nM29\n")
+    assert ends(prog) == [(1.0, 2.0, 50.0)]
+    assert any("M29 ends a subprogram" in m for _, m in prog.warnings)
+
+
+def test_label_with_colon_and_jump_backwards():
+    prog = run("%P\nP1 = 0\nN10: P1 = P1 + 1\nG01 X[P1] F100\n$IF P1 < 3 $GOTO N10\nM30\n")
+    assert [e[0] for e in ends(prog)] == [1, 2, 3]
