@@ -380,6 +380,9 @@ class Sinumerik(ModalMachine):
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
         self.main, self.subs = split_units(self.name, text)
+        if not any(ln.stmts for ln in self.main.lines) and self.subs:
+            self.main = next(iter(self.subs.values()))  # the program is its first PROC (PROC MAIN ... M30)
+            self.vars = self.bind(self.main, (), 1, 1)  # its parameters take their defaults (or 0)
         stack = [Frame(self.main, pc=0, scope=self.vars)]
         ended = False
         last_line = 1
@@ -604,13 +607,14 @@ class Sinumerik(ModalMachine):
     def note(self, src: Src, kind: str, message: str) -> None:
         if kind not in self.warned:
             self.warned.add(kind)
-            self.warn(src, message + " (not simulated; warned once)")
+            self.warn(src, message + " (warned once)")
 
     def lang_call(self, st: Call, ln: Line) -> None:
         """MSG(..), SETAL(..), FGROUP(..), ... : their arguments are evaluated (errors count); SETAL
         raises the alarm it names: the program stops there (exit 2)."""
         line = ln.line
-        vals = [None if a.value is None else self.ev(a.value, line, a.col) for a in st.args]
+        vals = [None if a.value is None else self.ev(a.value, line, a.col) for a in st.args] \
+            if st.name in ("MSG", "SETAL") else []  # FGROUP(X, Y) & co. take axis names, not values
         if st.name == "SETAL":
             raise self.error(line, st.col, f"SETAL({', '.join(to_text(v) for v in vals if v is not None)}): the "
                              "program raises an alarm here and the controller stops it")
@@ -705,7 +709,7 @@ class Sinumerik(ModalMachine):
         new_comp = None
         for code, col in gs:
             if code in (0, 1, 2, 3):
-                if motion is not None:
+                if motion is not None and motion != code:
                     raise self.error(line, col, f"G{code} conflicts with G{motion} in the same block")
                 motion = code
             elif code in PLANES and self.comp_buf is not None:
