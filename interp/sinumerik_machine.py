@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 from . import canon
 from .errors import CutsimError
 from .modal import PLANE_AXES, InterpConfig
-from .sinumerik_lang import COORD_LIMIT, RANGES, range_message
+from .sinumerik_lang import COORD_LIMIT, range_message
 
 INCH = 25.4
 AXES = "XYZ"
@@ -44,6 +44,9 @@ MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G)
 QUIET_M = {19, 40, 41, 42, 43, 44, 45}
 ROTARY_LETTERS = "ABC"
 AXIS_NAME = re.compile(r"[A-Z][0-9]*")  # an axis address: A, B, W, X2 (AX[X2]=..)
+# the addresses the language itself means (X Y Z are the machine's own axes); any other single letter
+# (with a number) in an address is an axis, which the setup must declare
+LANGUAGE_ADDRESSES = {"G", "M", "X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "L", "P", "N", "R", "H", "E", "Q"}
 FRAME_CMDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"}
 # commands that do not change the programmed tool path (what they do on the machine)
 ACCEPTED = {
@@ -163,6 +166,7 @@ class Machine:
     traori: bool = False
     arc_flip: bool = False  # the arc being programmed turns the other way in the machine (mirror)
     sandbox: bool = False  # a cycle runs in WCS; its records are mapped afterwards
+    deferred: list = field(default_factory=list)  # cycles of the block under a frame, run by ``move``
 
     # -- the transform -----------------------------------------------------------------------------
     def unit(self) -> float:
@@ -248,7 +252,7 @@ def word(m, st, val, line: int, blk) -> bool:
             raise m.error(line, st.col, "address T appears twice in one block")
         blk.words["T"] = Word(float(tool_number(m, val, line, st.col)), None, st.col)
         return True
-    if addr in m.cfg.axes or addr not in RANGES and addr not in ("G", "M") and AXIS_NAME.fullmatch(addr):
+    if addr in m.cfg.axes or addr not in LANGUAGE_ADDRESSES and AXIS_NAME.fullmatch(addr):
         if addr not in m.cfg.axes:
             raise m.error(line, st.col, axis_message(addr))
         if addr in blk.words:
@@ -288,10 +292,14 @@ def spindle_address(m, ms: Machine, letter: str, n: int, val, line: int, col: in
         return True
     if v != int(v):
         raise m.error(line, col, f"M{n}={v:g}: an M function is a whole number")
-    if int(v) in (3, 4, 5):
-        blk.ms.append((int(v), col))
+    code = int(v)
+    if code in (3, 4, 5):
+        blk.ms.append((code, col))
         return True
-    return m_code(m, v, col, line, blk) or True
+    if code in QUIET_M or code in m.cfg.m_functions:
+        return True
+    raise m.error(line, col, f"M{n}={code} is not a spindle function the simulator knows (M{n}=3, 4, 5, 19, 40 to 45; a "
+                  f"machine function: declare it in the setup: [machine] m_functions = [{code}])")
 
 
 def tool_number(m, name: str, line: int, col: int) -> int:
@@ -502,7 +510,7 @@ def rotation(m, ms: Machine, vals: dict, name: str, line: int, col: int) -> Mat:
 def cycles_in_frame(m, ms: Machine, src, blk) -> None:
     """A cycle called while a frame, an offset or inch units are active runs in the WCS and its moves
     are mapped into the machine afterwards (the cycles compute in the program's coordinates)."""
-    from .sinumerik_cycles import CYCLES, run_cycle
+    from .sinumerik_cycles import CYCLES
     line = src.line
     if any(getattr(st, "name", None) == "MCALL" for st in blk.calls):
         return  # MCALL CYCLE8x(..) only names the modal cycle: it runs after the moves (in_wcs)
@@ -516,7 +524,8 @@ def cycles_in_frame(m, ms: Machine, src, blk) -> None:
             raise m.error(line, stmt.col, f"{name} under a frame: call the cycle in a block of its own, without "
                           "radius compensation")
         vals = [(None if x.value is None else m.ev(x.value, line, x.col), x.col) for x in args]
-        in_wcs(m, lambda: run_cycle(m, name, vals, src, stmt.col), name, line, stmt.col)
+        # run from the move hook: after the block's spindle, tool and feed, as the interpreter's calls run
+        ms.deferred.append((name, vals, src, stmt.col))
     blk.calls[:] = keep
 
 
@@ -595,9 +604,13 @@ def plane_image(m, ms: Machine, plane: str, line: int, col: int) -> bool:
 def move(m, src, words: dict) -> None:
     """Turn the block's X/Y/Z, I/J/K and CR into machine values (absolute, mm) and track the extra
     axes; sets ``arc_flip`` for the interpreter's G2/G3."""
+    from .sinumerik_cycles import run_cycle
     ms = state(m)
     ms.arc_flip = False
     line = src.line
+    while ms.deferred:
+        name, vals, csrc, col = ms.deferred.pop(0)
+        in_wcs(m, lambda: run_cycle(m, name, vals, csrc, col), name, line, col)
     extra_axes(m, ms, src, words)
     arc = m.motion in (2, 3)
     cutting = m.motion in (1, 2, 3) and (any(a in words for a in AXES) or arc and
