@@ -624,7 +624,11 @@ def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | No
             if d == "ENDVAR":
                 mode = ""
             else:
-                decl = declaration(name, lineno, line)
+                try:
+                    decl = declaration(name, lineno, line)
+                except CutsimError as e:
+                    raise CutsimError(e.program, e.line, e.col, f"{e.message} (#VAR at line {mode_line} is not closed "
+                                      "by #ENDVAR before this line?)") from None
                 if decl is not None:
                     sec.decls.append(decl)
             continue

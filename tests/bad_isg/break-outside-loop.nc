@@ -1,0 +1,4 @@
+; EXPECT 3:1 $BREAK outside a loop
+%P
+$BREAK
+M30

@@ -1,0 +1,8 @@
+; EXPECT 6:1 $ELSE does not match
+%P
+$IF 1
+G01 X1 F100
+$ELSE
+$ELSE
+$ENDIF
+M30

@@ -1,0 +1,4 @@
+; EXPECT 3:1 unexpected $ENDIF
+%P
+$ENDIF
+M30

@@ -1,0 +1,5 @@
+; EXPECT 4:1 unexpected $ENDWHILE
+%P
+$IF 1
+$ENDWHILE
+M30

@@ -1,0 +1,4 @@
+; EXPECT 3:10 [variables] "V.E.SPEED"
+%P
+G01 X1 F[V.E.SPEED]
+M30

@@ -1,0 +1,5 @@
+; EXPECT 3:1 $FOR step 0
+%P
+$FOR P1 = 0, 10, 0
+$ENDFOR
+M30

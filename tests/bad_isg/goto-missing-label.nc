@@ -1,0 +1,4 @@
+; EXPECT 3:1 no label [NOWHERE]
+%P
+$GOTO [NOWHERE]
+M30

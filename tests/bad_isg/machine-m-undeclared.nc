@@ -1,0 +1,4 @@
+; EXPECT 3:1 [machine] m_functions
+%P
+M151
+M30

@@ -1,0 +1,4 @@
+; EXPECT 3:1 macro "LAYER" is not defined
+%P
+"LAYER"
+M30

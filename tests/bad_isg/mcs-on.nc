@@ -1,0 +1,6 @@
+; EXPECT 3:1 #MCS ON
+%P
+#MCS ON
+G00 Z0
+#MCS OFF
+M30

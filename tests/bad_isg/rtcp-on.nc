@@ -1,0 +1,4 @@
+; EXPECT 3:1 tool centre point control (RTCP) is not modelled
+%P
+#RTCP ON
+M30

@@ -1,0 +1,58 @@
+"""Bad ISG programs (tests/bad_isg/*.nc): each stops the CLI at once with exit status 2 and
+``PROGRAM:LINE:COL: error: TEXT`` at the offending statement, word or command, nothing written,
+no traceback. The first line of each file says what is expected: ``; EXPECT LINE:COL fragment``
+(its line 1 is that comment, so the program's lines count from 2)."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from cutsim.cli import main
+
+BAD = Path(__file__).parent / "bad_isg"
+SETUP = BAD / "setup.toml"
+PROGRAMS = sorted(BAD.glob("*.nc"))
+RULES = {  # one program per rule of docs/dialects/isg.md that a real program can break
+    "if-not-closed", "endif-alone", "else-after-else", "endwhile-for-if", "break-outside-loop",
+    "words-after-endif", "goto-missing-label", "for-step-zero", "division-by-zero", "sqrt-negative",
+    "unknown-function", "bracket-not-closed", "param-unset", "vp-undeclared", "array-index-outside",
+    "external-unset", "machine-m-undeclared", "axis-undeclared", "trafo-on", "rtcp-on", "cs-rotation",
+    "mcs-on", "radius-comp", "mirroring", "unknown-command", "global-file-missing", "implicit-call-missing",
+    "macro-undefined", "comment-not-closed", "var-not-closed", "string-as-coordinate", "g70-inch",
+}
+
+
+def expectation(path: Path) -> tuple[int, int, str]:
+    m = re.match(r"; EXPECT (\d+):(\d+) (.+)", path.read_text(encoding="utf-8").splitlines()[0])
+    assert m, f"{path.name}: first line must be '; EXPECT LINE:COL text'"
+    return int(m.group(1)), int(m.group(2)), m.group(3).strip()
+
+
+def test_every_rule_has_a_program():
+    assert {p.stem for p in PROGRAMS} >= RULES
+
+
+@pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
+def test_bad_isg_program_exits_2_at_its_line(program, tmp_path):
+    line, col, text = expectation(program)
+    out = tmp_path / "out"
+    res = CliRunner().invoke(main, ["simulate", str(program), "--setup", str(SETUP), "--out", str(out), "-q"])
+    assert res.exit_code == 2, res.output
+    msg = res.stderr.strip() if hasattr(res, "stderr") else res.output.strip()
+    assert msg.startswith(f"{program}:{line}:{col}: error: "), msg
+    assert text in msg, msg
+    assert "Traceback" not in res.output
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_a_jump_loop_that_never_ends_stops_at_max_blocks(tmp_path):
+    setup = tmp_path / "setup.toml"
+    setup.write_text(SETUP.read_text() + "\n[simulation]\nmax_blocks = 500\n")
+    prog = tmp_path / "loop.nc"
+    prog.write_text("%P\nN10: G01 X1 F100\n$GOTO N10\nM30\n")
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(setup)])
+    assert res.exit_code == 2
+    assert "more than 500 blocks executed" in res.output and "max_blocks" in res.output
