@@ -155,6 +155,8 @@ class Interpreter(ModalMachine):
         return False
 
     def check_m(self, st: Step, ms: list[Word]) -> None:
+        if not ms:  # most blocks: no M word, no spindle direction
+            return
         for m in ms:
             if m.value != int(m.value) or int(m.value) not in self.M_CODES:
                 raise self.error(st.block.line, m.col, f"unknown M code M{m.raw}")
@@ -163,6 +165,8 @@ class Interpreter(ModalMachine):
 
     def m_group(self, st: Step, group: str) -> list[tuple[int, Word]]:
         """The block's M words (code, word) whose table row is in ``group``."""
+        if not st.m:
+            return []
         return [(c, m) for c, m in st.m if self.M_CODES[c].group == group]
 
     def convert_settings(self, st: Step) -> None:
