@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 from . import canon
 from .canon import Src
+from .core import MOTION, Code, arc_centre
 from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
@@ -35,6 +36,13 @@ from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, MACHINE_COMMANDS, PASS
                              range_message, split_units)
 
 KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506}
+# modal groups of the language's own G codes (core.Code rows; the machine functions keep theirs)
+G_CODES = {**{c: Code(MOTION, "XYZIJK", m) for c, m in ((0, "rapid"), (1, "line"), (2, "arc cw"), (3, "arc ccw"))},
+           **{c: Code("plane", "", p) for c, p in PLANES.items()},
+           90: Code("distance mode", "", "absolute"), 91: Code("distance mode", "", "incremental"),
+           94: Code("feed mode", "F", "per minute"), 95: Code("feed mode", "F", "per revolution"),
+           40: Code("radius compensation", "", "off"), 41: Code("radius compensation", "", "left"),
+           42: Code("radius compensation", "", "right")}
 KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
 # calls with no geometric effect (high-speed settings, blank definition for the HMI)
 IGNORED_CALLS = {"WORKPIECE", "CYCLE832"}
@@ -702,8 +710,22 @@ class Sinumerik(ModalMachine):
             raise self.error(line, st.col, range_message(st.address, v, lo, hi, unit))
         blk.words[st.address] = Value(v, st.mode, st.col)
 
+    def check_groups(self, gs: list[tuple[int, int]], line: int) -> None:
+        """Two different G codes of one modal group in a block (G90 G91, G17 G18) are an error at the
+        second (the shared table rows of interp/core.py; the same code twice is harmless)."""
+        seen: dict[str, int] = {}
+        for code, col in gs:
+            row = G_CODES.get(code)
+            if row is None:
+                continue
+            if row.group in seen and seen[row.group] != code:
+                raise self.error(line, col, f"G{code} conflicts with G{seen[row.group]} in the same block "
+                                 f"(both {row.group})")
+            seen[row.group] = code
+
     def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, int | None]:
         """Apply the block's modal G codes; the motion (G0..G3) and the G40/G41/G42 it names."""
+        self.check_groups(gs, line)
         gs = machine.g_codes(self, gs, line)  # G70/G71/G700/G710, G54.., G53, G64.. (sinumerik_machine)
         motion = None
         new_comp = None
@@ -1056,18 +1078,17 @@ class Sinumerik(ModalMachine):
         return centre
 
     def given_centre(self, line: int, words: dict[str, Value]) -> list[float]:
-        """The centre from I/J/K (incremental from the start, or =AC(..) absolute)."""
+        """The centre from I/J/K: incremental from the start (core.arc_centre, as every dialect), or
+        =AC(..) absolute."""
         a, b, _ = PLANE_AXES[self.plane]
-        centre = list(self.pos)
-        given = False
-        for i in (a, b):
-            if AXIS_LETTER[i] in words:
-                w = words.pop(AXIS_LETTER[i])
-                centre[i] = w.value if w.mode == "AC" else self.pos[i] + w.value
-                self.in_range(line, w.col, "XYZ"[i], centre[i], "the arc centre")
-                given = True
+        given = {i: words.pop(AXIS_LETTER[i]) for i in (a, b) if AXIS_LETTER[i] in words}
         if not given:
             raise self.error(line, 1, f"circle needs its centre ({AXIS_LETTER[a]}/{AXIS_LETTER[b]}) or a radius CR=")
+        centre = arc_centre(self.pos, self.plane, False, {i: w.value for i, w in given.items() if w.mode != "AC"})
+        for i, w in given.items():
+            if w.mode == "AC":
+                centre[i] = w.value
+            self.in_range(line, w.col, "XYZ"[i], centre[i], "the arc centre")
         return centre
 
     def in_range(self, line: int, col: int, axis: str, v: float, what: str) -> None:
