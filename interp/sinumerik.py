@@ -54,7 +54,10 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
          "WHENEVER": "(a synchronized action) is not simulated: its condition and action are ignored",
          "ID": "(a synchronized action) is not simulated: its condition and action are ignored",
          "MSG": "(a message on the operator screen) changes nothing on the tool path",
-         "FGROUP": "(the axes the feed applies to) is not simulated: F is the path feed of X/Y/Z"}
+         "FGROUP": "(the axes the feed applies to) is not simulated: F is the path feed of X/Y/Z",
+         "H": "(an auxiliary function for the machine's PLC) changes nothing on the tool path",
+         "SPOS": "(spindle positioning) changes nothing on the tool path",
+         "LIMS": "(the spindle speed limit) changes nothing on the tool path"}
 # what PROC ... SAVE puts back on return (the machine functions append theirs: units, frames, ...)
 SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "feed", "comp", "d_no"]
 # keywords that are never a subprogram file, even with a file of that name beside the program
@@ -849,7 +852,7 @@ class Sinumerik(ModalMachine):
         if isinstance(st, Goto):
             if st.cond is not None and not self.num(self.ev(st.cond, line, st.col), line, st.col):
                 return False
-            idx = self.find_label(fr.unit, st.label, line, st.col, st.kind, cur)
+            idx = self.find_label(fr.unit, self.goto_label(st, line), line, st.col, st.kind, cur)
             if idx is None:  # GOTOC: no alarm when the label is missing
                 return False
             fr.pc = idx
@@ -857,6 +860,16 @@ class Sinumerik(ModalMachine):
                 self.check_loop(stack, line, st)
             return True
         return self.repeat(st, line, stack)
+
+    def goto_label(self, st: Goto, line: int) -> str:
+        """The destination: the written label, or the computed one (GOTOF "STEP_" << NR)."""
+        if st.target is None:
+            return st.label
+        v = self.ev(st.target, line, st.col)
+        if not isinstance(v, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*|N?[0-9]+", v.strip()):
+            raise self.error(line, st.col, f"{st.kind}: the computed destination {to_text(v)!r} is no label")
+        v = v.strip().upper()
+        return f"N{int(v.lstrip('N'))}" if re.fullmatch(r"N?[0-9]+", v) else v
 
     def case_jump(self, st: Case, line: int) -> Goto | None:
         """The jump of the first CASE value equal to the expression, else DEFAULT (None: go on)."""

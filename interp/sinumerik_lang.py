@@ -46,6 +46,10 @@ MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR
                     "ORIWKS", "ORIMKS", "ORIAXES", "ORIVECT", "ORICONCW", "ORICONCCW", "TOFRAME", "TOROT",
                     "PAROT", "PAROTOF", "TOROTOF", "G500", "DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN",
                     "DYNFINISH", "FGREF", "OFFN"}
+# NAME=value / NAME[n]=value settings without effect on the tool path (spindle positioning and
+# limits, smoothing distances): one warning per kind
+SETTING_WORDS = {"SPOS", "SPOSA", "LIMS", "ADIS", "ADISPOS", "SOFTA", "BRISKA", "DRIVEA", "ACC", "OVRA", "VELOLIM",
+                 "JERKLIM", "FA", "SCC", "FPR", "FPRAON", "FPRAOF", "FGREF", "COUPON", "COUPOF"}
 SYNC_WORDS = {"WHEN", "WHENEVER", "EVERY", "FROM", "DO"}  # synchronized actions: the rest of the block
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
          "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2}
@@ -54,7 +58,7 @@ SYS_RE = re.compile(r"\$[A-Za-z_][A-Za-z0-9_]*")  # a system variable ($P_TOOLNO
 EXP_RE = re.compile(r"EX[+\-]?[0-9]+", re.I)  # 10EX-5: the manuals' exponent
 NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 R_ASSIGN_RE = re.compile(r"[Rr]([0-9]+)\s*=")
-AC_IC_RE = re.compile(r"(AC|IC)\s*\(", re.I)
+AC_IC_RE = re.compile(r"(ACP|ACN|AC|IC|DC)\s*\(", re.I)  # DC/ACP/ACN: absolute (rotary direction)
 HEADER_RE = re.compile(r"\s*%_N_([A-Za-z0-9_]+?)_(SPF|MPF)")
 NUMBER_RE = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)")  # [0-9], not \d: that matches every script's digits
 SIGNED_RE = re.compile(r"[+\-\u2212]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
@@ -215,6 +219,7 @@ class Goto:
     kind: str  # GOTOF | GOTOB | GOTO | GOTOC
     label: str
     cond: Expr | None = None  # IF <cond> GOTO..
+    target: Expr | None = None  # a computed destination (a STRING expression) instead of ``label``
 
 
 @dataclass(frozen=True)
@@ -612,6 +617,8 @@ class _Scanner:
         ext = re.match(r"([MSL])([0-9]+)\s*([=(])", text[self.i:], re.I)
         if ext:
             return self.extended(col, ext, ln)
+        if up == "H" and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.=":
+            return self.h_word(col, ln)
         if up in ADDRESSES and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212":
             self.i += 1
             v = self.number_word()
@@ -643,6 +650,10 @@ class _Scanner:
             return False
         if name in IGNORED_WORDS:
             return True
+        if name in SETTING_WORDS and nxt in ("=", "[", "("):
+            self.skip_setting()
+            ln.stmts.append(Command(col, name))
+            return True
         if (name in LANG_COMMANDS or name in MACHINE_COMMANDS) and nxt != "=" and nxt != "[":
             if nxt == "(":
                 self.i += 1
@@ -651,6 +662,37 @@ class _Scanner:
                 ln.stmts.append(Command(col, name))
             return True
         ln.stmts.append(self.named(col, name, nxt))
+        return True
+
+    def skip_setting(self) -> None:
+        """SPOS=90, SPOS[2]=IC(10), LIMS=3000, FA[B]=100: read past the index and the value."""
+        if self.peek() == "[":
+            self.indexed("_", self.i + 1)
+        if self.peek() == "(":
+            self.i += 1
+            self.arguments()
+            return
+        self.close("=")
+        self.ws()
+        mm = AC_IC_RE.match(self.s, self.i)
+        if mm:
+            self.i = mm.end()
+            self.expr()
+            self.close(")")
+        else:
+            self.expr()
+
+    def h_word(self, col: int, ln: Line) -> bool:
+        """H20, H=5, H2=10: an auxiliary function for the PLC (no effect on the tool path)."""
+        m = re.match(r"H([0-9]*)\s*=", self.s[self.i:], re.I)
+        if m:  # H=5, H2=10
+            self.i += m.end()
+            self.expr()
+        else:
+            self.i += 1
+            if self.number_word() is None:
+                raise self.err(col, "malformed number after H")
+        ln.stmts.append(Command(col, "H"))
         return True
 
     def extended(self, col: int, m, ln: Line) -> bool:
@@ -730,7 +772,7 @@ class _Scanner:
         self.i = mm.end()
         v = self.expr()
         self.close(")")
-        return Word(col, name, v, mm.group(1).upper())
+        return Word(col, name, v, "IC" if mm.group(1).upper() == "IC" else "AC")
 
     def rest_empty(self, what: str) -> None:
         if not self.at_end():
@@ -783,6 +825,8 @@ def _read_init(sc: _Scanner) -> tuple:
 
 
 def _read_goto(sc: _Scanner, col: int, name: str, cond: Expr | None = None) -> Goto:
+    if sc.peek() == '"':  # GOTOF "STEP_" << NR: the destination computed as a string
+        return Goto(col, name, "", cond, sc.expr())
     target = sc.label()
     if not target:
         raise sc.err(sc.i + 1, f"{name} needs a label or a block number")

@@ -289,3 +289,26 @@ def test_proc_parameters_may_be_named_like_addresses():
     p = run("CTWO(3, 4)\nM30\nPROC CTWO(REAL B, REAL C)\nB=B*2\nG1 X=B Y=C F100\nRET\n")
     assert ends(p) == [(6, 4, 50)]
     assert isinstance(p.moves[0], canon.Feed)
+
+
+def test_idioms_of_machine_builders():
+    """Computed jumps (GOTOF "STEP_" << NR), datum writes with axis and keyword indices, H auxiliary
+    functions, SPOS/LIMS settings (one warning each) and B=DC(..)-style absolute values."""
+    text = """DEF INT NR=2
+IF $P_SEARCH OR $P_SIM GOTOF START
+START: $P_UIFR[1, X, TR]=-56.5
+GOTOF "STEP_" << NR
+STEP_1: G1 X1 F100
+STEP_2: G1 X=$P_UIFR[1,X,TR]+60 F100
+H20 H2=5 SPOS=90 SPOS[1]=IC(10) LIMS=3000
+G1 X=DC(5) Y=ACP(2)
+M30
+"""
+    p = run(text, variables={"$P_SEARCH": 0, "$P_SIM": 0})
+    assert ends(p) == [(3.5, 0, 50), (5, 2, 50)]
+    assert [m.split(" ")[0] for _, m in p.warnings] == ["H", "SPOS", "LIMS"]
+
+
+def test_a_computed_destination_must_be_a_label():
+    e = error_of('GOTOF "A B"\n')
+    assert (e.line, e.col) == (1, 1) and "is no label" in e.message
