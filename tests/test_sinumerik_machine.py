@@ -287,3 +287,17 @@ def test_frame_composition(commands, expected):
     """Where the WCS origin lands: G0 X0 Y0 Z0 after the frame instructions."""
     mv = moves("G17 G90\nG54\n" + commands + "\nG0 X0 Y0 Z0\nM30\n")
     assert close(mv[-1].end, expected, 1e-9), mv[-1].end
+
+
+def test_hole_pattern_under_a_frame_and_the_modal_cycle_guard():
+    """HOLES1 (a row of 3 holes 10 apart from X10 along X) with MCALL CYCLE81 under TRANS X100:
+    the holes are drilled at machine X 110, 120, 130. A modal cycle after a plain move under a frame
+    is refused until the drilling cycles run through in_wcs (MODAL_CYCLES_IN_WCS)."""
+    from cutsim.interp import sinumerik_machine
+    head = "G17 G90 T1 D1 M6 F300 S1000 M3\nTRANS X100\nG0 X0 Y0 Z50\nMCALL CYCLE81(10, 0, 2, -5)\n"
+    mv = moves(head + "HOLES1(0, 0, 0, 10, 10, 3)\nMCALL\nM30\n")
+    bottoms = [r.end for r in mv if isinstance(r, canon.Feed)]
+    assert [b[0] for b in bottoms] == [110.0, 120.0, 130.0] and all(b[2] == -5.0 for b in bottoms)
+    if not sinumerik_machine.MODAL_CYCLES_IN_WCS:
+        e = err(head + "G0 X10 Y10\nMCALL\nM30\n")
+        assert e.line == 5 and "MCALL CYCLE81" in e.message
