@@ -41,7 +41,7 @@ G_CODES = {
     **{n: Code("zero offset", "", f"zero offset G{n}") for n in range(54, 60)},
     90: Code("dist", "", "absolute"),
     91: Code("dist", "", "incremental"),
-    92: Code("g92", "XYZ", "reference point offset (set position)"),
+    92: Code("g92", "XYZ", "reference point offset"),
     94: Code("feed", "", "feed per minute"),
     95: Code("feed", "", "feed per revolution"),
     161: Code("centre", "", "circle centre absolute"),
@@ -563,15 +563,16 @@ class Isg(Interpreter):
         for name, text, col in st.block.commands:
             from .isg_commands import command
             command(self, st, name, text, col)
-        if "reference point offset (set position)" in st.g:
+        if "reference point offset" in st.g:
             self.set_position(st)
 
     def set_position(self, st: Step) -> None:
-        """G92 X.. Y.. Z..: the current position reads as the values given (a reference point offset)."""
+        """G92 X.. Y.. Z..: the reference point offset (an additive zero offset) of the axes given, set
+        under G90 and added under G91 (manual: "Reference point offset (G92)"); G92 X0 resets it."""
         for i, a in enumerate(AXES):
             w = st.words.pop(a, None)
             if w is not None:
-                self.g92[i] = self.pos[i] - w.value - self.zero[i] - sum(c[i] for c in self.cs)
+                self.g92[i] = w.value if self.absolute else self.g92[i] + w.value
 
     def convert_feed(self, st: Step) -> None:
         if "F" in st.words:

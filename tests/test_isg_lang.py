@@ -22,8 +22,9 @@ against the program and the TwinCAT CNC programming manual's semantics:
 - commands.nc: #MSG, #FLUSH WAIT, #HSC pass; the #COMMENT block is not read; G54 (10, 20, 0)
   puts X0 Y0 at machine (10, 20); G55 (50, 50, -5) puts X0 Y0 at (50, 50), Z (not programmed)
   stays -1; G53 G00 Z10; #CS ON [5, 5, 0, 0, 0, 0] puts X1 Y1 at (6, 6), #CS OFF back at
-  (1, 1); G92 X0 Y0 there makes X10 Y10 machine (11, 11); M200=40, H7, M110 are machine
-  functions of the setup; A90 is tracked, X20 goes to 21.
+  (1, 1); G92 X5 Y5 (a reference point offset, added like a zero offset) puts X10 Y10 at
+  machine (15, 15); M200=40, H7, M110 are machine functions of the setup; A90 is tracked, X20
+  goes to 25.
 - global.nc: L CYCLE [NAME = pocket_sub.nc @P1 = 4 @P2 = -1.5] runs the file beside it: from
   (10, 10, 2) incrementally Z[@P2 - 2] = -3.5 down to Z-1.5, a 4 mm square back to (10, 10) and
   Z[2 - @P2] = +3.5 up to Z2; then L pocket_sub [@P1 = 2, @P2 = -3]: Z-3 and a 2 mm square.

@@ -14,8 +14,8 @@ N90 #CS ON [5, 5, 0, 0, 0, 0]       ; a translation: X1 -> 6
 N100 G00 X1 Y1
 N110 #CS OFF
 N120 G00 X1 Y1
-N130 G92 X0 Y0                      ; the current point (1, 1) reads as (0, 0)
-N140 G00 X10 Y10                    ; machine (11, 11)
+N130 G92 X5 Y5                      ; reference point offset (5, 5), added to the programmed values
+N140 G00 X10 Y10                    ; machine (15, 15)
 N150 M200=40 H7 M110                ; machine functions from the setup
-N160 G01 A90 X20                    ; A is tracked; X20 -> 21
+N160 G01 A90 X20                    ; A is tracked; X20 -> 25
 N170 M30
