@@ -377,7 +377,7 @@ class Cnc8x6(Interpreter):
         if mode > 1 or (feed is not None and feed <= 0):  # G02/G03/G33 active; F <= 0 is an error
             return False
         self.motion = mode
-        if feed is not None:
+        if feed is not None and feed != self.feed:  # an F repeating the modal feed keeps its float (memory)
             self.feed = feed
         if axes:
             pos = self.pos
