@@ -1,0 +1,461 @@
+"""Sinumerik drilling cycles (CYCLE81-CYCLE89, CYCLE840), the modal call MCALL and the position
+patterns HOLES1, HOLES2 and CYCLE801.
+
+Every cycle drills at the position the tool stands on in the G17 plane and expands into plain
+moves (through the Cycle motion helpers of interp/sinumerik_cycles.py), each carrying the cycle
+block's Src. The sequences follow Siemens' cycle manuals ("Drilling cycles and drilling patterns");
+where they are silent the simulator decides as listed in docs/dialects/sinumerik.md, "Drilling
+cycles". Dwells (DTB, DTS, _DTD), spindle stops and orientations change no geometry and are not in
+the moves.
+
+Registered into sinumerik_cycles' SPECS / RUNNERS at the end of that module (``register``).
+"""
+from __future__ import annotations
+
+import math
+
+from .canon import Src
+
+EPS = 1e-9
+CHIP_BREAK_RETRACT = 1.0  # mm: CYCLE83 VARI=0 retraction when _VRT is 0 (manual: 1 mm)
+# CYCLE83 VARI=1: the anticipation distance above the last depth where the feed resumes (manual:
+# 0.6 mm up to 30 mm of drilling depth, depth / 50 beyond that, at most 7 mm), unless _DIS1 > 0
+ANTICIPATION_MIN, ANTICIPATION_DEPTH, ANTICIPATION_MAX = 0.6, 30.0, 7.0
+HOLES_LIMIT = 1000  # NUM of HOLES1/HOLES2, NUM1 x NUM2 of CYCLE801
+
+# coarse metric threads M3..M48 (ISO 261): MPIT -> pitch (mm)
+METRIC_PITCH = {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 2.0, 16: 2.0, 18: 2.5,
+                20: 2.5, 22: 2.5, 24: 3.0, 27: 3.0, 30: 3.5, 33: 3.5, 36: 4.0, 39: 4.0, 42: 4.5, 45: 4.5,
+                48: 5.0}
+
+_COMMON = "RTP RFP SDIS DP DPR"
+_NEW = " _GMODE _DMODE _AMODE"  # the later (ShopMill / Operate) parameters: accepted, no effect
+NAMES = {
+    "CYCLE81": _COMMON + " DTB" + _NEW,
+    "CYCLE82": _COMMON + " DTB" + _NEW,
+    "CYCLE83": _COMMON + " FDEP FDPR DAM DTB DTS FRF VARI _AXN _MDEP _VRT _DTD _DIS1" + _NEW,
+    "CYCLE84": _COMMON + " DTB SDAC MPIT PIT POSS SST SST1 _AXN _PTAB _TECHNO _VARI _DAM _VRT" + _NEW,
+    "CYCLE840": _COMMON + " DTB SDR SDAC ENC MPIT PIT _AXN _PTAB _TECHNO" + _NEW,
+    "CYCLE85": _COMMON + " DTB FFR RFF" + _NEW,
+    "CYCLE86": _COMMON + " DTB SDIR RPA RPO RPAP POSS" + _NEW,
+    "CYCLE87": _COMMON + " SDIR",
+    "CYCLE88": _COMMON + " DTB SDIR",
+    "CYCLE89": _COMMON + " DTB" + _NEW,
+    "HOLES1": "SPCA SPCO STA1 FDIS DBH NUM",
+    "HOLES2": "CPA CPO RAD STA1 INDA NUM",
+    "CYCLE801": "SPCA SPCO STA DIS1 DIS2 NUM1 NUM2",
+}
+DRILLS = {n for n in NAMES if n.startswith("CYCLE8") and n != "CYCLE801"}
+PATTERNS = {"HOLES1", "HOLES2", "CYCLE801"}
+REQUIRED = {"HOLES1": "NUM", "HOLES2": "NUM", "CYCLE801": "NUM1 NUM2"}
+ANGLES = {"STA"}  # degrees (STA1, INDA are already angles of the milling cycles)
+
+
+# ---------------------------------------------------------------------------------------------
+# the parts every drilling cycle shares
+class Hole:
+    """The planes of one drilling cycle call: RTP, RFP, RFP + SDIS and the final depth, checked."""
+
+    def __init__(self, cy):
+        cy.unsigned("SDIS")
+        self.rtp, self.rfp = cy["RTP"], cy["RFP"]
+        self.safe = self.rfp + cy["SDIS"]
+        self.dp = cy.depth()
+        if self.dp >= self.rfp - EPS:
+            which = "DPR" if "DPR" in cy.given and cy["DPR"] != 0 else "DP"
+            raise cy.err(f"the final drilling depth {self.dp:g} ({which}) is not below the reference plane RFP "
+                         f"{self.rfp:g}")
+        if self.rtp < self.rfp - EPS:
+            raise cy.err(f"the retraction plane RTP {self.rtp:g} lies below the reference plane RFP {self.rfp:g}")
+        self.p = cy.pos2()
+
+
+def _approach(cy, h: Hole) -> None:
+    """G0 to the safety plane RFP + SDIS over the hole (from wherever the tool stands on its axis)."""
+    cy.rapid(h.p, h.safe)
+
+
+def _retract(cy, h: Hole) -> None:
+    """G0 to the retraction plane RTP; the feed in force is the caller's again."""
+    cy.rapid(h.p, h.rtp)
+    cy.m.feed = cy.saved_feed
+
+
+def _feed(cy):
+    """The feed in force (with the one 'no feed' warning when none was programmed)."""
+    return cy.m.need_feed(cy.src)
+
+
+def _dir(cy, name: str, allowed: tuple[int, ...]) -> int:
+    v = cy[name]
+    if v != int(v) or int(v) not in allowed:
+        raise cy.err(f"{name} must be {', '.join(str(a) for a in allowed[:-1])} or {allowed[-1]} (got {v:g})")
+    return int(v)
+
+
+# ---------------------------------------------------------------------------------------------
+# drilling
+def cycle81(cy) -> None:
+    """Drilling, centring: G0 to RFP + SDIS, G1 to the depth with the feed in force, G0 to RTP."""
+    h = Hole(cy)
+    _approach(cy, h)
+    cy.feed_to(h.p, h.dp, _feed(cy))
+    _retract(cy, h)
+
+
+cycle82 = cycle81  # + the dwell DTB at the depth (no geometric effect)
+
+
+def first_stroke(cy, h: Hole) -> float:
+    """The first drilling depth (z) of CYCLE83: FDPR (relative to RFP, no sign) wins when given and
+    not 0, else FDEP (absolute)."""
+    if "FDPR" in cy.given and cy["FDPR"] != 0:
+        if cy["FDPR"] < 0:
+            raise cy.err(f"FDPR is written without a sign (got {cy['FDPR']:g})")
+        return h.rfp - cy["FDPR"]
+    if "FDEP" not in cy.given:
+        raise cy.err("the first drilling depth is missing: give FDEP (absolute) or FDPR (relative to RFP)")
+    z = cy["FDEP"]
+    if z >= h.rfp - EPS:
+        raise cy.err(f"the first drilling depth FDEP {z:g} is not below the reference plane RFP {h.rfp:g}")
+    return z
+
+
+def strokes(first: float, total: float, dam: float, mdep: float) -> list[float]:
+    """The drilling strokes (mm, from RFP down) of CYCLE83, in order, adding up to ``total``:
+    the first stroke (the whole depth in one when the first depth reaches it); then each stroke the
+    last one less the degression DAM while that stays above DAM, then DAM, no stroke below _MDEP;
+    when a stroke of DAM is due and less than 2 x DAM remains, the rest in two equal strokes; a
+    stroke that would pass the depth ends on it. DAM = 0: every stroke as long as the first."""
+    if first >= total - EPS:
+        return [total]
+    out = [first]
+    rem = total - first
+    s = first
+    while rem > EPS:
+        if dam > 0:
+            s = s - dam if s - dam > dam + EPS else dam
+        s = max(s, mdep)
+        if dam > 0 and s <= dam + EPS and rem < 2 * dam - EPS and rem > s + EPS:
+            out += [rem / 2, rem / 2]
+            break
+        if s >= rem - EPS:
+            out.append(rem)
+            break
+        out.append(s)
+        rem -= s
+    return out
+
+
+def n_strokes(first: float, total: float, dam: float, mdep: float) -> int:
+    """An upper bound of len(strokes(...)) computed without building them."""
+    if first >= total - EPS:
+        return 1
+    least = first if dam <= 0 else min(first, dam)
+    least = max(least, mdep, 1e-12)
+    return 2 + math.ceil((total - first) / least)
+
+
+def anticipation(cy, total: float) -> float:
+    d = cy["_DIS1"]
+    if d < 0:
+        raise cy.err(f"_DIS1 is written without a sign (got {d:g})")
+    if d > 0:
+        return d
+    return ANTICIPATION_MIN if total <= ANTICIPATION_DEPTH else min(total / 50.0, ANTICIPATION_MAX)
+
+
+def cycle83(cy) -> None:
+    """Deep-hole drilling. VARI 0 (chip breaking): after each stroke back by _VRT (0: 1 mm) with G1
+    and on; VARI 1 (chip removal): after each stroke G0 to RFP + SDIS, G0 down again to the
+    anticipation distance above the depth reached, G1 on. The first stroke runs at the feed in
+    force times FRF, the others at the feed in force. G0 to RTP at the end."""
+    h = Hole(cy)
+    cy.unsigned("DAM", "FRF", "_MDEP", "_VRT")
+    vari = _dir(cy, "VARI", (0, 1))
+    frf = cy["FRF"]
+    if frf > 1:
+        raise cy.err(f"FRF (the feed factor of the first stroke) must be from 0.001 to 1 (got {frf:g})")
+    frf = frf if frf > 0 else 1.0
+    first_z = first_stroke(cy, h)
+    total = h.rfp - h.dp
+    first = min(h.rfp - first_z, total)
+    dam, mdep = cy["DAM"], cy["_MDEP"]
+    budget(cy, 3 * n_strokes(first, total, dam, mdep) + 3, f"strokes of FDEP/FDPR {first:g} mm, DAM {dam:g}, "
+           f"_MDEP {mdep:g} over {total:g} mm")
+    f = _feed(cy)
+    back = cy["_VRT"] if cy["_VRT"] > 0 else CHIP_BREAK_RETRACT
+    ant = anticipation(cy, total) if vari == 1 else 0.0
+    _approach(cy, h)
+    z = h.rfp
+    for k, s in enumerate(strokes(first, total, dam, mdep)):
+        nz = h.dp if k and abs(z - s - h.dp) < 1e-7 else z - s
+        if k:
+            if vari == 0:
+                cy.feed_to(h.p, min(z + back, h.safe), f)
+            else:
+                cy.rapid(h.p, h.safe)
+                cy.rapid(h.p, min(z + ant, h.safe))
+        cy.feed_to(h.p, max(nz, h.dp), f * frf if k == 0 else f)
+        z = max(nz, h.dp)
+    _retract(cy, h)
+
+
+def pitch(cy) -> float | None:
+    """The thread pitch of a tapping cycle: MPIT (thread size M3..M48) or PIT (mm), the sign the
+    hand (not simulated); both given must agree. None when neither is given."""
+    mp, pt = cy["MPIT"], cy["PIT"]
+    p_m = None
+    if mp != 0:
+        if abs(mp) != int(abs(mp)) or int(abs(mp)) not in METRIC_PITCH:
+            sizes = ", ".join(str(k) for k in METRIC_PITCH)
+            raise cy.err(f"MPIT must be a metric thread size ({sizes}), got {mp:g}")
+        p_m = METRIC_PITCH[int(abs(mp))]
+    if pt != 0 and p_m is not None and abs(abs(pt) - p_m) > 1e-9:
+        raise cy.err(f"MPIT {mp:g} (pitch {p_m:g}) and PIT {pt:g} contradict each other: give one of them")
+    return abs(pt) if pt != 0 else p_m
+
+
+def _tap(cy, h: Hole, lead: float | None) -> None:
+    """In along the axis at the pitch per revolution (or the feed in force without a pitch), out
+    again to RFP + SDIS the same way, G0 to RTP."""
+    _approach(cy, h)
+    m = cy.m
+    per_rev, feed = m.per_rev, m.feed
+    if lead is not None:
+        m.per_rev, m.feed = True, lead
+    else:
+        m.feed = _feed(cy)
+    m.linear(cy.src, (h.p[0], h.p[1], h.dp))
+    m.linear(cy.src, (h.p[0], h.p[1], h.safe))
+    m.per_rev, m.feed = per_rev, feed
+    _retract(cy, h)
+
+
+def cycle84(cy) -> None:
+    """Rigid tapping: G331 in at the pitch, G332 out, G0 to RTP."""
+    h = Hole(cy)
+    _dir(cy, "SDAC", (0, 3, 4, 5))
+    lead = pitch(cy)
+    if lead is None:
+        raise cy.err("no thread pitch: give MPIT (thread size) or PIT (pitch in mm)")
+    _tap(cy, h, lead)
+
+
+def cycle840(cy) -> None:
+    """Tapping with compensating chuck: with encoder (ENC 0) at the pitch, without at the feed in
+    force (G63)."""
+    h = Hole(cy)
+    _dir(cy, "SDR", (0, 3, 4))
+    _dir(cy, "SDAC", (0, 3, 4, 5))
+    enc = cy["ENC"]
+    lead = pitch(cy)
+    if enc in (1, 11) or enc == 0 and lead is None:
+        lead = None  # without encoder: the feed in force
+    _tap(cy, h, lead)
+
+
+def cycle85(cy) -> None:
+    """Boring 1: in with FFR, out to RFP + SDIS with RFF, G0 to RTP."""
+    h = Hole(cy)
+    for k in ("FFR", "RFF"):
+        if cy[k] <= 0:
+            raise cy.err(f"{k} (the {'boring' if k == 'FFR' else 'retract'} feed) must be positive (got {cy[k]:g})")
+    _approach(cy, h)
+    cy.feed_to(h.p, h.dp, cy["FFR"])
+    cy.feed_to(h.p, h.safe, cy["RFF"])
+    _retract(cy, h)
+
+
+def cycle86(cy) -> None:
+    """Boring 2: in with the feed in force, oriented spindle stop, the edge lifted off the wall
+    (RPA, RPO, RPAP), G0 out. The tool is the body of revolution of its edge, so the lift-off (which
+    only frees the single edge) is not simulated: it retracts along the bore's axis."""
+    h = Hole(cy)
+    _dir(cy, "SDIR", (3, 4))
+    _approach(cy, h)
+    cy.feed_to(h.p, h.dp, _feed(cy))
+    cy.rapid(h.p, h.safe)
+    _retract(cy, h)
+
+
+def cycle87(cy) -> None:
+    """Boring 3: in with the feed in force, M5 M0 (the operator), G0 to RTP."""
+    h = Hole(cy)
+    _dir(cy, "SDIR", (3, 4))
+    _approach(cy, h)
+    cy.feed_to(h.p, h.dp, _feed(cy))
+    _retract(cy, h)
+
+
+cycle88 = cycle87  # Boring 4: + the dwell DTB before the stop
+
+
+def cycle89(cy) -> None:
+    """Boring 5: in and out to RFP + SDIS with the feed in force, G0 to RTP."""
+    h = Hole(cy)
+    _approach(cy, h)
+    f = _feed(cy)
+    cy.feed_to(h.p, h.dp, f)
+    cy.feed_to(h.p, h.safe, f)
+    _retract(cy, h)
+
+
+def budget(cy, moves: int, what: str) -> None:
+    limit = cy.m.cfg.max_blocks
+    if moves > limit:
+        raise cy.err(f"the cycle would make about {moves:,} moves ({what}), more than [simulation] max_blocks = "
+                     f"{limit:,}: a cycle may make at most that many moves")
+
+
+# ---------------------------------------------------------------------------------------------
+# the modal call and the position patterns
+def _count(cy, name: str, lo: int = 1) -> int:
+    v = cy[name]
+    if v != int(v) or not lo <= v <= HOLES_LIMIT:
+        raise cy.err(f"{name} must be a whole number from {lo} to {HOLES_LIMIT} (got {v:g})")
+    return int(v)
+
+
+def holes1(cy) -> list[tuple[float, float]]:
+    """A row: NUM holes on the line through (SPCA, SPCO) at STA1 degrees, the first FDIS from that
+    point, DBH apart; machined from the end nearer to the tool."""
+    n = _count(cy, "NUM")
+    a = math.radians(cy["STA1"])
+    u = (math.cos(a), math.sin(a))
+    pts = [(cy["SPCA"] + (cy["FDIS"] + k * cy["DBH"]) * u[0], cy["SPCO"] + (cy["FDIS"] + k * cy["DBH"]) * u[1])
+           for k in range(n)]
+    here = cy.pos2()
+    if math.dist(here, pts[-1]) < math.dist(here, pts[0]) - 1e-9:
+        pts.reverse()
+    return pts
+
+
+def holes2(cy) -> list[tuple[float, float]]:
+    """A circle: NUM holes on radius RAD about (CPA, CPO), the first at STA1 degrees, INDA apart
+    (0: 360 / NUM)."""
+    n = _count(cy, "NUM")
+    cy.unsigned("RAD")
+    inda = cy["INDA"] if cy["INDA"] != 0 else 360.0 / n
+    return [(cy["CPA"] + cy["RAD"] * math.cos(math.radians(cy["STA1"] + k * inda)),
+             cy["CPO"] + cy["RAD"] * math.sin(math.radians(cy["STA1"] + k * inda))) for k in range(n)]
+
+
+def cycle801(cy) -> list[tuple[float, float]]:
+    """A grid: NUM1 columns DIS1 apart along the angle STA, NUM2 rows DIS2 apart across it, the
+    first hole at (SPCA, SPCO); row by row, every other row backwards (meander)."""
+    n1, n2 = _count(cy, "NUM1"), _count(cy, "NUM2")
+    if n1 * n2 > HOLES_LIMIT:
+        raise cy.err(f"NUM1 x NUM2 = {n1 * n2:,}: a grid may have at most {HOLES_LIMIT} holes")
+    a = math.radians(cy["STA"])
+    u, v = (math.cos(a), math.sin(a)), (-math.sin(a), math.cos(a))
+    pts = []
+    for j in range(n2):
+        row = range(n1) if j % 2 == 0 else range(n1 - 1, -1, -1)
+        for i in row:
+            s, t = i * cy["DIS1"], j * cy["DIS2"]
+            pts.append((cy["SPCA"] + s * u[0] + t * v[0], cy["SPCO"] + s * u[1] + t * v[1]))
+    return pts
+
+
+POSITIONS = {"HOLES1": holes1, "HOLES2": holes2, "CYCLE801": cycle801}
+
+
+def run_pattern(cy) -> None:
+    """G0 in the plane to each position of the pattern, the modal cycle (MCALL) after each; without
+    a modal cycle the positions are only approached (one warning)."""
+    from .sinumerik_cycles import COORD_LIMIT
+
+    pts = POSITIONS[cy.name](cy)
+    m = cy.m
+    for p in pts:
+        for c, v in zip("XY", p):
+            if abs(v) > COORD_LIMIT:
+                raise cy.err(f"hole position {c} = {v:.10g} is beyond the permitted range +-{COORD_LIMIT:g} mm")
+    call = getattr(m, "mcall", None)
+    if call is None:
+        m.warn(cy.src, f"{cy.name} without a modal cycle (MCALL CYCLE8x(...) before it): the {len(pts)} positions "
+                       "are only approached")
+    for p in pts:
+        cy.rapid(p, m.pos[2])
+        if call is not None:
+            run_modal(m, cy.src)
+
+
+# the modal call: the interpreter's hooks --------------------------------------------------------
+def modal_call(m, calls: list, line: int) -> list:
+    """``MCALL NAME(args)`` in a block's calls: NAME becomes the modal cycle (its arguments
+    evaluated now), ``MCALL`` alone ends it. Returns the block's other calls. (Hook in
+    Sinumerik.calls.)"""
+    from .sinumerik_lang import Call, SubCall
+
+    if not calls or not (isinstance(calls[0], SubCall) and calls[0].name == "MCALL"):
+        return calls
+    rest = list(calls[1:])
+    if rest and isinstance(rest[0], Call):
+        st = rest.pop(0)
+        if st.name not in DRILLS:
+            raise m.error(line, st.col, f"MCALL {st.name}: the simulator runs drilling cycles (CYCLE81 ... CYCLE89, "
+                                        "CYCLE840) as modal calls")
+        args = [(None if a.value is None else m.ev(a.value, line, a.col), a.col) for a in st.args]
+        dry_run(m, st.name, args, Src(m.unit_program, line, 1), st.col)  # parameter errors at the MCALL
+        m.mcall = (st.name, args, st.col)
+    elif rest and isinstance(rest[0], SubCall):
+        raise m.error(line, rest[0].col, f"MCALL {rest[0].name}: a modal subprogram call is not supported "
+                                         "(modal calls of the drilling cycles are)")
+    else:
+        m.mcall = None
+    return rest
+
+
+def dry_run(m, name: str, args, src: Src, col: int) -> None:
+    """Run the cycle where the tool stands with nothing recorded, so a wrong parameter is an error
+    at the MCALL block itself; the machine state is left as it was."""
+    from .sinumerik_cycles import run_cycle
+
+    saved = (list(m.pos), m.feed, m.per_rev, m.motion, m._warned_feed, len(m.program.warnings))
+    m.emit = lambda rec: None  # an instance attribute shadows the method for the dry run
+    try:
+        run_cycle(m, name, args, src, col)
+    finally:
+        del m.emit
+        m.pos, m.feed, m.per_rev, m.motion, m._warned_feed, n = saved
+        del m.program.warnings[n:]
+
+
+def moves_axes(words) -> bool:
+    """The block programs a position (X, Y or Z): with a modal call, the cycle runs after it."""
+    return any(a in words for a in "XYZ")
+
+
+def after_block(m, src: Src, moved: bool, calls: list) -> None:
+    """Run the modal cycle after a block that moved (not the MCALL block itself). (Hook in
+    Sinumerik.block.)"""
+    from .sinumerik_lang import SubCall
+
+    if not moved or getattr(m, "mcall", None) is None:
+        return
+    if any(isinstance(c, SubCall) and c.name == "MCALL" for c in calls):
+        return
+    run_modal(m, src)
+
+
+def run_modal(m, src: Src) -> None:
+    from .sinumerik_cycles import run_cycle
+
+    name, args, col = m.mcall
+    run_cycle(m, name, args, src, col)
+
+
+RUNNERS = {"CYCLE81": cycle81, "CYCLE82": cycle82, "CYCLE83": cycle83, "CYCLE84": cycle84, "CYCLE840": cycle840,
+           "CYCLE85": cycle85, "CYCLE86": cycle86, "CYCLE87": cycle87, "CYCLE88": cycle88, "CYCLE89": cycle89,
+           "HOLES1": run_pattern, "HOLES2": run_pattern, "CYCLE801": run_pattern}
+
+
+def register(specs: dict, runners: dict, cycles: set, angles: set, spec) -> None:
+    """Add the drilling cycles to sinumerik_cycles' tables (``spec`` is its _spec)."""
+    for name, names in NAMES.items():
+        specs[name] = spec(names, REQUIRED.get(name, ""))
+    runners.update(RUNNERS)
+    cycles.update(NAMES)
+    angles.update(ANGLES)
