@@ -69,6 +69,8 @@ ACCEPTED = {
 }
 CALL_ACCEPTED = {"CYCLE832"}
 EPS = 1e-9
+SCALE_MIN, SCALE_MAX = 1e-6, 1e6  # what SCALE/ASCALE may make of an axis in all
+FRAME_SHIFT_MAX = 1e7  # mm: the programmable frame's total shift (positions are checked against COORD_LIMIT anyway)
 # True once interp/sinumerik_drill.run_modal runs the modal cycle through ``in_wcs``; until then a
 # modal cycle after a move under a frame is an error (its holes would land in the wrong place)
 MODAL_CYCLES_IN_WCS = False
@@ -490,7 +492,14 @@ def frame(m, ms: Machine, name: str, words: dict, line: int, col: int) -> None:
         if "RPL" in vals:
             raise m.error(line, vals["RPL"][1], f"RPL has no meaning in a {name} block")
         step = Affine(_diag(*(-1.0 if a in vals else 1.0 for a in AXES)), ZERO)
-    ms.frame = ms.frame.then(step) if additive else step
+    new = ms.frame.then(step) if additive else step
+    scales = [math.sqrt(sum(new.a[i][j] ** 2 for i in range(3))) for j in range(3)]
+    if not all(SCALE_MIN <= f <= SCALE_MAX for f in scales):
+        raise m.error(line, col, f"{name}: the frame would scale by {max(scales, key=lambda f: abs(math.log(f or 1e-300))):.6g}, "
+                      f"beyond the permitted {SCALE_MIN:g} to {SCALE_MAX:g}")
+    if not all(math.isfinite(v) and abs(v) <= FRAME_SHIFT_MAX for v in new.t):
+        raise m.error(line, col, f"{name}: the frame's shift would leave the permitted range +-{FRAME_SHIFT_MAX:g} mm")
+    ms.frame = new
 
 
 def rotation(m, ms: Machine, vals: dict, name: str, line: int, col: int) -> Mat:

@@ -301,3 +301,10 @@ def test_hole_pattern_under_a_frame_and_the_modal_cycle_guard():
     if not sinumerik_machine.MODAL_CYCLES_IN_WCS:
         e = err(head + "G0 X10 Y10\nMCALL\nM30\n")
         assert e.line == 5 and "MCALL CYCLE81" in e.message
+
+
+def test_frames_that_scale_or_shift_without_bound_are_errors():
+    e = err("G17\n" + "ASCALE X1000 Y1000\n" * 3 + "M30\n")
+    assert (e.line, e.col) == (4, 1) and "beyond the permitted" in e.message  # 1e6 passes, 1e9 does not
+    e = err("G17\n" + "ATRANS X99999\n" * 101 + "M30\n")
+    assert e.line == 102 and "shift" in e.message
