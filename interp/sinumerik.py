@@ -30,6 +30,7 @@ from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
 from . import sinumerik_drill as drill
 from .sinumerik_cycles import CYCLES, compensate_records, run_cycle
 from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
+from .sinumerik_lang import STRING_FUNCS
 from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
                              BinOp, Branch, Call, Case, Command, Def, Frame, FuncCall, Goto, Index, Line, Neg, Not,
                              Num, Repeat, Ret, RIndex, Stmt, Str, SubCall, SubprogramMissing, Unit, Var, Word,
@@ -206,6 +207,7 @@ class Sinumerik(ModalMachine):
         self.main: Unit | None = None
         self.subs: dict[str, Unit] = {}
         self.cfg_vars = {str(k).upper().replace(" ", ""): v for k, v in cfg.variables.items()}
+        self.cfg_names = {k.partition("[")[0] for k in self.cfg_vars}  # names given in [variables]
         self.sysvars: dict[str, Slot] = {}  # system variables and setup data read or written so far
         self.warned: set[str] = set()  # command kinds warned about (one warning each)
         self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
@@ -245,6 +247,8 @@ class Sinumerik(ModalMachine):
         if isinstance(node, RIndex):
             i = self.num(self._ev(node.index, line, col), line, node.col)
             return self.params.get(self.r_index(i, line, node.col), 0.0)
+        if isinstance(node, FuncCall) and node.name in STRING_FUNCS:
+            return self.string_fn(node, self._ev(node.args[0], line, col), line)
         if isinstance(node, FuncCall):
             args = [self.num(self._ev(a, line, col), line, node.col) for a in node.args]
             r = self.fn(node.name, args, line, node.col)
@@ -277,8 +281,8 @@ class Sinumerik(ModalMachine):
             return held
         if name in ("TRUE", "FALSE") and not write:
             return Slot("BOOL", 1.0 if name == "TRUE" else 0.0)
-        if not index and name in self.cfg_vars:
-            return self.system_slot(name, (), line, col, write)
+        if name in self.cfg_names:  # global user data from the setup (also arrays: "_ZSFR[0]")
+            return self.system_slot(name, index, line, col, write)
         raise self.error(line, col, f"unknown variable '{name}' (declare it with DEF, or give a global one a "
                          f"value in the setup: [variables] \"{name}\" = ...)")
 
@@ -287,7 +291,8 @@ class Sinumerik(ModalMachine):
         case, the index evaluated): what the program wrote, else the setup's [variables] value."""
         parts = []
         for i in index:
-            if isinstance(i, Var) and i.name not in self.vars and not R_NAME.fullmatch(i.name):
+            if isinstance(i, Var) and i.name not in self.vars and not R_NAME.fullmatch(i.name) \
+                    and not i.name.startswith("$") and i.name not in self.cfg_vars:
                 parts.append(i.name)  # an axis or channel name: $AA_IW[X]
                 continue
             v = self.ev(i, line, col)
@@ -364,9 +369,34 @@ class Sinumerik(ModalMachine):
                 return min(args)
             if f == "MAXVAL":
                 return max(args)
+            if f in ("LN", "EXP"):
+                return math.log(args[0]) if f == "LN" else math.exp(args[0])
+            if f == "ROUNDUP":
+                return float(math.ceil(args[0])) if args[0] >= 0 else float(math.floor(args[0]))
+            if f == "BOUND":
+                return min(max(args[2], args[0]), args[1])
         except (ValueError, OverflowError):
             raise self.error(line, col, f"{f} of {args[0]:g} is not defined") from None
         raise self.error(line, col, f"unknown function {f}")  # pragma: no cover
+
+    def string_fn(self, node: FuncCall, v, line: int):
+        """STRLEN, NUMBER, ISNUMBER, TOUPPER, TOLOWER of a string."""
+        if not isinstance(v, str):
+            raise self.error(line, node.col, f"{node.name} takes a string, not the number {v:.10g}")
+        if node.name == "STRLEN":
+            return float(len(v))
+        if node.name in ("TOUPPER", "TOLOWER"):
+            return v.upper() if node.name == "TOUPPER" else v.lower()
+        try:
+            number = float(v.strip())
+            ok = math.isfinite(number)
+        except ValueError:
+            number, ok = 0.0, False
+        if node.name == "ISNUMBER":
+            return float(ok)
+        if not ok:
+            raise self.error(line, node.col, f"NUMBER(\"{v}\"): the string is no number")
+        return number
 
     def num(self, v, line: int, col: int) -> float:
         if isinstance(v, str):
@@ -943,7 +973,12 @@ class Sinumerik(ModalMachine):
 
     def call_proc(self, st: Call, src: Src, words: dict[str, Value], stack: list[Frame]) -> None:
         """NAME(args) / L140(2): a subprogram with parameters (an unknown name is an error naming
-        it as a cycle, function or subprogram)."""
+        it as a cycle, function or subprogram); CALL "NAME": the subprogram a string names."""
+        if st.name == "CALL":
+            name = self.ev(st.args[0].value, src.line, st.col)
+            if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name.strip()):
+                raise self.error(src.line, st.col, f"CALL needs a subprogram name as a string, not {to_text(name)!r}")
+            st = Call(st.col, name.strip().upper(), ())
         try:
             unit = self.find_sub(st.name, src.line, st.col)
         except SubprogramMissing:

@@ -26,7 +26,7 @@ EXTRA_AXES = set("ABCUVW")  # axis letters beyond X/Y/Z: words for them need the
 ADDRESSES = set("GMXYZIJKFSTDLP") | EXTRA_AXES  # single-letter addresses with a number
 EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P"} | EXTRA_AXES
 STRUCTURED = {"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "UNTIL"}
-KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "OF", "DEFAULT",
+KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "REPEATB", "CALL", "OF", "DEFAULT",
             "TO", "AND", "OR", "XOR", "NOT", "DIV", "MOD", "B_AND", "B_OR", "B_XOR", "B_NOT"} | STRUCTURED
 TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
 JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
@@ -52,7 +52,9 @@ SETTING_WORDS = {"SPOS", "SPOSA", "LIMS", "ADIS", "ADISPOS", "SOFTA", "BRISKA", 
                  "JERKLIM", "FA", "SCC", "FPR", "FPRAON", "FPRAOF", "FGREF", "COUPON", "COUPOF"}
 SYNC_WORDS = {"WHEN", "WHENEVER", "EVERY", "FROM", "DO"}  # synchronized actions: the rest of the block
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
-         "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2}
+         "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2, "LN": 1, "EXP": 1, "ROUNDUP": 1,
+         "BOUND": 3, "STRLEN": 1, "NUMBER": 1, "ISNUMBER": 1, "TOUPPER": 1, "TOLOWER": 1}
+STRING_FUNCS = {"STRLEN", "NUMBER", "ISNUMBER", "TOUPPER", "TOLOWER"}  # take a string argument
 LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
 SYS_RE = re.compile(r"\$[A-Za-z_][A-Za-z0-9_]*")  # a system variable ($P_TOOLNO, $AA_IW, $MA_...)
 EXP_RE = re.compile(r"EX[+\-]?[0-9]+", re.I)  # 10EX-5: the manuals' exponent
@@ -898,6 +900,24 @@ def _read_repeat(sc: _Scanner, col: int, name: str) -> Stmt:
     return Repeat(col, l1, l2 or None, count)
 
 
+def _read_repeatb(sc: _Scanner, col: int) -> Repeat:
+    """REPEATB LABEL P=n: the one block with LABEL, n times (REPEAT LABEL LABEL P=n)."""
+    lab = sc.label()
+    if not lab:
+        raise sc.err(sc.i + 1, "REPEATB needs the label of the block to repeat")
+    count: Expr = Num(1.0)
+    if sc.peek().upper() == "P":
+        sc.i += 1
+        sc.close("=")
+        count = sc.expr()
+    return Repeat(col, lab, lab, count)
+
+
+def _read_call(sc: _Scanner, col: int) -> Call:
+    """CALL "NAME" / CALL NAME_VAR: a subprogram named by a string expression."""
+    return Call(col, "CALL", (Arg(sc.expr(), sc.i + 1),))
+
+
 def _read_case(sc: _Scanner, col: int, name: str) -> Case:
     value = sc.expr()
     if not sc.take_word("OF"):
@@ -990,6 +1010,7 @@ def _read_ret(sc: _Scanner, col: int, name: str) -> Ret:
 
 _KEYWORD_READERS = {"DEF": _read_def, "GOTOF": _read_goto, "GOTOB": _read_goto, "GOTO": _read_goto,
                     "GOTOC": _read_goto, "IF": _read_if, "REPEAT": _read_repeat, "PROC": _read_proc,
+                    "REPEATB": lambda sc, col, name: _read_repeatb(sc, col), "CALL": lambda sc, col, name: _read_call(sc, col),
                     "RET": _read_ret, "CASE": _read_case, "EXTERN": _read_extern, "FOR": _read_for,
                     "WHILE": _read_cond, "UNTIL": _read_cond, "ELSE": _read_bare, "ENDIF": _read_bare,
                     "ENDWHILE": _read_bare, "ENDFOR": _read_bare, "LOOP": _read_bare, "ENDLOOP": _read_bare}

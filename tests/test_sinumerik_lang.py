@@ -312,3 +312,24 @@ M30
 def test_a_computed_destination_must_be_a_label():
     e = error_of('GOTOF "A B"\n')
     assert (e.line, e.col) == (1, 1) and "is no label" in e.message
+
+
+def test_repeatb_call_gud_arrays_and_string_functions():
+    """REPEATB LAB P=2 runs the LAB block twice more (X 3, 4, 5); CALL NM calls the PROC the string
+    names; _ZSFR[0] comes from [variables]; R1 = STRLEN("SUBX") 4 + NUMBER("1.5") + LN(EXP(2)) 2
+    + BOUND(0, 3, 7) 3 + ROUNDUP(1.2) 2 = 12.5."""
+    text = """DEF STRING[10] NM="SUBX"
+G1 X=_ZSFR[0] F100
+LAB: G91 X1
+REPEATB LAB P=2
+G90
+CALL NM
+R1=STRLEN(NM)+NUMBER("1.5")+LN(EXP(2))+BOUND(0,3,7)+ROUNDUP(1.2)
+G1 Y=R1
+M30
+PROC SUBX
+G1 Z-1
+RET
+"""
+    p = run(text, variables={"_ZSFR[0]": 2})
+    assert ends(p) == [(2, 0, 50), (3, 0, 50), (4, 0, 50), (5, 0, 50), (5, 0, -1), (5, 12.5, -1)]
