@@ -152,6 +152,7 @@ class Isg(Interpreter):
         self.extra_pos: dict[str, float] = {a: 0.0 for a in cfg.axes}
         self.warned: set = set()
         self.files: dict[str, tuple] = {}  # global subprogram files read: path -> (main, local)
+        self.implicit_files: dict[str, str] = {}  # #FILE NAME [G80 = "file"]: G code -> file name
 
     # -- messages ----------------------------------------------------------------------------------
     def warn_once(self, key, src: Src, message: str) -> None:
@@ -395,6 +396,9 @@ class Isg(Interpreter):
         elif scope in ("P", "S"):
             store = self.vars
         else:
+            if key.startswith("V.G.WZ_AKT.") and key != "V.G.WZ_AKT.R":
+                raise self.error(line, col, f"{key} = ...: changing the active tool's data (length, offsets) moves the "
+                                 "tool tip in a way the simulator does not model")
             self.vars[key] = value  # an external or global variable the program sets
             return
         if key not in store:
@@ -721,12 +725,12 @@ class Isg(Interpreter):
         the file G<n>.nc from the program's folder or [machine] subprogram_path, the values of an
         argument list G805[a, b, c] as @P1, @P2, @P3 (assumption, docs/dialects/isg.md)."""
         args = [f(self) for f in b.args.get(g.col, [])]
-        name = f"G{code}"
+        name = self.implicit_files.get(f"G{code}", f"G{code}")
         try:
             path = self.find_file(name, b.line, g.col)
         except CutsimError:
             raise self.error(b.line, g.col, f"G{g.raw} is an implicit subroutine call: the machine maker's "
-                             f"subprogram behind it is not known to the simulator (put it as {name}.nc in the "
+                             f"subprogram behind it ({name}) is not known to the simulator (put the file in the "
                              "program's folder or in the setup's [machine] subprogram_path)") from None
         params = {f"@P{k + 1}": v for k, v in enumerate(args)}
         self.run_file(b, fr, path, name, g.col, params)

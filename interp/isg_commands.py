@@ -51,6 +51,8 @@ def command(m, st, name: str, text: str, col: int) -> None:
         return
     if name == "CS":
         return cs(m, st, text, col)
+    if name == "FILE":
+        return file_names(m, st, text, col)
     if name == "MCS":
         if first == "OFF":
             return
@@ -165,3 +167,15 @@ def cs(m, st, text: str, col: int) -> None:
     m.cs.append(m.cs_defs[key])
     if not all(math.isfinite(v) for v in m.cs_defs[key]):  # pragma: no cover - values come from expressions
         raise m.error(line, col, "#CS values out of range")
+
+
+def file_names(m, st, text: str, col: int) -> None:
+    """#FILE NAME [G80 = "file.nc", MSG = ...]: the files behind implicit subroutine calls (G80..G89,
+    G800..G819) for the rest of the run; other entries only name output files (one warning)."""
+    found = False
+    for mm in re.finditer(r"\b(G[0-9]+)\s*=\s*(\"[^\"]*\"|[^\s,\]]+)", text, re.I):
+        code = mm.group(1).upper()
+        m.implicit_files[code] = mm.group(2).strip('"')
+        found = True
+    if not found:
+        warn(m, st, "FILE", text)

@@ -197,7 +197,13 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
 
 
 def code_extras(cur: Cursor, block: IsgBlock, col: int) -> None:
-    """What may follow a G or M number: an argument list ``G805[1, 2, 3]`` or a value ``M200=40``."""
+    """What may follow a G or M number: an argument list ``G805[1, 2, 3]`` (also ``G80 [0]``) or a
+    value ``M200=40``."""
+    j = cur.i
+    while j < len(cur.text) and cur.text[j] in " \t":
+        j += 1
+    if j < len(cur.text) and cur.text[j] == "[" and cur.text[cur.i - 1:cur.i].isdigit():
+        cur.i = j
     if cur.peek() == "[":
         cur.i += 1
         args = [expression(cur)]

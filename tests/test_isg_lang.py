@@ -183,7 +183,11 @@ def test_implicit_subroutine_call_runs_its_file(tmp_path):
     prog = run("%P\nG805[1, 2, 3]\nM30\n", name=str(tmp_path / "main.nc"))
     assert ends(prog) == [(1.0, 2.0, 3.0)]
     e = fails("%P\nG803\nM30\n", name=str(tmp_path / "main.nc"))
-    assert "implicit subroutine call" in e.message and "G803.nc" in e.message
+    assert "implicit subroutine call" in e.message and "(G803)" in e.message
+    # #FILE NAME [G80 = ..] names the file behind G80; "G80 [2]" with a space takes its list too
+    (tmp_path / "weld.nc").write_text("G01 X[@P1] F100\nM17\n")
+    prog = run('%P\n#FILE NAME [G80 = "weld.nc"]\nG80 [2]\nM30\n', name=str(tmp_path / "main.nc"))
+    assert ends(prog) == [(2.0, 0.0, 50.0)]
 
 
 def test_continued_block_and_main_ended_by_m29():
