@@ -19,7 +19,7 @@ from .canon import Src
 from .core import Code, Interpreter, Step
 from .errors import CutsimError
 from .isg_lang import SCOPES, truth
-from .isg_scan import Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
+from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
 from .lexer import COORD_LIMIT, Word, check_range, fmt_count
 from .modal import AXES, InterpConfig
 
@@ -448,8 +448,7 @@ class Isg(Interpreter):
                 v = f(self)
                 if isinstance(v, str):
                     raise self.error(b.line, col, f"{letter}{raw} is the string \"{v}\", not a number")
-                from .isg_scan import LIMITS
-                lim, unit = LIMITS[letter]
+                lim, unit = LIMITS.get(letter, (COORD_LIMIT, "mm"))
                 check_range(self.name, b.line, col, f"{letter}{raw} = {v:g}", v, -lim, lim, unit)
                 out.append(Word(letter, v, f"{v:g}", col))
             else:
@@ -603,7 +602,7 @@ class Isg(Interpreter):
         return (end[0], end[1], end[2])
 
     def extra_axes(self, st: Step) -> None:
-        for a in sorted(set(st.words) & set("ABCUVW")):
+        for a in sorted(k for k in st.words if k in "ABCUVW" or len(k) > 1):
             w = st.words.pop(a)
             if a not in self.cfg.axes:
                 raise self.error(st.block.line, w.col, f"axis {a} is not on this machine (declare it in the setup: "

@@ -160,6 +160,16 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         return call(cur, block, col)
     if letter == "S" and cur.peek() == "." and SPINDLE_ATTR.match(text, cur.i):
         return spindle_attr(cur, block, col)
+    named = re.compile(r"([A-Za-z][0-9]{1,2})\s*=(?!=)").match(text, col - 1)
+    if named and letter not in "GMNTDHS":  # an axis named with digits: W1 = 100, A1=90
+        name = named.group(1).upper()
+        if name in seen:
+            raise CutsimError(prog, lineno, col, f"axis {name} appears twice in one block")
+        seen[name] = col
+        cur.i = named.end()
+        f = expression(cur)
+        block.items.append(("x", name, f, text[col - 1:cur.i].strip(), col))
+        return
     if letter not in LETTERS or letter == "N":
         m = IDENT.match(text, col - 1)
         what = m.group(0) if m else letter
