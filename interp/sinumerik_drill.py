@@ -364,14 +364,14 @@ POSITIONS = {"HOLES1": holes1, "HOLES2": holes2, "CYCLE801": cycle801}
 def run_pattern(cy) -> None:
     """G0 in the plane to each position of the pattern, the modal cycle (MCALL) after each; without
     a modal cycle the positions are only approached (one warning)."""
-    from .sinumerik_cycles import COORD_LIMIT
+    from .sinumerik_lang import COORD_LIMIT, range_message
 
     pts = POSITIONS[cy.name](cy)
     m = cy.m
     for p in pts:
         for c, v in zip("XY", p):
             if abs(v) > COORD_LIMIT:
-                raise cy.err(f"hole position {c} = {v:.10g} is beyond the permitted range +-{COORD_LIMIT:g} mm")
+                raise cy.err(range_message(f"hole position {c}", v, -COORD_LIMIT, COORD_LIMIT, "mm"))
     call = getattr(m, "mcall", None)
     if call is None:
         m.warn(cy.src, f"{cy.name} without a modal cycle (MCALL CYCLE8x(...) before it): the {len(pts)} positions "
