@@ -151,14 +151,32 @@ class Word:
 
 
 @dataclass
-class Machine:
-    """The machine-side state of one run."""
-    cfg: InterpConfig
+class Modal:
+    """The modal part of the machine state, which PROC ... SAVE puts back on return: it lives on the
+    interpreter as ``m.machine_modal`` (named in interp/sinumerik.py's SAVED_MODAL), so that the
+    interpreter's save_modal/restore_modal copy and restore it with its own G groups."""
     inch: bool = False  # G70/G700: geometry in inch
     inch_feed: bool = False  # G700: F in inch/min (inch/rev)
     settable: str = "G500"
     offset: tuple[float, float, float] = ZERO
     frame: Affine = field(default_factory=Affine)  # programmable frame
+
+
+def _modal(name: str) -> property:
+    return property(lambda self: getattr(self.m.machine_modal, name),
+                    lambda self, v: setattr(self.m.machine_modal, name, v))
+
+
+@dataclass
+class Machine:
+    """The machine-side state of one run (its modal part in ``m.machine_modal``)."""
+    cfg: InterpConfig
+    m: object = None  # the interpreter
+    inch = _modal("inch")
+    inch_feed = _modal("inch_feed")
+    settable = _modal("settable")
+    offset = _modal("offset")
+    frame = _modal("frame")
     suppress: bool = False  # G53/G153/SUPA in this block
     axis_pos: dict[str, float] = field(default_factory=dict)
     warned: set = field(default_factory=set)
@@ -225,7 +243,11 @@ def state(m) -> Machine:
     """The machine state of interpreter ``m`` (created at its first use)."""
     st = m.__dict__.get("_machine")
     if st is None:
-        st = m.__dict__["_machine"] = Machine(m.cfg)
+        m.machine_modal = Modal()
+        st = m.__dict__["_machine"] = Machine(m.cfg, m)
+        from . import sinumerik  # loaded: it is the caller
+        if "machine_modal" not in getattr(sinumerik, "SAVED_MODAL", ["machine_modal"]):
+            sinumerik.SAVED_MODAL.append("machine_modal")  # PROC ... SAVE restores units and frames too
     return st
 
 

@@ -308,3 +308,13 @@ def test_frames_that_scale_or_shift_without_bound_are_errors():
     assert (e.line, e.col) == (4, 1) and "beyond the permitted" in e.message  # 1e6 passes, 1e9 does not
     e = err("G17\n" + "ATRANS X99999\n" * 101 + "M30\n")
     assert e.line == 102 and "shift" in e.message
+
+
+def test_proc_save_restores_units_and_frames():
+    """PROC SUB SAVE: the TRANS X100 and G70 of the subprogram end with it (X10 afterwards is machine
+    10); without SAVE the frame stays (X10 is machine 110)."""
+    prog = (HEAD + "SUB\nG1 X10 Y0\nSUB2\nG1 X10 Y0\nM30\n"
+            "PROC SUB SAVE\nTRANS X100\nG70\nG1 X1\nRET\n"
+            "PROC SUB2\nTRANS X100\nG1 X1\nRET\n")
+    ends = [r.end[0] for r in moves(prog)[1:]]
+    assert ends == pytest.approx([125.4, 10.0, 101.0, 110.0])
