@@ -7,6 +7,7 @@ i.e. from the stock minus the earlier cuts that overlap it.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, fields
 from typing import Callable
@@ -17,7 +18,7 @@ import numpy as np
 from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
 
-from . import helix, mill, threads
+from . import helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from cutsim.base.specs import StockSpec, ToolSpec
 from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, planar_region, screw_sweep, spatial_hulls
@@ -405,10 +406,19 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
         prior.extend(s for s in cand if _overlap(*_bbox([s]), hlo, hhi))
     regions = [c.region for c in earlier if c.region is not None]
     if regions:
-        prior.append(revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))
-    if prior:
-        hit = m3d.Manifold.batch_boolean([hit] + prior, m3d.OpType.Subtract)
+        prior.insert(0, revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))
+    # In small batches, in program order, stopping once nothing is left: the hit is small and the
+    # earlier sweeps overlap each other (a pocket's passes), so their union in one batch costs far
+    # more than taking them off the hit a few at a time (a flute check after a deep pocket: 0.8 s
+    # per check in one batch, 0.1 s in batches).
+    for k in range(0, len(prior), FRESH_BATCH):
+        hit = m3d.Manifold.batch_boolean([hit] + prior[k:k + FRESH_BATCH], m3d.OpType.Subtract)
+        if hit.volume() <= MIN_COLLISION_VOLUME:
+            return 0.0
     return float(hit.volume())
+
+
+FRESH_BATCH = 16  # earlier sweeps taken off a check's hit per boolean
 
 
 # -- work estimates --------------------------------------------------------------------------------
@@ -455,6 +465,25 @@ class Work:
 
         screw: dict[int, list] = {}
         lazy_total, lazy_piece, lazy_src = 0, 0, None
+        chain: list = []  # [tool, src, points...]: consecutive 3D feeds joined as stock/mill.py's Chain does
+
+        def flush_chain() -> None:
+            nonlocal lazy_total, lazy_piece, lazy_src
+            if not chain:
+                return
+            tool, src, parts = chain[0], chain[1], chain[2:]
+            chain.clear()
+            pts = np.concatenate(parts)
+            size = _piece_size(tool, tol)
+            total = 0
+            for k in range(0, max(1, len(pts) - 1), size - 1):
+                n = _chain_piece_triangles(pts[k:k + size], tool, tol, cap, (self.limit - self.held) / 4)
+                total += n
+                lazy_piece = max(lazy_piece, n)
+                if lazy_piece > self.limit - self.held:  # one piece is held whole while it is subtracted
+                    self.add(lazy_piece, src, "these 3D milling moves (one piece of their sweep)")
+            lazy_total += total
+            lazy_src = lazy_src or src
         arc: list = []  # [index, path] of the pending arc (consecutive arcs on one helix joined)
 
         def flush_arc() -> None:
@@ -469,10 +498,14 @@ class Work:
                 if len(joined) == 1:
                     arc[0][1] = joined[0]
                 else:
+                    flush_chain()
                     flush_arc()
                     arc.append([i, path])
                 continue
             flush_arc()
+            if not (isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid
+                    and not mill.batchable(path) and not mill.plunges(path)):
+                flush_chain()
             if isinstance(path, ScrewPath):
                 _check_axis(path, profile(path.tool))
                 pieces, tris = [], 0
@@ -491,13 +524,15 @@ class Work:
                     continue
                 if mill.batchable(path):
                     continue  # 2.5D: its Z level is counted from the exact 2D union before extrusion
-                segs = sum(len(p) - 1 for p in mill.below_cap(path.points, cap)) if len(path.points) > 1 else 1
                 if not path.rapid and not mill.plunges(path):  # 3D feed: swept lazily in pieces
-                    lazy_src = lazy_src or path.src
-                    per = 4 * _ring(path.tool, tol) + 8
-                    lazy_total += segs * per
-                    lazy_piece = max(lazy_piece, min(mill.CHAIN_POINTS, lazy_total // per + 1) * per)
+                    if chain and chain[0] == path.tool and np.all(np.abs(chain[-1][-1] - path.points[0]) <= 1e-9):
+                        chain.append(path.points[1:])
+                    else:
+                        flush_chain()
+                        chain.extend([path.tool, path.src, path.points])
                     continue
+                flush_chain()
+                segs = sum(len(p) - 1 for p in mill.below_cap(path.points, cap)) if len(path.points) > 1 else 1
                 if mill.is_flat(path.tool) and mill.is_constant_z(path):
                     k = max(2, math.ceil(math.pi / segment_angle(path.tool.diameter / 2.0, tol)))
                     tris = 4 * 2 * (k + 1) * max(1, len(path.points) - 1)
@@ -505,15 +540,69 @@ class Work:
                     tris = 4 * segs * body_verts(path.tool)
                 self.add(2 * tris, path.src, "this move (its sweep and its collision check)")
         flush_arc()
+        flush_chain()
         if lazy_src is not None:
             n = min(lazy_total, CHUNK_TRIANGLES + lazy_piece)
             self.add(n, lazy_src, "the 3D milling moves, swept in batches")
         return screw
 
 
-def _ring(tool: ToolSpec, tol: float) -> int:
-    """Vertices around a mill's circle at the tolerance."""
-    return max(8, math.ceil(2 * math.pi / segment_angle(tool.diameter / 2.0, tol)))
+@functools.lru_cache(maxsize=1024)
+def _body_vertices(tool: ToolSpec, tol: float, height: float | None = None) -> int:
+    """Vertices of the mill's body (cut off at ``height`` above the tip) that the hulls are built of."""
+    return len(mill_body(tool, tol, height)[0])
+
+
+def _piece_size(tool: ToolSpec, tol: float) -> int:
+    """Poses per piece of a chain as ``mill.Chain.take`` cuts it (a ball-end mill: CHAIN_POINTS;
+    other mills: about PIECE_VERTICES body vertices per piece, at least 50 poses)."""
+    if tube.is_ball(tool):
+        return mill.CHAIN_POINTS
+    return int(min(mill.CHAIN_POINTS, max(50, mill.PIECE_VERTICES // _body_vertices(tool, tol))))
+
+
+# A convex hull of N points has at most 2 N - 4 triangles (Euler); a hull of two poses of a mill
+# body of V vertices holds about V of them on its surface: measured 1.9 V (ball-end, 2 mm radius,
+# 0.001..0.00001 mm) to 3.0 V (flat end mill) triangles. HULL_PER_SEGMENT x V per segment bounds the
+# hull sweeps of a polyline (a merged run of poses has no more than its pairs).
+HULL_PER_SEGMENT = 3
+
+
+def _chain_piece_triangles(pts: np.ndarray, tool: ToolSpec, tol: float, cap: float, budget: float = 0.0) -> int:
+    """Triangles of ``mill.hull_sweep(pts, tool, tol, cap)`` without building it: the tubes of a
+    ball-end mill's planar stretches (``tube.stretches``, two triangles per profile vertex and
+    station) with a body hull at each end, and HULL_PER_SEGMENT x the body's vertices for every
+    other segment (bodies cut off where the sweep cuts them: above the stock, over the corner).
+    Where that bound exceeds ``budget`` the segments' merged runs (``mill.runs``) are counted
+    instead: one hull of about HULL_PER_SEGMENT x V per run plus a ring's worth (4 triangles per
+    ring vertex) for every pose inside it."""
+    rc = min(tool.corner_radius, tool.diameter / 2.0)
+    tris = 0
+    for sub in mill.below_cap(pts, cap):
+        top = max(cap, float(sub[:, 2].max()) + rc)
+        v = _body_vertices(tool, tol, round(min(top - float(sub[:, 2].min()), tool.length), 6))
+        segs = len(sub) - 1
+        if segs < 1:
+            tris += 2 * v
+            continue
+        closed = bool(np.all(sub[:, 2] + tool.length >= top))
+        st = []
+        if closed and tube.is_ball(tool) and segs > tube.TUBE_MIN_SEGMENTS:
+            z_top = max(cap, float(sub[:, 2].max()) + tool.diameter / 2.0 + 1e-3)
+            st = tube.stretches(sub, tool, tol, z_top)
+            in_tubes = sum(j - i for i, j in st)
+            k = max(2, math.ceil(math.pi / segment_angle(tool.diameter / 2.0, tol)))  # tube.profile's arc
+            tris += 2 * (k + 3) * (in_tubes + len(st)) + 2 * v * len({e for s in st for e in s})
+            segs -= in_tubes
+        if segs == 0:
+            continue
+        if HULL_PER_SEGMENT * v * segs > budget:  # merged runs: count their hulls (as hull_sweep makes them)
+            ring = max(8, math.ceil(2 * math.pi / segment_angle(tool.diameter / 2.0, tol)))
+            hulls = [(i, j) for i, j in mill.runs(sub, tol, closed) if not any(a <= i and j <= b for a, b in st)]
+            tris += sum(HULL_PER_SEGMENT * v + 4 * ring * max(0, j - i - 1) for i, j in hulls)
+        else:
+            tris += HULL_PER_SEGMENT * v * segs
+    return tris
 
 
 def _prism_triangles(region: m3d.CrossSection) -> int:

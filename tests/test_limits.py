@@ -323,3 +323,138 @@ def test_needle_thin_thread_tool_at_a_coarse_tolerance_is_an_input_error(tmp_pat
     assert proc.returncode == 2, proc.stderr
     assert "p.nc:5:1: error: the swept solid of this thread cut folds over itself" in proc.stderr
     assert "Traceback" not in proc.stderr and not (tmp_path / "out").exists()
+
+
+# -- mill bodies counted in the estimate (fuzz: a ball-end mill at 1e-5 mm ran 30 s / died at 3 GB) --
+MILL_SETUP = """\
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [-5.0, -5.0, 10.0]
+[stock]
+shape = "box"
+x = [0.0, 25.0]
+y = [0.0, 22.0]
+z = [-6.5, 0.0]
+[[tool]]
+number = 1
+kind = "ballmill"
+diameter = 4.0
+length = 12.0
+[simulation]
+tolerance = {tol}
+max_triangles = {limit}
+"""
+
+MILL_PROG = """\
+N10 G00 G17 G90 T1 S1000 M03
+N20 G00 X12. Y11. Z5.
+N30 G01 Z-3.6 F100
+N40 G01 X20. Y19.
+N50 G00 Z20.
+"""
+
+
+def _ball_hull_triangles(r: float, tol: float, a, b) -> int:
+    """Triangles of the hull of a ball of radius r (vertices at the chordal tolerance: a ring of
+    2 pi / theta and a quarter arc of (pi / 2) / theta layers, theta the chord angle) at two poses."""
+    th = segment_angle(r, tol)
+    n = math.ceil(2 * math.pi / th)
+    k = math.ceil(math.pi / 2 / th)
+    ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    pts = [[0.0, 0.0, 0.0]]
+    for phi in np.linspace(0, math.pi / 2, k + 1)[1:]:
+        pts += [[r * math.sin(phi) * math.cos(t), r * math.sin(phi) * math.sin(t), r - r * math.cos(phi)] for t in ang]
+    body = np.array(pts)
+    import manifold3d as m3d
+    return m3d.Manifold.hull_points(np.vstack([body + a, body + b])).num_tri()
+
+
+def test_fine_ball_mill_is_refused_before_it_is_swept(tmp_path):
+    """A 4 mm ball-end mill at 0.0001 mm: each pose of its body is a hemisphere of about 25,000
+    vertices, so the hull of the plunge (N30) alone has about 50,000 triangles (computed here from
+    the sphere, not by cutsim). Under max_triangles = 60,000 the two feed moves (about 100,000)
+    must be refused at the first of them, naming the key; the old estimate (4 triangles per ring
+    vertex and segment) let it through to the booleans."""
+    hull = _ball_hull_triangles(2.0, 1e-4, [12.0, 11.0, 0.05], [12.0, 11.0, -3.6])
+    assert hull > 40_000
+    setup = tmp_path / "s.toml"
+    setup.write_text(MILL_SETUP.format(tol=1e-4, limit=60_000))
+    prog = tmp_path / "p.nc"
+    prog.write_text(MILL_PROG)
+    with pytest.raises(CutsimError) as e:
+        cutsim.simulate(str(prog), str(setup))
+    assert e.value.line == 3 and "max_triangles = 60,000" in str(e.value)
+    est = int(str(e.value).split("about ")[1].split(" triangles")[0].replace(",", ""))
+    assert est >= 2 * hull
+
+
+def test_mill_estimate_bounds_the_built_hulls():
+    """For short 3D polylines of a flat, a bull-nose and a ball-end mill, the estimate of a chain
+    piece is at least the triangles ``hull_sweep`` builds (it is checked against the limit before
+    anything is built, so it must not undercount) and within a small factor of them."""
+    import cutsim.stock.removal as R
+    from cutsim.base.specs import ToolSpec
+    from cutsim.stock import mill
+
+    rng = np.random.default_rng(7)
+    for kind, d, rc in [("endmill", 6.0, 0.0), ("endmill", 6.0, 1.0), ("ballmill", 4.0, 2.0)]:
+        tool = ToolSpec(number=1, kind=kind, diameter=d, corner_radius=rc, length=20.0)
+        for tol in (0.01, 0.001):
+            for _ in range(3):
+                pts = np.cumsum(rng.uniform(-3, 3, size=(4, 3)), axis=0) + [0, 0, -2.0]
+                cap = mill.cap_height(0.0, tol)
+                built = sum(s.num_tri() for s in mill.hull_sweep(pts, tool, tol, cap))
+                est = R._chain_piece_triangles(pts, tool, tol, cap)
+                assert built <= est <= 8 * max(built, 1), (kind, tol, built, est)
+
+
+def test_flute_check_after_cleared_levels(tmp_path):
+    """A 6 mm end mill with 5 mm flutes: a slot at Z-3 (flutes reach the top), the same plunge and
+    slot at Z-8 (the material above the flutes is gone: no warning, the check's hit is taken off
+    by the earlier cuts), then a plunge to Z-8 in fresh stock (line 11): the shank (radius
+    r = 3 - 2 tol, a polygon within tol inside that circle) meets the 3 mm above Z-3, so the
+    warning's volume is 3 pi r^2 within the polygon's deficit (3 pi ((r - tol)^2 .. r^2))."""
+    setup = tmp_path / "s.toml"
+    setup.write_text("""\
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [0.0, 0.0, 10.0]
+[stock]
+shape = "box"
+x = [-20.0, 20.0]
+y = [-20.0, 20.0]
+z = [-10.0, 0.0]
+[[tool]]
+number = 1
+kind = "endmill"
+diameter = 6.0
+length = 5.0
+[simulation]
+tolerance = 0.01
+""")
+    prog = tmp_path / "p.nc"
+    prog.write_text("""\
+N10 G00 G17 G90 T1 S1000 M03
+N20 G00 X-5. Y-8. Z2.
+N30 G01 Z-3. F100
+N40 G01 X5.
+N50 G00 Z2.
+N60 G00 X-5.
+N70 G01 Z-8.
+N80 G01 X5.
+N90 G00 Z2.
+N100 G00 X-5. Y8.
+N110 G01 Z-8.
+N120 G01 X5.
+N130 G00 Z20.
+""")
+    res = cutsim.simulate(str(prog), str(setup))
+    flutes = [(w["line"], w["message"]) for w in res.warnings if "flute length" in w["message"]]
+    assert len(flutes) == 1, flutes
+    line, msg = flutes[0]
+    assert line == 11, flutes
+    vol = float(msg.split("(")[-1].split(" mm^3")[0])
+    r = 3.0 - 2 * 0.01
+    assert 3 * math.pi * (r - 0.01) ** 2 <= vol <= 3 * math.pi * r * r, vol
