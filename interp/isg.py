@@ -18,6 +18,7 @@ from . import canon
 from .canon import Src
 from .core import Code, Interpreter, Step
 from .errors import CutsimError
+from .isg_commands import command
 from .isg_lang import SCOPES, truth
 from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
 from .lexer import COORD_LIMIT, Word, check_range, fmt_count
@@ -564,7 +565,6 @@ class Isg(Interpreter):
                                  "(0 <= offset < 360 degrees)")
             self.offset = w.value
         for name, text, col in st.block.commands:
-            from .isg_commands import command
             command(self, st, name, text, col)
         if "reference point offset" in st.g:
             self.set_position(st)
