@@ -45,7 +45,9 @@ MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR
                     "TRACYL", "DIAMON", "DIAM90", "CUT2D", "CUT2DF", "CUT3DC", "CDON", "CDOF", "CDOF2",
                     "ORIWKS", "ORIMKS", "ORIAXES", "ORIVECT", "ORICONCW", "ORICONCCW", "TOFRAME", "TOROT",
                     "PAROT", "PAROTOF", "TOROTOF", "G500", "DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN",
-                    "DYNFINISH", "FGREF", "OFFN"}
+                    "DYNFINISH", "FGREF", "OFFN",
+                    # motion types the simulator does not interpolate: never read as G1 (an error)
+                    "ASPLINE", "BSPLINE", "CSPLINE", "POLY", "CIP", "CT", "COMPSURF"}
 # NAME=value / NAME[n]=value settings without effect on the tool path (spindle positioning and
 # limits, smoothing distances): one warning per kind
 SETTING_WORDS = {"SPOS", "SPOSA", "LIMS", "ADIS", "ADISPOS", "SOFTA", "BRISKA", "DRIVEA", "ACC", "OVRA", "VELOLIM",
