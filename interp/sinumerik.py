@@ -1042,7 +1042,11 @@ class Sinumerik(ModalMachine):
                 if not isinstance(arg.value, (Var, Index)):
                     raise self.error(line, arg.col, f"{unit.name}: parameter {k + 1} ({p.name}) is VAR: pass a "
                                      "variable, an R parameter or an array element, not a value")
-                scope[p.name] = self.slot(arg.value, line, write=True)
+                held = self.vars.get(arg.value.name) if isinstance(arg.value, Var) else None
+                if p.array != isinstance(held, ArrayVar):
+                    raise self.error(line, arg.col, f"{unit.name}: parameter {k + 1} ({p.name}) "
+                                     f"{'is an array: pass an array' if p.array else 'is no array: pass one element'}")
+                scope[p.name] = held if p.array else self.slot(arg.value, line, write=True)
                 continue
             v = self.ev(arg.value, line, arg.col) if given else (
                 self.ev(p.default, line, col) if p.default is not None else ("" if p.type in ("STRING", "AXIS") else 0.0))

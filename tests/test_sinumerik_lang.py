@@ -333,3 +333,20 @@ RET
 """
     p = run(text, variables={"_ZSFR[0]": 2})
     assert ends(p) == [(2, 0, 50), (3, 0, 50), (4, 0, 50), (5, 0, 50), (5, 0, -1), (5, 12.5, -1)]
+
+
+def test_array_var_parameters():
+    text = """DEF REAL PTS[3]=SET(1, 2, 3)
+DOUBLE(PTS)
+G1 X=PTS[0] Y=PTS[1] Z=PTS[2] F100
+M30
+PROC DOUBLE(VAR REAL ARR[])
+DEF INT KK
+FOR KK=0 TO 2
+  ARR[KK]=ARR[KK]*2
+ENDFOR
+RET
+"""
+    assert ends(run(text)) == [(2, 4, 6)]
+    e = error_of("DEF REAL VV\nDOUBLE(VV)\nM30\nPROC DOUBLE(VAR REAL ARR[])\nRET\n")
+    assert (e.line, e.col) == (2, 8) and "is an array" in e.message
