@@ -50,7 +50,8 @@ IGNORED_CALLS = {"WORKPIECE", "CYCLE832"}
 # language calls that do not change the tool path: one warning per kind (SETAL: an alarm, exit 2)
 LANG_CALLS = {"MSG", "SETAL", "FGROUP", "G_GROUP", "SETMS", "GROUP_BEGIN", "GROUP_END", "STOPRE", "WAITM",
               "WAITMC", "WAITE", "SETM", "CLEARM", "CANCEL", "DISPLOF", "DISPLON", "PRESETON", "SPOS", "SPOSA",
-              "FA", "POS", "POSA", "WRTPR", "MSG_", "SBLOF", "SBLON", "STOPFIFO", "STARTFIFO"}
+              "FA", "WRTPR", "MSG_", "SBLOF", "SBLON", "STOPFIFO", "STARTFIFO", "WAITP", "WAITS", "WAITC",
+              "RELEASE", "GET", "GETD", "PRIO"}
 NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
          "WHENEVER": "(a synchronized action) is not simulated: its condition and action are ignored",
          "ID": "(a synchronized action) is not simulated: its condition and action are ignored",
@@ -63,6 +64,12 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
 SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "feed", "comp", "d_no"]
 # keywords that are never a subprogram file, even with a file of that name beside the program
 NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES)
+# path words the simulator does not implement: an error naming them, not "unknown variable"
+UNSUPPORTED_NAMES = {"RND": "rounding the corner", "RNDM": "modal corner rounding", "CHF": "a chamfer",
+                     "CHR": "a chamfer", "ANG": "a contour angle", "AR": "an arc's opening angle",
+                     "AP": "a polar angle", "RP": "a polar radius", "TURN": "helix turns", "POS": "a positioning axis",
+                     "POSA": "a positioning axis", "OFFN": "a contour offset", "I1": "an intermediate point",
+                     "J1": "an intermediate point", "K1": "an intermediate point", "RPL": "a rotation in the plane"}
 MAX_ARRAY = 1_000_000  # elements of one array (DEF REAL A[1000, 1000])
 MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
 MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
@@ -264,6 +271,8 @@ class Sinumerik(ModalMachine):
         parameters share their caller's slot), a system variable or a setup [variables] name."""
         name, col = node.name, node.col
         index = node.index if isinstance(node, Index) else ()
+        if name == "R" and len(index) == 1:  # R[expr]=...
+            return RSlot(self.params, self.r_index(self.num(self.ev(index[0], line, col), line, col), line, col))
         if R_NAME.fullmatch(name) and not index:
             if len(name[1:].lstrip("0")) > len(str(R_LIMIT)):
                 raise self.error(line, col, f"{name}: there are the parameters R0 to R{R_LIMIT}")
@@ -283,6 +292,8 @@ class Sinumerik(ModalMachine):
             return Slot("BOOL", 1.0 if name == "TRUE" else 0.0)
         if name in self.cfg_names:  # global user data from the setup (also arrays: "_ZSFR[0]")
             return self.system_slot(name, index, line, col, write)
+        if name in UNSUPPORTED_NAMES:
+            raise self.error(line, col, f"{name}= ({UNSUPPORTED_NAMES[name]}) is not supported by the simulator")
         raise self.error(line, col, f"unknown variable '{name}' (declare it with DEF, or give a global one a "
                          f"value in the setup: [variables] \"{name}\" = ...)")
 
@@ -518,7 +529,7 @@ class Sinumerik(ModalMachine):
         if name in NOT_FILES:
             raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support")
         path = None
-        for d in (os.path.dirname(os.path.abspath(self.name)), *self.cfg.subprogram_path):
+        for d in (*self.sub_dirs(), *self.cfg.subprogram_path):
             try:
                 cands = sorted(f for f in os.listdir(d) if os.path.splitext(f)[0].upper() in (name, f"_N_{name}_SPF")
                                and os.path.splitext(f)[1].upper() in (".SPF", ".MPF", ".NC", ""))
@@ -540,6 +551,20 @@ class Sinumerik(ModalMachine):
         for k, u in more.items():
             self.subs.setdefault(k, u)
         return unit
+
+    def sub_dirs(self) -> list[str]:
+        """The program's folder, then the global subprogram folders of a Siemens archive beside it
+        (SPF.DIR, _N_SPF_DIR, SPF_DIR; also one level up, for a program inside MPF.DIR or a .WPD)."""
+        here = os.path.dirname(os.path.abspath(self.name))
+        dirs = [here]
+        for base in (here, os.path.dirname(here)):
+            try:
+                names = sorted(os.listdir(base))
+            except OSError:
+                continue
+            dirs += [os.path.join(base, n) for n in names if n.upper() in ("SPF.DIR", "_N_SPF_DIR", "SPF_DIR")
+                     and os.path.join(base, n) not in dirs]
+        return dirs
 
     def read_sub(self, path: str, name: str, line: int, col: int) -> str:
         """The text of a subprogram file; a directory, a special or unreadable file, or one larger
@@ -579,7 +604,7 @@ class Sinumerik(ModalMachine):
         self.move(ln, src, blk.words, motion)
         if new_comp == 40 and self.comp_buf is not None:
             self.flush_comp(src, line)
-        drill.after_block(self, src, moved, blk.calls)
+        drill.after_block(self, src, moved, blk, stack)
         if self.calls(blk, src, line, stack):
             return False
         for st in blk.jumps:
@@ -836,7 +861,7 @@ class Sinumerik(ModalMachine):
     def calls(self, blk: Block, src: Src, line: int, stack: list[Frame]) -> bool:
         """Cycles, subprogram calls (NAME, L<n> P<n>) and RET/M17; True when the block hands over
         to another frame (a call or a return)."""
-        for st in drill.modal_call(self, blk.calls, line):  # MCALL CYCLE8x(..) / MCALL alone
+        for st in drill.modal_call(self, blk, line):  # MCALL CYCLE8x(..) / MCALL SUB / MCALL alone
             if isinstance(st, Ret):
                 self.ret(stack)
                 return True

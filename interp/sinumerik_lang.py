@@ -785,6 +785,9 @@ class _Scanner:
 
 def _read_def(sc: _Scanner, col: int, name: str) -> Def:
     sc.ws()
+    for scope in ("NCK", "CHAN"):  # the scope of global data (definition files): no meaning here
+        if sc.take_word(scope):
+            sc.ws()
     typ = sc.ident()
     if typ not in TYPES:
         raise sc.err(sc.i + 1, "DEF needs a type (REAL, INT, BOOL, CHAR, STRING[n], AXIS, FRAME)")

@@ -349,3 +349,19 @@ RET
     assert ends(run(text)) == [(2, 4, 6)]
     e = error_of("DEF REAL VV\nDOUBLE(VV)\nM30\nPROC DOUBLE(VAR REAL ARR[])\nRET\n")
     assert (e.line, e.col) == (2, 8) and "is an array" in e.message
+
+
+def test_r_index_assignment_scoped_def_and_unsupported_path_words():
+    p = run("R[2+1]=5\nDEF CHAN REAL CC=2\nG1 X=R3+CC F100\nWAITP(X)\nM30\n")
+    assert ends(p) == [(7, 0, 50)] and p.warnings[-1][1].startswith("WAITP")
+    e = error_of("G1 X10 RND=2 F100\n")
+    assert (e.line, e.col) == (1, 8) and e.message == "RND= (rounding the corner) is not supported by the simulator"
+
+
+def test_subprograms_in_the_archive_folder_spf_dir(tmp_path):
+    """A Siemens archive keeps main programs in MPF.DIR and subprograms in SPF.DIR beside it."""
+    (tmp_path / "MPF.DIR").mkdir()
+    (tmp_path / "SPF.DIR").mkdir()
+    (tmp_path / "SPF.DIR" / "_N_FACE_SPF.SPF").write_text("%_N_FACE_SPF\nPROC FACE(REAL ZZ)\nG1 Z=ZZ F100\nRET\n")
+    p = run("FACE(-2)\nM30\n", name=str(tmp_path / "MPF.DIR" / "_N_MAIN_MPF.MPF"))
+    assert ends(p) == [(0, 0, -2)]
