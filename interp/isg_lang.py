@@ -102,11 +102,15 @@ BINARY = [  # precedence levels, lowest first
     (("+", "-"),),
     (("*", "/", "MOD"),),
 ]
-_SYMBOLS = ["**", "==", "!=", "<>", "<=", ">=", "&&", "||", "<", ">", "+", "-", "*", "/", "&", "|"]
+LEVEL_OPS = [tuple(o for group in level for o in group) for level in BINARY]
+_FIRST = {o[0] for level in LEVEL_OPS for o in level} | {o[0].lower() for level in LEVEL_OPS for o in level}
+VAR_HEAD = re.compile(r"[Vv]\.([A-Za-z]+)\.")
 
 
 def _op_at(cur: Cursor, ops) -> str | None:
     cur.skip()
+    if cur.i >= len(cur.text) or cur.text[cur.i] not in _FIRST:
+        return None
     for op in ops:
         if op.isalpha():
             if cur.at_word(op):
@@ -178,7 +182,7 @@ def expression(cur: Cursor, level: int = 0):
     """A full expression at the cursor (binary operators, spaces allowed): a closure env -> value."""
     if level == len(BINARY):
         return _power(cur)
-    ops = tuple(o for group in BINARY[level] for o in group)
+    ops = LEVEL_OPS[level]
     left = expression(cur, level + 1)
     while True:
         op = _op_at(cur, ops)
@@ -382,7 +386,7 @@ def var_ref(cur: Cursor):
     upper-cased name with its evaluated indices: ``V.P.ARR[2]``."""
     col = cur.i + 1
     t = cur.text
-    m = re.compile(r"[Vv]\.([A-Za-z]+)\.").match(t, cur.i)
+    m = VAR_HEAD.match(t, cur.i)
     if not m:
         raise cur.error("a variable is written V.<scope>.NAME (V.P., V.L., V.S., V.E., V.G.)")
     scope = m.group(1).upper()
@@ -409,7 +413,7 @@ def var_ref(cur: Cursor):
         break
     prefix = f"V.{scope}."
     prog, line = cur.prog, cur.line
-    if all(isinstance(p, str) for p in parts):
+    if not any(callable(p) for p in parts):
         key = prefix + "".join(parts)
         return scope, (lambda env: key), col
 

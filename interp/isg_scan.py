@@ -28,6 +28,9 @@ COMMAND = re.compile(r"#\s*([A-Za-z_]+)(?:[ \t]+([A-Za-z_]+))?")
 MACRO_DEF = re.compile(r'\s*(?:N[0-9]+\s+)?"([^"\\]+)"\s*=\s*"((?:[^"\\]|\\.)*)"\s*(?:;.*)?$')
 MACRO_USE = re.compile(r'"([^"\\]+)"')
 MAX_MACRO_DEPTH = 16
+NAMED_AXIS = re.compile(r"([A-Za-z][0-9]{1,2})\s*=(?!=)")
+AXIS_COMMAND = re.compile(r"\[\s*[A-Za-z_]{3,}\w*\s+[A-Za-z_]")
+NOT_AXIS_COMMAND = re.compile(r"\[\s*(?:V\.|P\d|SIN|COS|TAN|ABS|SQRT?|INT|ROUND|FRACT)", re.I)
 BLOCK_LINES = block_lines(r"[^\s;%(#]")
 
 
@@ -160,8 +163,8 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         return call(cur, block, col)
     if letter == "S" and cur.peek() == "." and SPINDLE_ATTR.match(text, cur.i):
         return spindle_attr(cur, block, col)
-    named = re.compile(r"([A-Za-z][0-9]{1,2})\s*=(?!=)").match(text, col - 1)
-    if named and letter not in "GMNTDHS":  # an axis named with digits: W1 = 100, A1=90
+    named = NAMED_AXIS.match(text, col - 1) if (letter not in "GMNTDHS" and "=" in text[cur.i:cur.i + 4]) else None
+    if named:  # an axis named with digits: W1 = 100, A1=90
         name = named.group(1).upper()
         if name in seen:
             raise CutsimError(prog, lineno, col, f"axis {name} appears twice in one block")
@@ -193,8 +196,7 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         cur.i += 1
         cur.skip()
         f = expression(cur)
-    elif c == "[" and re.match(r"\[\s*[A-Za-z_]{3,}\w*\s+[A-Za-z_]", text[cur.i:]) and \
-            not re.match(r"\[\s*(?:V\.|P\d|SIN|COS|TAN|ABS|SQRT?|INT|ROUND|FRACT)", text[cur.i:], re.I):
+    elif c == "[" and AXIS_COMMAND.match(text, cur.i) and not NOT_AXIS_COMMAND.match(text, cur.i):
         m = re.match(r"\[\s*([A-Za-z_]\w*)", text[cur.i:])
         raise CutsimError(prog, lineno, col, f"{letter}[{m.group(1)} ...]: an axis-specific command "
                           "is not modelled by the simulator")
