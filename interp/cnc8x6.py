@@ -184,6 +184,8 @@ def param_number(name: str, lineno: int, col: int, digits: str) -> int:
 # Every line that is not blank is a block (also a comment alone: an empty block).
 BLOCK_LINES = block_lines(r"[^\s]")
 PLAIN_AXES = {"X": 0, "Y": 1, "Z": 2}
+# The words of a plain move as written -> (address, axis index or -1 for F, -2 for G, largest magnitude)
+_MOVE_WORDS = {c: (k, {"X": 0, "Y": 1, "Z": 2, "F": -1, "G": -2}[k], LIMITS[k][0]) for k in "XYZFG" for c in (k, k.lower())}
 # Where a program may jump (a G73 word in any spelling: g73, G073, G+73.0, also inside a comment):
 # a program without one runs streamed (Cnc8x6.stream).
 JUMP = re.compile(r"[Gg]\+?0*73")
@@ -282,6 +284,13 @@ class Cnc8x6(Interpreter):
         check_length(name, text, self.cfg.max_blocks, BLOCK_LINES)
         lines = iter_lines(text)
         for lineno, line in lines:
+            try:
+                if self.after_ramp is None and self.plain_line(lineno, line):
+                    continue
+            except CutsimError:
+                for lineno, line in lines:  # a syntax error later in the file comes first
+                    scan(name, lineno, line)
+                raise
             b = scan(name, lineno, line)
             if b is None:
                 continue
@@ -366,7 +375,7 @@ class Cnc8x6(Interpreter):
             if w[4] is not None:
                 return False
             if letter in PLAIN_AXES:
-                axes.append((PLAIN_AXES[letter], w))
+                axes.append((PLAIN_AXES[letter], w[1], w[3]))
             elif letter == "F":
                 feed = w[1]
             elif letter == "G" and motion is None and (w[1] == 0.0 or w[1] == 1.0):
@@ -376,6 +385,66 @@ class Cnc8x6(Interpreter):
         mode = self.motion if motion is None else motion
         if mode > 1 or (feed is not None and feed <= 0):  # G02/G03/G33 active; F <= 0 is an error
             return False
+        self.plain_move(b.line, b.label, mode, feed, axes)
+        return True
+
+    def plain_line(self, lineno: int, text: str) -> bool:
+        """``stream``'s shortcut: a plain line (PLAIN_LINE) that plain_block would run without an
+        error, run straight from its text without building its Block: counted and executed with
+        the effect of scan + count_block + block. False (nothing done) for any other line."""
+        m = PLAIN_LINE.fullmatch(text)
+        if m is None:
+            return False
+        number, rest = m.groups()
+        if not rest or (number is not None and len(number) > 8):
+            return False
+        motion = feed = None
+        pos = self.pos
+        end = pos[:]
+        absolute = self.absolute
+        seen = ""
+        for letter, raw, _ in PLAIN_WORD.findall(rest):
+            row = _MOVE_WORDS.get(letter)
+            if row is None:
+                return False
+            address, index, limit = row
+            if address in seen and address != "G":  # twice in one block: the scanner's error
+                return False
+            seen += address
+            value = float(raw)
+            if not -limit <= value <= limit:
+                return False
+            if index >= 0:
+                end[index] = value if absolute else pos[index] + value
+            elif index == -1:
+                feed = value
+            elif motion is None and (value == 0.0 or value == 1.0):
+                motion = int(value)
+            else:
+                return False
+        mode = self.motion if motion is None else motion
+        if mode > 1 or (feed is not None and feed <= 0):
+            return False
+        for v in end:
+            if not -COORD_LIMIT <= v <= COORD_LIMIT:  # the long way names the word
+                return False
+        self.executed += 1  # count_block
+        if self.executed > self.cfg.max_blocks:
+            raise self.block_limit(Block(lineno, 1))
+        self.motion = mode
+        if feed is not None and feed != self.feed:
+            self.feed = feed
+        if len(seen) - (motion is not None) - (feed is not None):  # axis words: the tool moves
+            src = Src(self.name, lineno, 1, "" if number is None else "N" + number)
+            if mode:
+                self.linear(src, (end[0], end[1], end[2]))
+            else:
+                self.rapid(src, (end[0], end[1], end[2]))
+        return True
+
+    def plain_move(self, line: int, label: str, mode: int, feed: float | None, axes: list) -> None:
+        """What a plain block does: G00/G01 ``mode`` and F ``feed`` (None: not programmed) become
+        modal, and with axis words ((axis index, value, column), ...) the tool moves."""
         self.motion = mode
         if feed is not None and feed != self.feed:  # an F repeating the modal feed keeps its float (memory)
             self.feed = feed
@@ -383,21 +452,20 @@ class Cnc8x6(Interpreter):
             pos = self.pos
             end = pos[:]
             if self.absolute:
-                for i, w in axes:
-                    end[i] = w[1]
+                for i, v, _ in axes:
+                    end[i] = v
             else:
-                for i, w in axes:
-                    end[i] = pos[i] + w[1]
+                for i, v, _ in axes:
+                    end[i] = pos[i] + v
             for v in end:
                 if not -COORD_LIMIT <= v <= COORD_LIMIT:
-                    self.check_position(b.line, end, {i: w.col for i, w in axes})
-            src = Src(self.name, b.line, 1, b.label)
+                    self.check_position(line, end, {i: c for i, _, c in axes})
+            src = Src(self.name, line, 1, label)
             end = (end[0], end[1], end[2])
             if mode:
                 self.linear(src, end)
             else:
                 self.rapid(src, end)
-        return True
 
     def ramp_rule(self, b: Block) -> bool:
         """After a thread with runout or lead-in: an empty block, then one with every axis. True

@@ -129,9 +129,10 @@ def test_plain_scanner_agrees_with_the_full_one(pieces):
 
 
 def long_way(text: str, cfg: InterpConfig):
-    """Every block through core.Interpreter.execute (the direct path for plain blocks off)."""
+    """Every block through core.Interpreter.execute (the direct paths for plain lines and blocks off)."""
     mp = pytest.MonkeyPatch()
     mp.setattr(cnc8x6.Cnc8x6, "plain_block", lambda self, b: False)
+    mp.setattr(cnc8x6.Cnc8x6, "plain_line", lambda self, lineno, text: False)
     try:
         return outcome("run", text, cfg)
     finally:
