@@ -199,3 +199,23 @@ def test_continued_block_and_main_ended_by_m29():
 def test_label_with_colon_and_jump_backwards():
     prog = run("%P\nP1 = 0\nN10: P1 = P1 + 1\nG01 X[P1] F100\n$IF P1 < 3 $GOTO N10\nM30\n")
     assert [e[0] for e in ends(prog)] == [1, 2, 3]
+
+
+def test_header_with_a_space_and_further_mains_warn(tmp_path):
+    prog = run("% ai_poc_48\nG01 X1 F100\nM30\n%second\nG01 X9\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    assert any("'%second'" in m and "not run" in m for _, m in prog.warnings)
+
+
+def test_lm06_style_call_of_a_global_file(tmp_path):
+    # "LM06": L followed directly by the file name M06 (M06.nc beside the program)
+    (tmp_path / "M06.nc").write_text("%M06\nG00 Z30\nM29\n")
+    prog = run("%P\nT1 LM06\nG01 X1 F100\nM30\n", name=str(tmp_path / "main.nc"))
+    assert ends(prog) == [(0.0, 0.0, 30.0), (1.0, 0.0, 30.0)]
+
+
+def test_recursive_global_call_is_refused(tmp_path):
+    (tmp_path / "a.nc").write_text("L b.nc\nM29\n")
+    (tmp_path / "b.nc").write_text("L a.nc\nM29\n")
+    e = fails("%P\nL a.nc\nM30\n", name=str(tmp_path / "main.nc"))
+    assert "recursive subprogram call" in e.message and "a.nc -> b.nc -> a.nc" in e.message
