@@ -69,7 +69,7 @@ UNSUPPORTED_NAMES = {"RND": "rounding the corner", "RNDM": "modal corner roundin
                      "CHR": "a chamfer", "ANG": "a contour angle", "AR": "an arc's opening angle",
                      "AP": "a polar angle", "RP": "a polar radius", "TURN": "helix turns", "POS": "a positioning axis",
                      "POSA": "a positioning axis", "OFFN": "a contour offset", "I1": "an intermediate point",
-                     "J1": "an intermediate point", "K1": "an intermediate point", "RPL": "a rotation in the plane"}
+                     "J1": "an intermediate point", "K1": "an intermediate point"}
 MAX_ARRAY = 1_000_000  # elements of one array (DEF REAL A[1000, 1000])
 MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
 MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
