@@ -75,7 +75,7 @@ G_NOT_MODELLED = {
     74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
     303: "circle in space", 150: "spline", 151: "spline",
 }
-IMPLICIT_CALLS = set(range(80, 90)) | set(range(800, 820))  # implicit subroutine calls (configured files)
+IMPLICIT_CALLS = {80} | set(range(800, 820))  # implicit subroutine calls (configured files); G81..G89: modal cycles
 M_CODES = {
     0: Code("stop", "", "program stop"),
     1: Code("stop", "", "optional stop"),
@@ -471,6 +471,12 @@ class Isg(Interpreter):
                     for a in "XYZABCUVWF":
                         st.words.pop(a, None)
                 continue
+            if code == 80 and "G80" not in self.implicit_files and g.col not in st.block.args:
+                self.warn_once(("G", 80), st.src, "G80 (modal cycle off) does not change the tool path: accepted")
+                continue
+            if 81 <= code <= 89:
+                raise self.error(line, g.col, f"G{g.raw} (a modal cycle: an implicit subroutine call at every "
+                                 "following position) is not modelled by the simulator")
             if code in IMPLICIT_CALLS:
                 if st.result is not None:
                     raise self.error(line, g.col, "two implicit subroutine calls in one block")

@@ -219,3 +219,10 @@ def test_recursive_global_call_is_refused(tmp_path):
     (tmp_path / "b.nc").write_text("L a.nc\nM29\n")
     e = fails("%P\nL a.nc\nM30\n", name=str(tmp_path / "main.nc"))
     assert "recursive subprogram call" in e.message and "a.nc -> b.nc -> a.nc" in e.message
+
+
+def test_g80_alone_is_cycle_off_and_g81_is_refused():
+    prog = run("%P\nG71 G80 G90\nG01 X1 F100\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0)] and any("G80" in m for _, m in prog.warnings)
+    e = fails("%P\nG81 Z-5\nM30\n")
+    assert (e.line, e.col) == (2, 1) and "modal cycle" in e.message
