@@ -376,6 +376,9 @@ def run_pattern(cy) -> None:
     if call is None:
         m.warn(cy.src, f"{cy.name} without a modal cycle (MCALL CYCLE8x(...) before it): the {len(pts)} positions "
                        "are only approached")
+    elif call[0] != "cycle":
+        raise cy.err(f"the modal call is the subprogram {call[1]}: the simulator calls only drilling cycles at the "
+                     "positions of a pattern")
     for p in pts:
         cy.rapid(p, m.pos[2])
         if call is not None:
@@ -383,26 +386,37 @@ def run_pattern(cy) -> None:
 
 
 # the modal call: the interpreter's hooks --------------------------------------------------------
-def modal_call(m, calls: list, line: int) -> list:
-    """``MCALL NAME(args)`` in a block's calls: NAME becomes the modal cycle (its arguments
-    evaluated now), ``MCALL`` alone ends it. Returns the block's other calls. (Hook in
-    Sinumerik.calls.)"""
+def modal_call(m, blk, line: int) -> list:
+    """``MCALL NAME(args)`` / ``MCALL NAME`` / ``MCALL L<n>`` in a block: NAME becomes the modal
+    call (a drilling cycle: its arguments evaluated and checked now; a subprogram: it must exist
+    now, its arguments are evaluated at each call), ``MCALL`` alone ends it. Returns the block's
+    other calls. (Hook in Sinumerik.calls.)"""
+    from .sinumerik_cycles import CYCLES
     from .sinumerik_lang import Call, SubCall
 
+    calls = blk.calls
     if not calls or not (isinstance(calls[0], SubCall) and calls[0].name == "MCALL"):
         return calls
     rest = list(calls[1:])
-    if rest and isinstance(rest[0], Call):
+    if rest and isinstance(rest[0], Call) and rest[0].name in CYCLES:
         st = rest.pop(0)
         if st.name not in DRILLS:
             raise m.error(line, st.col, f"MCALL {st.name}: the simulator runs drilling cycles (CYCLE81 ... CYCLE89, "
-                                        "CYCLE840) as modal calls")
+                                        "CYCLE840) and subprograms as modal calls")
         args = [(None if a.value is None else m.ev(a.value, line, a.col), a.col) for a in st.args]
         dry_run(m, st.name, args, Src(m.unit_program, line, 1), st.col)  # parameter errors at the MCALL
-        m.mcall = (st.name, args, st.col)
-    elif rest and isinstance(rest[0], SubCall):
-        raise m.error(line, rest[0].col, f"MCALL {rest[0].name}: a modal subprogram call is not supported "
-                                         "(modal calls of the drilling cycles are)")
+        m.mcall = ("cycle", st.name, args, st.col)
+    elif rest and isinstance(rest[0], (Call, SubCall)):
+        st = rest.pop(0)
+        m.find_sub(st.name, line, st.col)  # a missing subprogram is an error at the MCALL
+        m.mcall = ("sub", st.name, st, st.col)
+    elif "L" in blk.words:
+        lw = blk.words.pop("L")
+        if lw.value != int(lw.value):
+            raise m.error(line, lw.col, f"L{lw.value:g}: a subprogram number is a whole number")
+        name = f"L{int(lw.value)}"
+        m.find_sub(name, line, lw.col)
+        m.mcall = ("sub", name, SubCall(lw.col, name), lw.col)
     else:
         m.mcall = None
     return rest
@@ -424,26 +438,44 @@ def dry_run(m, name: str, args, src: Src, col: int) -> None:
 
 
 def moves_axes(words) -> bool:
-    """The block programs a position (X, Y or Z): with a modal call, the cycle runs after it."""
+    """The block programs a position (X, Y or Z): with a modal call, it runs after it."""
     return any(a in words for a in "XYZ")
 
 
-def after_block(m, src: Src, moved: bool, calls: list) -> None:
-    """Run the modal cycle after a block that moved (not the MCALL block itself). (Hook in
-    Sinumerik.block.)"""
-    from .sinumerik_lang import SubCall
+def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
+    """Run the modal call after a block that programmed a position (not the MCALL block itself,
+    nor a block of the modal subprogram while it runs). (Hook in Sinumerik.block, after the
+    block's motion.)"""
+    from .sinumerik_lang import Call, SubCall
 
-    if not moved or getattr(m, "mcall", None) is None:
+    call = getattr(m, "mcall", None)
+    if not moved or call is None:
         return
-    if any(isinstance(c, SubCall) and c.name == "MCALL" for c in calls):
+    if any(isinstance(c, SubCall) and c.name == "MCALL" for c in blk.calls):
         return
-    run_modal(m, src)
+    if call[0] == "cycle":
+        _, name, args, col = call
+        run_modal(m, src, name, args, col)
+        return
+    running = getattr(m, "mcall_frame", None)
+    if running is not None and any(f is running for f in stack):
+        return  # the modal subprogram's own moves do not call it again
+    _, name, st, col = call
+    if blk.calls or blk.jumps or "L" in blk.words or any(code in (2, 17, 30) for code, _ in blk.ms):
+        raise m.error(src.line, 1, f"a block with a call or a jump while the modal subprogram {name} (MCALL) is "
+                                   "active: the simulator does not order the two; put them in separate blocks")
+    if isinstance(st, Call):
+        m.call_proc(st, src, {}, stack)
+    else:
+        m.call_sub(m.find_sub(name, src.line, col), src, {}, stack, col)
+    m.mcall_frame = stack[-1]
 
 
-def run_modal(m, src: Src) -> None:
+def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
     from .sinumerik_cycles import run_cycle
 
-    name, args, col = m.mcall
+    if name is None:
+        _, name, args, col = m.mcall
     run_cycle(m, name, args, src, col)
 
 

@@ -373,3 +373,14 @@ def test_every_cycle_reaches_dp_and_ends_at_rtp(name, rfp, sdis, depth, up, rela
     assert min(m.end[2] for m in cyc) == pytest.approx(dp, abs=1e-9)
     assert all(m.end[2] >= dp - 1e-9 and m.end[:2] == (5, 5) for m in cyc)
     assert cyc[-1].end[:2] == (5, 5) and cyc[-1].end[2] == pytest.approx(rtp, abs=1e-9)
+
+
+def test_mcall_of_subprograms():
+    # MCALL SPOT (no parameters), MCALL BORE(3) (a PROC with a parameter), MCALL L77: each runs after
+    # every positioning block, the subprogram's own moves do not call it again, MCALL alone ends it
+    body = ("G0 X10 Y10 Z5\nMCALL SPOT\nX20\nX30 Y30\nMCALL BORE(3)\nX40\nMCALL L77\nX50\nMCALL\nX60\nM30\n"
+            "PROC SPOT\nG1 Z-1\nG0 Z5\nRET\nPROC BORE(REAL DEPTH)\nG1 Z=-DEPTH\nG0 Z5\nRET\nPROC L77\nG1 Z-4\nG0 Z5\nRET")
+    ms, _ = moves(body)
+    assert holes_at(ms) == [(20, 10), (30, 30), (40, 30), (50, 30)]
+    assert [m.end[2] for m in ms if type(m) is canon.Feed] == [-1, -1, -3, -4]
+    assert ms[-1].end == (60, 30, 5)
