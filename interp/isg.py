@@ -66,11 +66,17 @@ G_HARMLESS = {
     293: "path-related feed interpolation", 230: "axis G00 acceleration weighting",
     231: "G00 acceleration weighting", 233: "G00 ramp time weighting", 333: "axis feedhold acceleration weighting",
     334: "feedhold acceleration weighting", 900: "acceleration on block transitions", 901: "acceleration on block transitions",
+    5: "tangential selection of tool radius compensation (acts with G41/G42)",
+    138: "tool radius compensation approach method", 139: "tool radius compensation approach method",
+    237: "tool radius compensation approach method", 238: "tool radius compensation approach method",
+    239: "tool radius compensation approach method", 359: "exact stop mode", 360: "exact stop mode",
+    260: "polynomial contouring mode", 261: "polynomial contouring mode", 93: "feed as machining time",
 }
 G_AXIS_PARAMS = {4, 98, 99, 130, 132, 230, 333}
 # G codes that change the tool path in a way the simulator does not model: exit 2 naming them
 G_NOT_MODELLED = {
-    5: "tangential selection of tool radius compensation", 21: "mirroring on the Y axis",
+    101: "measuring offsets into the zero offsets", 102: "measuring offsets out of the zero offsets",
+    21: "mirroring on the Y axis",
     22: "mirroring on the X axis", 23: "mirroring on X and Y", 351: "mirroring", 68: "contour rotation",
     74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
     303: "circle in space", 150: "spline", 151: "spline",
