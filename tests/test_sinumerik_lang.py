@@ -131,7 +131,7 @@ def test_keywords_are_never_file_names(tmp_path):
     """STOPRE, TRANS and cycle names beside the program as files are not called."""
     for kw in ("STOPRE", "TRANS", "MSG"):
         (tmp_path / f"{kw.lower()}.mpf").write_text("G0 X99 Y99 Z99\nM17\n")
-    p = run("G0 X1 Y1 Z1\nSTOPRE\nMSG(\"hi\")\nG0 X2\nM30\n", name=str(tmp_path / "m.mpf"))
+    p = run("G0 X1 Y1 Z1\nSTOPRE\nTRANS\nMSG(\"hi\")\nG0 X2\nM30\n", name=str(tmp_path / "m.mpf"))
     assert ends(p) == [(1, 1, 1), (2, 1, 1)]
 
 
