@@ -474,7 +474,7 @@ class Isg(Interpreter):
                 self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
                                "accepted, not simulated")
                 if code in G_AXIS_PARAMS:
-                    for a in "XYZABCUVWF":
+                    for a in "XYZABCUVWF" + ("SK" if code == 4 else ""):
                         st.words.pop(a, None)
                 continue
             if code == 80 and "G80" not in self.implicit_files and g.col not in st.block.args:

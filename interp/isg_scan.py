@@ -191,6 +191,8 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         block.items.append(("w", w))
         if letter in "GM":
             code_extras(cur, block, col)
+        if letter == "G" and value == 4:
+            dwell_time(cur)
         return
     if c == "=":
         cur.i += 1
@@ -206,6 +208,16 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         raise cur.error(f"malformed number after {letter}")
     raw = text[col:cur.i].strip()
     block.items.append(("x", letter, f, raw, col))
+
+
+def dwell_time(cur: Cursor) -> None:
+    """``G04 3.0``, ``G04 P1``, ``G04 V.L.TIME``: a dwell time written without an address is read
+    and dropped (it does not move the tool); ``G04 X4.5`` and ``G04 S10`` are words G04 consumes."""
+    cur.skip()
+    c = cur.peek()
+    if c and (c.isdigit() or c in ".[" or (c in "Pp" and cur.peek(1).isdigit()) or
+              (c in "Vv" and cur.peek(1) == ".")):
+        primary(cur)
 
 
 def code_extras(cur: Cursor, block: IsgBlock, col: int) -> None:

@@ -226,3 +226,10 @@ def test_g80_alone_is_cycle_off_and_g81_is_refused():
     assert ends(prog) == [(1.0, 0.0, 50.0)] and any("G80" in m for _, m in prog.warnings)
     e = fails("%P\nG81 Z-5\nM30\n")
     assert (e.line, e.col) == (2, 1) and "modal cycle" in e.message
+
+
+def test_dwell_forms_do_not_move_or_change_the_spindle():
+    # the manual's G04 forms: first main axis, a bare time, a parameter, revolutions of the spindle
+    prog = run("%P\nM3 S200\nG04 X4.5\nG04 3.0\nP1 = 2\nG04 P1\nG04 S10\n#TIME 2\nG01 X1 F100\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    assert [r.speed for r in prog.records if isinstance(r, canon.Spindle)] == [200.0]
