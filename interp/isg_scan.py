@@ -128,6 +128,10 @@ def scan(prog: str, lineno: int, text: str):
         if c == "$":
             return control(cur, block)
         if c == "#":
+            m = re.compile(r"#\s*(IF|ELSE|ENDIF)\b", re.I).match(text, cur.i)
+            if m:  # conditional interpretation: read like $IF / $ELSE / $ENDIF
+                cur.text = text[:cur.i] + "$" + text[m.start(1):]
+                return control(cur, block)
             command(cur, block)
             break
         if c == "[" and not block.items and not block.target:

@@ -233,3 +233,9 @@ def test_dwell_forms_do_not_move_or_change_the_spindle():
     prog = run("%P\nM3 S200\nG04 X4.5\nG04 3.0\nP1 = 2\nG04 P1\nG04 S10\n#TIME 2\nG01 X1 F100\nM30\n")
     assert ends(prog) == [(1.0, 0.0, 50.0)]
     assert [r.speed for r in prog.records if isinstance(r, canon.Spindle)] == [200.0]
+
+
+def test_conditional_interpretation():
+    prog = run("%P\n#IF V.E.START_VALUE == TRUE\nG01 X1 F100\n#ELSE\nG01 X2 F40\n#ENDIF\nM30\n",
+               variables={"V.E.START_VALUE": 0.0})
+    assert ends(prog) == [(2.0, 0.0, 50.0)]
