@@ -472,11 +472,14 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
 
 
 def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
+    """Run the modal cycle where the tool stands, in the workpiece coordinates of the active frames
+    and offsets (interp/sinumerik_machine.in_wcs maps its moves into the machine)."""
+    from . import sinumerik_machine as machine
     from .sinumerik_cycles import run_cycle
 
     if name is None:
         _, name, args, col = m.mcall
-    run_cycle(m, name, args, src, col)
+    machine.in_wcs(m, lambda: run_cycle(m, name, args, src, col), name, src.line, col)
 
 
 RUNNERS = {"CYCLE81": cycle81, "CYCLE82": cycle82, "CYCLE83": cycle83, "CYCLE84": cycle84, "CYCLE840": cycle840,

@@ -384,3 +384,19 @@ def test_mcall_of_subprograms():
     assert holes_at(ms) == [(20, 10), (30, 30), (40, 30), (50, 30)]
     assert [m.end[2] for m in ms if type(m) is canon.Feed] == [-1, -1, -3, -4]
     assert ms[-1].end == (60, 30, 5)
+
+
+def test_modal_cycle_runs_in_the_workpiece_coordinates(monkeypatch):
+    # G54 = (100, 0, -10) and TRANS X10 Y5 Z-2: WCS -> machine adds (110, 5, -12). The modal CYCLE81
+    # after X20 (machine X130, Y15) goes to RFP + SDIS = 2 -> -10, drills to DP -5 -> -17, back to
+    # RTP 10 -> -2; HOLES1 puts holes at WCS (10, 0) and (20, 0), from the nearer end (20, 0)
+    from cutsim.interp import sinumerik_machine
+    monkeypatch.setattr(sinumerik_machine, "MODAL_CYCLES_IN_WCS", True)  # the machine side's guard
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0), tool_radii={1: R},
+                       work_offsets={"G54": (100.0, 0.0, -10.0)})
+    text = (HEAD + "G54\nTRANS X10 Y5 Z-2\nG0 X10 Y10 Z20\nMCALL CYCLE81(10, 0, 2, -5)\nX20\n"
+            "HOLES1(0, 0, 0, 10, 10, 2)\nMCALL\nTRANS\nM30\n")
+    ms = [r for r in interpret("p.mpf", text, cfg).records if isinstance(r, canon.MOTIONS)]
+    feeds = [(m.start, m.end) for m in ms if type(m) is canon.Feed]
+    assert feeds == [((130, 15, -10), (130, 15, -17)), ((130, 5, -10), (130, 5, -17)), ((120, 5, -10), (120, 5, -17))]
+    assert ms[-1].end == (120, 5, -2)
