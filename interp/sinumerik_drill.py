@@ -376,8 +376,8 @@ def run_pattern(cy) -> None:
     if call is None:
         m.warn(cy.src, f"{cy.name} without a modal cycle (MCALL CYCLE8x(...) before it): the {len(pts)} positions "
                        "are only approached")
-    elif call[0] != "cycle":
-        raise cy.err(f"the modal call is the subprogram {call[1]}: the simulator calls only drilling cycles at the "
+    elif call[3] != "cycle":
+        raise cy.err(f"the modal call is the subprogram {call[0]}: the simulator calls only drilling cycles at the "
                      "positions of a pattern")
     for p in pts:
         cy.rapid(p, m.pos[2])
@@ -390,7 +390,8 @@ def modal_call(m, blk, line: int) -> list:
     """``MCALL NAME(args)`` / ``MCALL NAME`` / ``MCALL L<n>`` in a block: NAME becomes the modal
     call (a drilling cycle: its arguments evaluated and checked now; a subprogram: it must exist
     now, its arguments are evaluated at each call), ``MCALL`` alone ends it. Returns the block's
-    other calls. (Hook in Sinumerik.calls.)"""
+    other calls. (Hook in Sinumerik.calls.) ``m.mcall`` is (name, arguments or the call, column,
+    "cycle" | "sub") or None."""
     from .sinumerik_cycles import CYCLES
     from .sinumerik_lang import Call, SubCall
 
@@ -405,18 +406,18 @@ def modal_call(m, blk, line: int) -> list:
                                         "CYCLE840) and subprograms as modal calls")
         args = [(None if a.value is None else m.ev(a.value, line, a.col), a.col) for a in st.args]
         dry_run(m, st.name, args, Src(m.unit_program, line, 1), st.col)  # parameter errors at the MCALL
-        m.mcall = ("cycle", st.name, args, st.col)
+        m.mcall = (st.name, args, st.col, "cycle")
     elif rest and isinstance(rest[0], (Call, SubCall)):
         st = rest.pop(0)
         m.find_sub(st.name, line, st.col)  # a missing subprogram is an error at the MCALL
-        m.mcall = ("sub", st.name, st, st.col)
+        m.mcall = (st.name, st, st.col, "sub")
     elif "L" in blk.words:
         lw = blk.words.pop("L")
         if lw.value != int(lw.value):
             raise m.error(line, lw.col, f"L{lw.value:g}: a subprogram number is a whole number")
         name = f"L{int(lw.value)}"
         m.find_sub(name, line, lw.col)
-        m.mcall = ("sub", name, SubCall(lw.col, name), lw.col)
+        m.mcall = (name, SubCall(lw.col, name), lw.col, "sub")
     else:
         m.mcall = None
     return rest
@@ -453,14 +454,14 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
         return
     if any(isinstance(c, SubCall) and c.name == "MCALL" for c in blk.calls):
         return
-    if call[0] == "cycle":
-        _, name, args, col = call
+    if call[3] == "cycle":
+        name, args, col, _ = call
         run_modal(m, src, name, args, col)
         return
     running = getattr(m, "mcall_frame", None)
     if running is not None and any(f is running for f in stack):
         return  # the modal subprogram's own moves do not call it again
-    _, name, st, col = call
+    name, st, col, _ = call
     if blk.calls or blk.jumps or "L" in blk.words or any(code in (2, 17, 30) for code, _ in blk.ms):
         raise m.error(src.line, 1, f"a block with a call or a jump while the modal subprogram {name} (MCALL) is "
                                    "active: the simulator does not order the two; put them in separate blocks")
@@ -478,7 +479,7 @@ def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
     from .sinumerik_cycles import run_cycle
 
     if name is None:
-        _, name, args, col = m.mcall
+        name, args, col, _ = m.mcall
     machine.in_wcs(m, lambda: run_cycle(m, name, args, src, col), name, src.line, col)
 
 
