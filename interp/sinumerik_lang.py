@@ -58,6 +58,7 @@ FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT":
          "BOUND": 3, "STRLEN": 1, "NUMBER": 1, "ISNUMBER": 1, "TOUPPER": 1, "TOLOWER": 1}
 STRING_FUNCS = {"STRLEN", "NUMBER", "ISNUMBER", "TOUPPER", "TOLOWER"}  # take a string argument
 LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
+EXT_RE = re.compile(r"([MSL])([0-9]+)\s*([=(])", re.I)  # M1=3, S1=1000, L140(2)
 SYS_RE = re.compile(r"\$[A-Za-z_][A-Za-z0-9_]*")  # a system variable ($P_TOOLNO, $AA_IW, $MA_...)
 EXP_RE = re.compile(r"EX[+\-]?[0-9]+", re.I)  # 10EX-5: the manuals' exponent
 NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -416,6 +417,8 @@ class _Scanner:
 
     def digits(self, col: int, raw: str) -> None:
         """A written number has at most MAX_DIGITS digits (a 309-digit number is no number)."""
+        if len(raw) <= MAX_DIGITS:
+            return
         n = sum(ch in "0123456789" for ch in raw)
         if n > MAX_DIGITS:
             shown = raw if len(raw) <= 24 else f"{raw[:12]}...{raw[-6:]}"
@@ -618,7 +621,7 @@ class _Scanner:
             self.i = mr.end()
             ln.stmts.append(Assign(col, "R" + str(int(mr.group(1))), self.expr()))
             return True
-        ext = re.match(r"([MSL])([0-9]+)\s*([=(])", text[self.i:], re.I)
+        ext = EXT_RE.match(text, self.i) if up in "MSL" else None
         if ext:
             return self.extended(col, ext, ln)
         if up == "H" and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.=":
@@ -702,7 +705,7 @@ class _Scanner:
     def extended(self, col: int, m, ln: Line) -> bool:
         """M1=3, S1=1000 (an address with its extension) and L140(2) (an L call with parameters)."""
         letter, num, sep = m.group(1).upper(), m.group(2), m.group(3)
-        self.i += m.end()
+        self.i = m.end()
         if letter == "L":
             if sep != "(":
                 raise self.err(col, f"L{num}= is no statement: L<n> calls a subprogram")
