@@ -309,6 +309,9 @@ class Sinumerik(ModalMachine):
             v = self.ev(i, line, col)
             parts.append(v if isinstance(v, str) else f"{v:.10g}")
         key = name + (f"[{','.join(parts)}]" if parts else "")
+        known = self.known_system(key) if key not in self.sysvars and key not in self.cfg_vars else None
+        if known is not None and not write:
+            return Slot("STRING" if isinstance(known, str) else "REAL", known)
         if key not in self.sysvars:
             if key not in self.cfg_vars and not write:
                 raise self.error(line, col, f"{key} is not known to the simulator (give it a value in the setup: "
@@ -317,6 +320,22 @@ class Sinumerik(ModalMachine):
             self.sysvars[key] = Slot("STRING" if isinstance(v, str) else "REAL",
                                      v if isinstance(v, str) else float(v))
         return self.sysvars[key]
+
+    def known_system(self, key: str):
+        """The system variables the simulation itself knows (the setup's [variables] win): the run
+        is the real one ($P_SEARCH, $P_SIM, $P_DRYRUN, $P_ISTEST 0), the axis names of the plane
+        ($P_AXN1..3), the active tool, edge and feed ($P_TOOLNO, $P_TOOL, $P_F). None otherwise."""
+        if key in ("$P_SEARCH", "$P_SIM", "$P_DRYRUN", "$P_ISTEST"):
+            return 0.0
+        if key in ("$P_AXN1", "$P_AXN2", "$P_AXN3"):
+            return "XYZ"[PLANE_AXES[self.plane][int(key[-1]) - 1]]
+        if key == "$P_TOOLNO":
+            return float(self.tool_no or 0)
+        if key == "$P_TOOL":
+            return float(self.d_no)
+        if key == "$P_F" and self.feed is not None:
+            return float(self.feed)
+        return None
 
     def whole_value(self, v: float, line: int, col: int) -> int:
         if v != int(v):

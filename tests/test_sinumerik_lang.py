@@ -365,3 +365,15 @@ def test_subprograms_in_the_archive_folder_spf_dir(tmp_path):
     (tmp_path / "SPF.DIR" / "_N_FACE_SPF.SPF").write_text("%_N_FACE_SPF\nPROC FACE(REAL ZZ)\nG1 Z=ZZ F100\nRET\n")
     p = run("FACE(-2)\nM30\n", name=str(tmp_path / "MPF.DIR" / "_N_MAIN_MPF.MPF"))
     assert ends(p) == [(0, 0, -2)]
+
+
+def test_system_variables_the_simulation_knows():
+    """$P_AXN3 in G18 is Y (the third axis of ZX: Z, X, then Y); $P_TOOLNO is the tool after M6,
+    $P_F the modal feed; $P_SEARCH and $P_SIM are 0 (the real run, not a block search)."""
+    text = ("T2 D1 M6\nG18\nDEF AXIS AA\nAA=$P_AXN3\nAX[AA]=5 F100\nG17 G1 X=$P_TOOLNO Z=$P_F/100\n"
+            "IF $P_SEARCH OR $P_SIM GOTOF EE\nG1 Z7\nEE: M30\n")
+    cfg_radii = {1: 5.0, 2: 3.0}
+    p = interpret("t.mpf", text, InterpConfig(dialect="sinumerik", machine_kind="mill", tool_radii=cfg_radii))
+    assert ends(p) == [(0, 5, 0), (2, 5, 1), (2, 5, 7)]
+    p = run("R1=$P_SIM\nG1 X=R1 F100\nM30\n", variables={"$P_SIM": 1})  # the setup wins
+    assert ends(p) == [(1, 0, 50)]
