@@ -171,6 +171,7 @@ def cycle83(cy) -> None:
     anticipation distance above the depth reached, G1 on. The first stroke runs at the feed in
     force times FRF, the others at the feed in force. G0 to RTP at the end."""
     h = Hole(cy)
+    tool_axis(cy)
     cy.unsigned("DAM", "FRF", "_MDEP", "_VRT")
     vari = _dir(cy, "VARI", (0, 1))
     frf = cy["FRF"]
@@ -201,9 +202,18 @@ def cycle83(cy) -> None:
     _retract(cy, h)
 
 
+def tool_axis(cy) -> None:
+    """_AXN: the tool axis; the simulator drills along Z (0 or 3 in G17)."""
+    v = cy["_AXN"]
+    if v not in (0, 3):
+        raise cy.err(f"_AXN {v:g}: drilling along the first or second axis of the plane is not simulated (the "
+                     "tool axis is Z in G17: _AXN 0 or 3)")
+
+
 def pitch(cy) -> float | None:
-    """The thread pitch of a tapping cycle: MPIT (thread size M3..M48) or PIT (mm), the sign the
-    hand (not simulated); both given must agree. None when neither is given."""
+    """The thread pitch of a tapping cycle (mm): MPIT (thread size M3..M48) or PIT in the unit of
+    _PTAB (0, 1 mm; 2 threads per inch; 3 inch per revolution), the sign the hand (not simulated);
+    both given must agree. None when neither is given."""
     mp, pt = cy["MPIT"], cy["PIT"]
     p_m = None
     if mp != 0:
@@ -211,14 +221,20 @@ def pitch(cy) -> float | None:
             sizes = ", ".join(str(k) for k in METRIC_PITCH)
             raise cy.err(f"MPIT must be a metric thread size ({sizes}), got {mp:g}")
         p_m = METRIC_PITCH[int(abs(mp))]
-    if pt != 0 and p_m is not None and abs(abs(pt) - p_m) > 1e-9:
-        raise cy.err(f"MPIT {mp:g} (pitch {p_m:g}) and PIT {pt:g} contradict each other: give one of them")
-    return abs(pt) if pt != 0 else p_m
+    tab = _dir(cy, "_PTAB", (0, 1, 2, 3))
+    p_t = None
+    if pt != 0:
+        p_t = 25.4 / abs(pt) if tab == 2 else 25.4 * abs(pt) if tab == 3 else abs(pt)
+    if p_t is not None and p_m is not None and abs(p_t - p_m) > 1e-9:
+        raise cy.err(f"MPIT {mp:g} (pitch {p_m:g}) and PIT {pt:g} (pitch {p_t:g}) contradict each other: give one of them")
+    return p_t if p_t is not None else p_m
 
 
-def _tap(cy, h: Hole, lead: float | None) -> None:
+def _tap(cy, h: Hole, lead: float | None, steps: list[float] | None = None, back: float = 0.0,
+         out: bool = False) -> None:
     """In along the axis at the pitch per revolution (or the feed in force without a pitch), out
-    again to RFP + SDIS the same way, G0 to RTP."""
+    again to RFP + SDIS the same way, G0 to RTP. With ``steps`` (depths, z) the tap stops at each:
+    back by ``back`` (chip breaking) or out to RFP + SDIS (``out``: chip removal) and in again."""
     _approach(cy, h)
     m = cy.m
     per_rev, feed = m.per_rev, m.feed
@@ -226,20 +242,39 @@ def _tap(cy, h: Hole, lead: float | None) -> None:
         m.per_rev, m.feed = True, lead
     else:
         m.feed = _feed(cy)
-    m.linear(cy.src, (h.p[0], h.p[1], h.dp))
-    m.linear(cy.src, (h.p[0], h.p[1], h.safe))
+    x, y = h.p
+    for k, z in enumerate(steps or [h.dp]):
+        if k:
+            m.linear(cy.src, (x, y, h.safe if out else min(m.pos[2] + back, h.safe)))
+        m.linear(cy.src, (x, y, z))
+    m.linear(cy.src, (x, y, h.safe))
     m.per_rev, m.feed = per_rev, feed
     _retract(cy, h)
 
 
 def cycle84(cy) -> None:
-    """Rigid tapping: G331 in at the pitch, G332 out, G0 to RTP."""
+    """Rigid tapping: G331 in at the pitch, G332 out, G0 to RTP. _VARI 1 (chip breaking) / 2 (chip
+    removal): in steps of _DAM, back by _VRT (0: 1 mm) / out to RFP + SDIS after each."""
     h = Hole(cy)
     _dir(cy, "SDAC", (0, 3, 4, 5))
+    tool_axis(cy)
     lead = pitch(cy)
     if lead is None:
         raise cy.err("no thread pitch: give MPIT (thread size) or PIT (pitch in mm)")
-    _tap(cy, h, lead)
+    vari = _dir(cy, "_VARI", (0, 1, 2))
+    cy.unsigned("_DAM", "_VRT")
+    if vari == 0:
+        _tap(cy, h, lead)
+        return
+    dam = cy["_DAM"]
+    if dam <= 0:
+        raise cy.err(f"_VARI {vari} (tapping in steps) needs the step _DAM")
+    total = h.rfp - h.dp
+    budget(cy, 2 * math.ceil(total / dam) + 4, f"steps of _DAM {dam:g} over {total:g} mm")
+    n = max(1, math.ceil(total / dam - 1e-9))
+    steps = [max(h.rfp - dam * k, h.dp) for k in range(1, n + 1)]
+    steps[-1] = h.dp
+    _tap(cy, h, lead, steps, cy["_VRT"] if cy["_VRT"] > 0 else CHIP_BREAK_RETRACT, vari == 2)
 
 
 def cycle840(cy) -> None:
@@ -248,6 +283,7 @@ def cycle840(cy) -> None:
     h = Hole(cy)
     _dir(cy, "SDR", (0, 3, 4))
     _dir(cy, "SDAC", (0, 3, 4, 5))
+    tool_axis(cy)
     enc = cy["ENC"]
     lead = pitch(cy)
     if enc in (1, 11) or enc == 0 and lead is None:

@@ -400,3 +400,18 @@ def test_modal_cycle_runs_in_the_workpiece_coordinates(monkeypatch):
     feeds = [(m.start, m.end) for m in ms if type(m) is canon.Feed]
     assert feeds == [((130, 15, -10), (130, 15, -17)), ((130, 5, -10), (130, 5, -17)), ((120, 5, -10), (120, 5, -17))]
     assert ms[-1].end == (120, 5, -2)
+
+
+def test_cycle84_in_steps_and_pitch_units():
+    # _VARI 1: steps of _DAM 4 to DP -10 (-4, -8, -10), back 0.5 (_VRT) after each; _VARI 2: out to
+    # RFP + SDIS = 2 after each; PIT 20 threads per inch (_PTAB 2) is 25.4 / 20 = 1.27 mm
+    head = "G0 X50 Y50 Z20\nCYCLE84(10, 0, 2, -10, , , 3, , 1.5, 0, 300, 300, , , , "
+    ms, _ = moves(head + "1, 4, 0.5)")
+    assert zs(ms) == [-4, -3.5, -8, -7.5, -10, 2]
+    ms, _ = moves(head + "2, 4)")
+    assert zs(ms) == [-4, 2, -8, 2, -10, 2]
+    ms, _ = moves("G0 X50 Y50 Z20\nCYCLE84(10, 0, 2, -10, , , 3, , 20, 0, 300, 300, , 2)")
+    assert [m.feed for m in ms if type(m) is canon.Feed] == [1.27, 1.27]
+    with pytest.raises(CutsimError) as e:
+        moves("G0 X50 Y50 Z20\nCYCLE84(10, 0, 2, -10, , , 3, , 1.5, 0, 300, 300, 1)")
+    assert "_AXN 1" in e.value.message
