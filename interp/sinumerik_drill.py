@@ -95,9 +95,19 @@ def _dir(cy, name: str, allowed: tuple[int, ...]) -> int:
 
 # ---------------------------------------------------------------------------------------------
 # drilling
+def tip_reference(cy) -> None:
+    """_GMODE of CYCLE81/82/83 (the later parameter lists) chooses what DP measures: 0 the tool's
+    tip; another value (the shank, a centring diameter) needs the tool's point, which the
+    interpreter does not know: an error rather than a hole of another depth."""
+    if cy["_GMODE"] != 0:
+        raise cy.err(f"_GMODE {cy['_GMODE']:g}: a depth measured other than at the tool's tip (shank, centring "
+                     "diameter) is not simulated: program DP / DPR as the tip's depth with _GMODE 0")
+
+
 def cycle81(cy) -> None:
     """Drilling, centring: G0 to RFP + SDIS, G1 to the depth with the feed in force, G0 to RTP."""
     h = Hole(cy)
+    tip_reference(cy)
     _approach(cy, h)
     cy.feed_to(h.p, h.dp, _feed(cy))
     _retract(cy, h)
@@ -172,6 +182,7 @@ def cycle83(cy) -> None:
     force times FRF, the others at the feed in force. G0 to RTP at the end."""
     h = Hole(cy)
     tool_axis(cy)
+    tip_reference(cy)
     cy.unsigned("DAM", "FRF", "_MDEP", "_VRT")
     vari = _dir(cy, "VARI", (0, 1))
     frf = cy["FRF"]

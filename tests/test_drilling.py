@@ -303,6 +303,8 @@ def test_pattern_without_mcall_only_positions_and_warns():
     ("HOLES1(0, 0, 0, 0, 10, 0)", "NUM must be a whole number from 1 to 1000"),
     ("CYCLE801(0, 0, 0, 1, 1, 100, 100)", "a grid may have at most 1000 holes"),
     ("CYCLE81(10, 0, 2, -20, , , , , , 1)", "at most 9 parameters"),
+    ("CYCLE82(10, 0, 2, -20, , 0, 1)", "_GMODE 1: a depth measured other than at the tool's tip"),
+    ("CYCLE83(10, 0, 2, -20, , , 5, , , , , 1, 1)", "_AXN 1"),
 ])
 def test_bad_parameters_are_errors_at_the_call(call, text):
     with pytest.raises(CutsimError) as e:
