@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -417,3 +418,43 @@ def test_cycle84_in_steps_and_pitch_units():
     with pytest.raises(CutsimError) as e:
         moves("G0 X50 Y50 Z20\nCYCLE84(10, 0, 2, -10, , , 3, , 1.5, 0, 300, 300, 1)")
     assert "_AXN 1" in e.value.message
+
+
+# ---------------------------------------------------------------------------------------------
+# the drill's body (stock/tools.py)
+@pytest.mark.parametrize("angle", [118.0, 90.0, 140.0, 180.0])
+def test_drill_body_is_cylinder_on_cone(angle):
+    from cutsim.base.specs import ToolSpec
+    from cutsim.stock.tools import checked_mill, mill_body, point_height
+
+    t = ToolSpec(number=1, kind="drill", diameter=8.5, length=40.0, point_angle=angle)
+    assert point_height(t) == pytest.approx(cone_height(angle))
+    tol = 0.01
+    pts = mill_body(t, tol)[0]
+    assert pts[:, 2].min() == 0.0 and pts[:, 2].max() == 40.0
+    if angle < 180:  # the tip is the one lowest vertex, on the axis
+        low = pts[pts[:, 2] == 0.0]
+        assert low.tolist() == [[0.0, 0.0, 0.0]]
+    # every vertex on the true surface within the tolerance: radius r above the point, z tan(a/2) on it
+    rad = np.hypot(pts[:, 0], pts[:, 1])
+    hc = cone_height(angle)
+    want = np.where(pts[:, 2] >= hc - 1e-12, R, pts[:, 2] * (R / hc if hc else 0.0))
+    assert np.all(np.abs(rad - want) <= tol + 1e-12)
+    v = math.pi * R * R * (40.0 - hc) + math.pi * R * R * hc / 3
+    area = 2 * math.pi * R * (40.0 - hc) + math.pi * R * math.hypot(R, hc)
+    assert checked_mill(t, tol) == pytest.approx(v, abs=tol * area)
+    # cut off inside the point: the section there has the cone's radius
+    top = 0.5 * hc if hc else 1.0
+    cut = mill_body(t, tol, top)[0]
+    assert cut[:, 2].max() == pytest.approx(top)
+    assert np.hypot(cut[:, 0], cut[:, 1]).max() == pytest.approx(top * R / hc if hc else R, abs=tol)
+
+
+@pytest.mark.parametrize("kw, key", [({"point_angle": 0.5}, "point_angle"), ({"point_angle": 181.0}, "point_angle"),
+                                     ({"length": 2.0}, "length"), ({"diameter": 0.0}, "diameter")])
+def test_drill_ranges(kw, key):
+    from cutsim.base.specs import ToolSpec
+    from cutsim.stock.tools import tool_problem
+
+    t = ToolSpec(**{"number": 1, "kind": "drill", "diameter": 8.5, "length": 40.0, "point_angle": 118.0, **kw})
+    assert tool_problem(t)[0] == key
