@@ -184,6 +184,9 @@ def param_number(name: str, lineno: int, col: int, digits: str) -> int:
 # Every line that is not blank is a block (also a comment alone: an empty block).
 BLOCK_LINES = block_lines(r"[^\s]")
 PLAIN_AXES = {"X": 0, "Y": 1, "Z": 2}
+# A plain move in the usual order, N G00/G01 X Y Z F, each word at most once (plain_line)
+MOVE_LINE = re.compile(rf"[ \t]*(?:[Nn]([0-9]{{1,8}})[ \t]*)?(?:[Gg]0?([01])[ \t]*)?(?:[Xx]({_NUM})[ \t]*)?"
+                       rf"(?:[Yy]({_NUM})[ \t]*)?(?:[Zz]({_NUM})[ \t]*)?(?:[Ff]({_NUM})[ \t]*)?")
 # The words of a plain move as written -> (address, axis index or -1 for F, -2 for G, largest magnitude)
 _MOVE_WORDS = {c: (k, {"X": 0, "Y": 1, "Z": 2, "F": -1, "G": -2}[k], LIMITS[k][0]) for k in "XYZFG" for c in (k, k.lower())}
 # Where a program may jump (a G73 word in any spelling: g73, G073, G+73.0, also inside a comment):
@@ -392,6 +395,36 @@ class Cnc8x6(Interpreter):
         """``stream``'s shortcut: a plain line (PLAIN_LINE) that plain_block would run without an
         error, run straight from its text without building its Block: counted and executed with
         the effect of scan + count_block + block. False (nothing done) for any other line."""
+        pos = self.pos
+        end = pos[:]
+        absolute = self.absolute
+        m = MOVE_LINE.fullmatch(text)
+        if m is not None:  # the usual order: one regular expression reads all of it
+            number, g, x, y, z, f = m.groups()
+            if x is not None:
+                v = float(x)
+                if not -COORD_LIMIT <= v <= COORD_LIMIT:
+                    return False
+                end[0] = v if absolute else pos[0] + v
+            if y is not None:
+                v = float(y)
+                if not -COORD_LIMIT <= v <= COORD_LIMIT:
+                    return False
+                end[1] = v if absolute else pos[1] + v
+            if z is not None:
+                v = float(z)
+                if not -COORD_LIMIT <= v <= COORD_LIMIT:
+                    return False
+                end[2] = v if absolute else pos[2] + v
+            moves = x is not None or y is not None or z is not None
+            if f is not None:
+                f = float(f)
+                if not 0.0 < f <= COORD_LIMIT:  # F <= 0 is an error: the long way says so
+                    return False
+            elif not moves and g is None:
+                return False  # N alone or a blank line
+            motion = None if g is None else int(g)
+            return self.plain_apply(lineno, number, motion, f, end, moves)
         m = PLAIN_LINE.fullmatch(text)
         if m is None:
             return False
@@ -399,9 +432,6 @@ class Cnc8x6(Interpreter):
         if not rest or (number is not None and len(number) > 8):
             return False
         motion = feed = None
-        pos = self.pos
-        end = pos[:]
-        absolute = self.absolute
         seen = ""
         for letter, raw, _ in PLAIN_WORD.findall(rest):
             row = _MOVE_WORDS.get(letter)
@@ -417,13 +447,24 @@ class Cnc8x6(Interpreter):
             if index >= 0:
                 end[index] = value if absolute else pos[index] + value
             elif index == -1:
+                if value <= 0:
+                    return False
                 feed = value
             elif motion is None and (value == 0.0 or value == 1.0):
                 motion = int(value)
             else:
                 return False
+        moves = len(seen) - (motion is not None) - (feed is not None) > 0
+        return self.plain_apply(lineno, number, motion, feed, end, moves)
+
+    def plain_apply(self, lineno: int, number: str | None, motion: int | None, feed: float | None, end: list,
+                    moves: bool) -> bool:
+        """plain_line's effect, when it can have it: G00/G01 ``motion`` and F ``feed`` (None: not
+        programmed; > 0) become modal and, when the block ``moves`` (has axis words), the tool goes
+        to ``end``. False (nothing done) when the long way must run the block (G02/G03/G33 active,
+        an end beyond the limits)."""
         mode = self.motion if motion is None else motion
-        if mode > 1 or (feed is not None and feed <= 0):
+        if mode > 1:
             return False
         for v in end:
             if not -COORD_LIMIT <= v <= COORD_LIMIT:  # the long way names the word
@@ -432,9 +473,9 @@ class Cnc8x6(Interpreter):
         if self.executed > self.cfg.max_blocks:
             raise self.block_limit(Block(lineno, 1))
         self.motion = mode
-        if feed is not None and feed != self.feed:
+        if feed is not None and feed != self.feed:  # an F repeating the modal feed keeps its float (memory)
             self.feed = feed
-        if len(seen) - (motion is not None) - (feed is not None):  # axis words: the tool moves
+        if moves:
             src = Src(self.name, lineno, 1, "" if number is None else "N" + number)
             if mode:
                 self.linear(src, (end[0], end[1], end[2]))
