@@ -111,10 +111,8 @@ def _tool_geometry(t) -> str:
 def _versions() -> list[tuple[str, str]]:
     from importlib import metadata
 
-    import cutsim
-
-    out = [("cutsim", cutsim.__version__)]
-    for dist in ("manifold3d",):
+    out = []
+    for dist in ("cutsim", "manifold3d"):
         try:
             out.append((dist, metadata.version(dist)))
         except metadata.PackageNotFoundError:  # pragma: no cover

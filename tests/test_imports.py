@@ -48,9 +48,6 @@ LAZY_THIRD_PARTY = {"pyvista", "vtkmodules", "matplotlib", "trimesh", "scipy", "
 
 # (importer, imported) -> why it is still there. Every entry names the issue that removes it.
 KNOWN: dict[tuple[str, str], str] = {
-    ("cutsim.reports.html", "cutsim"):
-        "issue 11: _versions() reads cutsim.__version__ (the API package, rank 5) inside a function; "
-        "importlib.metadata.version('cutsim') gives the same without the upward import",
     # The Sinumerik modules of issue 12 (interp/sinumerik*.py, in progress) import each other late:
     # sinumerik imports sinumerik_machine and sinumerik_cycles, sinumerik_cycles imports sinumerik_drill
     # (to register the drilling cycles), and these import back inside functions. Issue 11 item 4
