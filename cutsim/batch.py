@@ -430,8 +430,9 @@ def _subprogram_extensions() -> frozenset[str]:
 
 def _referenced_files(program: str, setup: str) -> list[str]:
     """Files a job reads besides its program and setup: the setup's mesh stock and design files,
-    and subprogram files beside the program that the program (or one of them) names."""
-    out = set()
+    and subprogram files beside the program or in the setup's [machine] subprogram_path that the
+    program (or one of them) names."""
+    out, search = set(), []
     try:
         with open(setup, "rb") as f:
             data = tomllib.loads(f.read().decode("utf-8-sig"))
@@ -442,12 +443,22 @@ def _referenced_files(program: str, setup: str) -> list[str]:
         for c in data.get("check", []) if isinstance(data.get("check"), list) else []:
             if isinstance(c, dict) and isinstance(c.get("path"), str):
                 out.add(os.path.normpath(os.path.join(d, c["path"])))
+        m = data.get("machine")
+        paths = m.get("subprogram_path") if isinstance(m, dict) else None
+        search = [os.path.normpath(os.path.join(d, p)) for p in paths if isinstance(p, str)] \
+            if isinstance(paths, list) else []
     except (OSError, ValueError, tomllib.TOMLDecodeError):
         pass
     try:
-        d, exts = os.path.dirname(os.path.abspath(program)), _subprogram_extensions()
-        subs = {os.path.splitext(f)[0].upper(): os.path.join(d, f) for f in sorted(os.listdir(d), reverse=True)
-                if os.path.splitext(f)[1].lower() in exts}
+        exts, subs = _subprogram_extensions(), {}
+        for d in [os.path.dirname(os.path.abspath(program))] + search:  # the program's folder wins
+            try:
+                names = sorted(os.listdir(d))  # first by name wins, as the interpreters pick
+            except OSError:
+                continue
+            for f in names:
+                if os.path.splitext(f)[1].lower() in exts:
+                    subs.setdefault(os.path.splitext(f)[0].upper(), os.path.join(d, f))
         todo, seen = [os.path.abspath(program)], set()
         while todo:
             p = todo.pop()

@@ -274,3 +274,20 @@ def test_batch_is_a_cutsim_command():
     """`cutsim batch` is reachable from the main command line (not only as batch_command)."""
     proc = subprocess.run([sys.executable, "-m", "cutsim", "batch", "--help"], capture_output=True, text=True)
     assert proc.returncode == 0 and "MANIFEST" in proc.stdout, proc.stderr
+
+
+def test_a_subprogram_on_the_setup_search_path_is_part_of_the_job_key(tmp_path):
+    """A job's key covers the subprogram files it calls from [machine] subprogram_path, so editing one
+    makes the stored result stale; a file of the same name beside the program is the one used."""
+    from cutsim.batch import _referenced_files
+
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "subs" / "HOLE.spf").write_text("PROC HOLE\nG1 Z-1 F100\nM17\n")
+    (tmp_path / "subs" / "OTHER.spf").write_text("PROC OTHER\nM17\n")
+    prog = tmp_path / "main.mpf"
+    prog.write_text("G0 X0 Y0 Z5\nHOLE\nM30\n")
+    setup = tmp_path / "s.toml"
+    setup.write_text('[machine]\nkind = "mill"\ndialect = "sinumerik"\nsubprogram_path = ["subs"]\n')
+    assert _referenced_files(str(prog), str(setup)) == [str(tmp_path / "subs" / "HOLE.spf")]
+    (tmp_path / "HOLE.spf").write_text("PROC HOLE\nM17\n")
+    assert _referenced_files(str(prog), str(setup)) == [str(tmp_path / "HOLE.spf")]
