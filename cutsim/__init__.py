@@ -77,7 +77,7 @@ class Result:
         """True when every check passed (and vacuously without checks)."""
         return all(c["passed"] for c in self.checks)
 
-    # measuring functions on the part (cutsim.stock.measure; mm and degrees, workpiece frame)
+    # measuring functions on the part (cutsim.reports.measure; mm and degrees, workpiece frame)
     def diameters_at(self, z: float, angles: int = 72):
         """Lathe: diameters at height z across angles // 2 directions (numpy array)."""
         from cutsim.reports.measure import diameters_at

@@ -278,7 +278,7 @@ def test_cli_progress_in_a_log(tmp_path):
 
 def test_nearest_on_triangles_is_exact():
     """The deviation map's pruned nearest-triangle search finds the same distances as trying every
-    triangle (small sizes: cutsim.stock.measure's brute force), for a mix of large and small
+    triangle (small sizes: cutsim.reports.measure's brute force), for a mix of large and small
     triangles and points on, near and far from them."""
     from cutsim.reports.measure import _point_triangle_distance
 
