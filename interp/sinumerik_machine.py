@@ -71,9 +71,9 @@ CALL_ACCEPTED = {"CYCLE832"}
 EPS = 1e-9
 SCALE_MIN, SCALE_MAX = 1e-6, 1e6  # what SCALE/ASCALE may make of an axis in all
 FRAME_SHIFT_MAX = 1e7  # mm: the programmable frame's total shift (positions are checked against COORD_LIMIT anyway)
-# True once interp/sinumerik_drill.run_modal runs the modal cycle through ``in_wcs``; until then a
-# modal cycle after a move under a frame is an error (its holes would land in the wrong place)
-MODAL_CYCLES_IN_WCS = False
+# interp/sinumerik_drill.run_modal runs the modal cycle through ``in_wcs``; set False, a modal cycle
+# after a move under a frame would be an error (its holes would land in the wrong place)
+MODAL_CYCLES_IN_WCS = True
 
 Mat = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
 IDENT: Mat = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))

@@ -289,18 +289,17 @@ def test_frame_composition(commands, expected):
     assert close(mv[-1].end, expected, 1e-9), mv[-1].end
 
 
-def test_hole_pattern_under_a_frame_and_the_modal_cycle_guard():
+def test_hole_pattern_and_modal_cycle_under_a_frame():
     """HOLES1 (a row of 3 holes 10 apart from X10 along X) with MCALL CYCLE81 under TRANS X100:
-    the holes are drilled at machine X 110, 120, 130. A modal cycle after a plain move under a frame
-    is refused until the drilling cycles run through in_wcs (MODAL_CYCLES_IN_WCS)."""
-    from cutsim.interp import sinumerik_machine
+    the holes are drilled at machine X 110, 120, 130. Under TRANS X100 Y50 and AROT Z90 the modal
+    cycle after G0 X10 Y0 drills at (10, 0) turned by 90 degrees, (0, 10), plus (100, 50): (100, 60)."""
     head = "G17 G90 T1 D1 M6 F300 S1000 M3\nTRANS X100\nG0 X0 Y0 Z50\nMCALL CYCLE81(10, 0, 2, -5)\n"
     mv = moves(head + "HOLES1(0, 0, 0, 10, 10, 3)\nMCALL\nM30\n")
     bottoms = [r.end for r in mv if isinstance(r, canon.Feed)]
     assert [b[0] for b in bottoms] == [110.0, 120.0, 130.0] and all(b[2] == -5.0 for b in bottoms)
-    if not sinumerik_machine.MODAL_CYCLES_IN_WCS:
-        e = err(head + "G0 X10 Y10\nMCALL\nM30\n")
-        assert e.line == 5 and "MCALL CYCLE81" in e.message
+    mv = moves("G17 G90 T1 D1 M6 F300 S1000 M3\nTRANS X100 Y50\nAROT Z90\nG0 X0 Y0 Z50\n"
+               "MCALL CYCLE81(10, 0, 2, -5)\nG0 X10 Y0\nMCALL\nM30\n")
+    assert [r.end for r in mv if isinstance(r, canon.Feed)] == [(100.0, 60.0, -5.0)]
 
 
 def test_frames_that_scale_or_shift_without_bound_are_errors():
