@@ -63,7 +63,10 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
 # what PROC ... SAVE puts back on return (the machine functions append theirs: units, frames, ...)
 SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "feed", "comp", "d_no"]
 # keywords that are never a subprogram file, even with a file of that name beside the program
-NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES)
+NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",
+           "CYCLE801", "CYCLE802", "CYCLE832", "CYCLE840", "CYCLE84", "CYCLE86", "CYCLE87", "CYCLE88", "CYCLE89",
+           "CYCLE90", "CYCLE61", "CYCLE76", "CYCLE77", "CYCLE79", "CYCLE899", "CYCLE95", "CYCLE97", "MSG", "SETAL",
+           "WORKPIECE"}
 # path words the simulator does not implement: an error naming them, not "unknown variable"
 UNSUPPORTED_NAMES = {"RND": "rounding the corner", "RNDM": "modal corner rounding", "CHF": "a chamfer",
                      "CHR": "a chamfer", "ANG": "a contour angle", "AR": "an arc's opening angle",
