@@ -66,163 +66,244 @@ def _overlap(lo1, hi1, lo2, hi2) -> bool:
     return bool(np.all(lo1 <= hi2) and np.all(lo2 <= hi1))
 
 
-def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
-           progress: Progress | None = None, max_triangles: int = DEFAULT_MAX_TRIANGLES) -> Removal:
-    """The part: ``stock`` minus what every path sweeps. Before any sweep is built the triangles
-    the sweeps need are estimated (``Work``); more than ``max_triangles`` held at once is a
-    CutsimError at the line of the move responsible (``[simulation] max_triangles`` raises it)."""
+@dataclass
+class _Frame:
+    """Where the stock is: its box, the radius a lathe profile is clipped at (the stock's largest
+    radius plus a margin), its outline of revolution (None for a box or a mesh) and the segment
+    count of its circles, so revolved cuts line up with the stock's faces."""
+    lo: np.ndarray
+    hi: np.ndarray
+    r_clip: float
+    margin: float
+    outline: np.ndarray | None
+    outline_cs: m3d.CrossSection | None
+    nseg: int
+
+    @property
+    def top(self) -> float:
+        return float(self.hi[2])
+
+    def meets(self, lo, hi) -> bool:
+        return _overlap(lo, hi, self.lo, self.hi)
+
+    def revolve(self, region: m3d.CrossSection) -> m3d.Manifold:
+        return m3d.Manifold.revolve(region, circular_segments=self.nseg)
+
+
+def _frame(stock: m3d.Manifold, spec: StockSpec, tol: float) -> _Frame:
     sb = stock.bounding_box()
     slo, shi = np.array(sb[:3]), np.array(sb[3:])
     rmax = float(max(np.hypot(slo[0], slo[1]), np.hypot(shi[0], shi[1]), np.hypot(slo[0], shi[1]),
                      np.hypot(shi[0], slo[1])))
     margin = max(10 * tol, 0.05)
-    r_clip = rmax + margin
     outline = stock_outline(spec)
     # revolve cuts with the stock's own segment count (its true radius, not the bounding box's
     # corner): the faces of cut and stock then line up instead of crossing at every segment
     nseg = circle_segments(float(outline[:, 0].max()) if outline is not None else rmax, tol)
     outline_cs = m3d.CrossSection([outline], m3d.FillRule.Positive) if outline is not None else None
+    return _Frame(slo, shi, rmax + margin, margin, outline, outline_cs, nseg)
 
+
+# -- which sweep a path gets: the tool-kind predicates in one place ---------------------------
+def is_mill_move(path) -> bool:
+    """A move of a milling tool (the lathe's moves with the spindle stopped are spatial too)."""
+    return isinstance(path, SpatialPath) and not path.tool.is_lathe_tool
+
+
+def sweep_kind(path) -> str:
+    """The one sweep strategy for ``path``, a key of STRATEGIES:
+
+    - ``screw``: a spindle-synchronised cut (thread): the profile under screw motion, grouped by
+      helix (stock/threads.py, stock/sweeps.py);
+    - ``revolve``: a lathe move with the spindle turning: its 2D region, all unioned and revolved once;
+    - ``hull``: a move swept on its own and checked against the stock as it is then: rapids,
+      plunges of a tool that cannot cut at its centre, a lathe tool with the spindle stopped
+      (one hull per segment);
+    - ``level``: a flat end mill at constant Z: one 2D offset per Z level, extruded (stock/mill.py);
+    - ``helix``: a mill on an arc or helix, consecutive arcs on one helix joined (stock/helix.py);
+    - ``tube``: any other 3D mill feed, joined with the moves it continues: tubes along a ball-end
+      mill's planar stretches (stock/tube.py), merged hulls of poses elsewhere."""
+    if isinstance(path, ScrewPath):
+        return "screw"
+    if isinstance(path, PlanarPath):
+        return "revolve"
+    if not is_mill_move(path) or path.rapid or mill.plunges(path):
+        return "hull"
+    if mill.batchable(path):
+        return "level"
+    return "helix" if path.arc is not None else "tube"
+
+
+class _Sweeper:
+    """The sweep phase of one removal: every path's solids (or 2D region, or a recipe to build
+    them when subtracted) as cuts in program order, and the moves whose collisions are checked.
+    Moves are held back where they join the next ones (a 3D mill chain, arcs on one helix) and
+    2.5D levels and thread groups are swept when all their moves are known (``finish``)."""
+
+    def __init__(self, frame: _Frame, tol: float, profile, screw_parts: dict):
+        self.f, self.tol, self.profile, self.screw_parts = frame, tol, profile, screw_parts
+        self.cap = mill.cap_height(frame.top, tol)
+        self.cuts: list[_Cut] = []
+        self.checks: list[tuple[_Cut, object]] = []
+        self.bodies: dict[int, list] = {}
+        self.millb = mill.MillBatch(tol)
+        self.chain = mill.Chain()
+        self.arcs: list = []  # [index, path]: consecutive arcs on one helix, joined (stock/helix.py)
+        self.screws = threads.ScrewGroups(tol)  # thread cuts, swept grouped by helix in finish()
+
+    def body(self, tool: ToolSpec) -> list:
+        if tool.number not in self.bodies:
+            self.bodies[tool.number] = lathe_body(tool, self.tol)  # mills: stock/mill.py builds its own
+        return self.bodies[tool.number]
+
+    def add_cut(self, index: int, solids: list) -> _Cut | None:
+        if solids:
+            lo, hi = _bbox(solids)
+            if self.f.meets(lo, hi):
+                self.cuts.append(_Cut(index, solids, None, lo, hi))
+                return self.cuts[-1]
+        return None
+
+    def screw(self, i: int, path: ScrewPath) -> None:
+        parts = []
+        for s0, s1, h in self.screw_parts.pop(i):
+            prof = clipped_profile(self.profile(path.tool), h)
+            if not prof.is_empty():
+                parts.append((s0, s1, prof))
+        if not parts:
+            return
+        tol = self.tol
+
+        def near(z0, z1):
+            return [x for s0, s1, prof in parts for x in screw_sweep(path, prof, tol, s0, s1, (z0, z1))]
+
+        lo, hi = threads.bounds(path, parts)
+        if self.f.meets(lo, hi):  # swept with its helix's group (stock/threads.py); `near` for the checks
+            self.screws.add(i, path, parts)
+            self.cuts.append(_Cut(i, [], None, lo, hi, near, build=list))
+
+    def revolve(self, i: int, path: PlanarPath) -> None:
+        h = self.f.r_clip - float(path.points[:, 0].min())
+        if h <= 0:
+            return
+        prof = clipped_profile(self.profile(path.tool), h)
+        if prof.is_empty():
+            return
+        region = m3d.CrossSection.batch_boolean([planar_region(path, p) for p in prof.to_polygons()],
+                                                m3d.OpType.Add)
+        if self.f.outline_cs is not None and (region ^ self.f.outline_cs).area() <= 0:
+            return
+        b = region.bounds()
+        r_out = max(abs(b[0]), abs(b[2]))
+        cut = _Cut(i, [], region, np.array([-r_out, -r_out, b[1]]), np.array([r_out, r_out, b[3]]))
+        if self.f.meets(cut.lo, cut.hi):
+            self.cuts.append(cut)
+            if path.rapid:
+                self.checks.append((cut, path))
+
+    def hull(self, i: int, path: SpatialPath) -> None:
+        self.millb.cut_run()  # a checked move ends the 2.5D levels: no level may span it
+        if path.tool.is_lathe_tool:
+            cut = self.add_cut(i, spatial_hulls(path, self.body(path.tool)))
+            if cut is not None:
+                self.checks.append((cut, path))
+            return
+        cut = self.add_cut(i, mill.sweep(path, self.tol, self.cap))
+        if cut is not None:  # checked with the tool shrunk by a few tolerances (stock/mill.py)
+            self.checks.append((_Cut(i, mill.check_solids(path, self.tol, self.cap), None, cut.lo, cut.hi), path))
+
+    def level(self, i: int, path: SpatialPath) -> None:
+        self.millb.take(i, path)
+
+    def helix(self, i: int, path: SpatialPath) -> None:
+        joined = helix.merge_arcs([self.arcs[0][1], path]) if self.arcs else []
+        if len(joined) == 1:
+            self.arcs[0][1] = joined[0]
+        else:
+            self.flush()
+            self.arcs.append([i, path])
+
+    def tube(self, i: int, path: SpatialPath) -> None:
+        if self.arcs or not self.chain.continues(path):
+            self.flush()
+        self.chain.add(i, path)  # 3D mill feed: joined with the moves it continues (stock/mill.py)
+
+    def flush(self) -> None:
+        """Sweep the moves held back for joining: the chain (lazily, piece by piece when it is
+        subtracted; a bounding box suffices until then) and the pending arc."""
+        tol, cap = self.tol, self.cap
+        if self.chain.parts:
+            index, tool = self.chain.index, self.chain.tool
+            reach = np.array([tool.diameter / 2.0, tool.diameter / 2.0, 0.0])
+            for pts in self.chain.take(tol):
+                lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach + [0.0, 0.0, tool.length]
+                if self.f.meets(lo, hi):
+                    self.cuts.append(_Cut(index, [], None, lo, hi,
+                                          build=lambda pts=pts, tool=tool: mill.hull_sweep(pts, tool, tol, cap)))
+        if self.arcs:
+            index, p = self.arcs.pop()
+            solids = helix.arc_sweep(p, tol, self.f.top)
+            self.add_cut(index, solids if solids is not None else mill.hull_sweep(p.points, p.tool, tol, cap))
+
+    def finish(self, n: int, work: "Work") -> None:
+        """The held-back moves, the thread groups (at index n: never an "earlier cut" for the
+        checks, which use each pass's own ``near``) and the 2.5D levels (each counted exactly
+        from its 2D outline before it is extruded)."""
+        self.flush()
+        if self.screws:
+            self.add_cut(n, self.screws.solids())
+        for lv in self.millb.levels():
+            work.add(_prism_triangles(lv.region()), lv.src, "this Z level of the end mill")
+            self.add_cut(lv.index, [lv.solid()])
+
+
+def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
+           progress: Progress | None = None, max_triangles: int = DEFAULT_MAX_TRIANGLES) -> Removal:
+    """The part: ``stock`` minus what every path sweeps. Each path gets one sweep strategy
+    (``sweep_kind``, STRATEGIES). Before any sweep is built the triangles the sweeps need are
+    estimated (``Work``); more than ``max_triangles`` held at once is a CutsimError at the line of
+    the move responsible (``[simulation] max_triangles`` raises it)."""
+    frame = _frame(stock, spec, tol)
     profiles: dict[int, np.ndarray] = {}
-    bodies: dict[int, list] = {}
 
     def profile(tool: ToolSpec) -> np.ndarray:
         if tool.number not in profiles:
             profiles[tool.number] = lathe_profile(tool, tol)
         return profiles[tool.number]
 
-    def body(tool: ToolSpec) -> list:
-        if tool.number not in bodies:
-            bodies[tool.number] = lathe_body(tool, tol)  # mills: stock/mill.py builds its own bodies
-        return bodies[tool.number]
-
-    def revolve(region: m3d.CrossSection) -> m3d.Manifold:
-        return m3d.Manifold.revolve(region, circular_segments=nseg)
-
     for tool in {id(p.tool): p.tool for p in paths if getattr(p, "tool", None) is not None}.values():
         check_tool(tool)  # tools built in Python, not through the setup loader, meet the same ranges
     paths = drop_repeats(paths)
+    kinds = [sweep_kind(p) for p in paths]
     work = Work(max_triangles, stock.num_tri())
-    screw_parts = work.estimate(paths, tol, profile, outline, r_clip, margin, float(shi[2]))
-
-    millb = mill.MillBatch(tol)
-    cuts: list[_Cut] = []
-    checks: list[tuple[_Cut, object]] = []
-    cap = mill.cap_height(float(shi[2]), tol)
-    chain = mill.Chain()
-    screws = threads.ScrewGroups(tol)  # thread cuts, swept grouped by helix after the loop
-    arcs: list = []  # [index, path]: consecutive arcs on one helix, joined (stock/helix.py)
-
-    def add_cut(index: int, solids: list) -> None:
-        if solids:
-            lo, hi = _bbox(solids)
-            if _overlap(lo, hi, slo, shi):
-                cuts.append(_Cut(index, solids, None, lo, hi))
-
-    def flush() -> None:
-        if chain.parts:
-            index, tool = chain.index, chain.tool
-            reach = np.array([tool.diameter / 2.0, tool.diameter / 2.0, 0.0])
-            for pts in chain.take(tol):
-                lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach + [0.0, 0.0, tool.length]
-                if _overlap(lo, hi, slo, shi):  # swept when subtracted (a bounding box suffices until then)
-                    cuts.append(_Cut(index, [], None, lo, hi,
-                                     build=lambda pts=pts, tool=tool: mill.hull_sweep(pts, tool, tol, cap)))
-        if arcs:
-            index, p = arcs.pop()
-            solids = helix.arc_sweep(p, tol, float(shi[2]))
-            add_cut(index, solids if solids is not None else mill.hull_sweep(p.points, p.tool, tol, cap))
-
+    sweeper = _Sweeper(frame, tol, profile, work.estimate(paths, kinds, tol, profile, frame))
     n = len(paths)
-    for i, path in enumerate(paths):
+    for i, (path, kind) in enumerate(zip(paths, kinds)):
         if progress:
             progress("sweeping", i, n)
-        if isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid \
-                and not mill.batchable(path) and not mill.plunges(path):
-            if path.arc is not None:  # an arc or helix: swept directly, one turn after the other joined
-                joined = helix.merge_arcs([arcs[0][1], path]) if arcs else []
-                if len(joined) == 1:
-                    arcs[0][1] = joined[0]
-                else:
-                    flush()
-                    arcs.append([i, path])
-                continue
-            if arcs or not chain.continues(path):
-                flush()
-            chain.add(i, path)  # 3D mill feed: joined with the moves it continues (stock/mill.py)
-            continue
-        if not (isinstance(path, SpatialPath) and mill.batchable(path)):
-            flush()
-        if isinstance(path, ScrewPath):
-            parts = []
-            for s0, s1, h in screw_parts.pop(i):
-                prof = clipped_profile(profile(path.tool), h)
-                if not prof.is_empty():
-                    parts.append((s0, s1, prof))
-            if not parts:
-                continue
-
-            def near(z0, z1, path=path, parts=parts):
-                return [x for s0, s1, prof in parts for x in screw_sweep(path, prof, tol, s0, s1, (z0, z1))]
-
-            lo, hi = threads.bounds(path, parts)
-            if _overlap(lo, hi, slo, shi):  # swept with its helix's group (stock/threads.py); `near` for the checks
-                screws.add(i, path, parts)
-                cuts.append(_Cut(i, [], None, lo, hi, near, build=list))
-        elif isinstance(path, PlanarPath):
-            pts = path.points
-            h = r_clip - float(pts[:, 0].min())
-            if h <= 0:
-                continue
-            prof = clipped_profile(profile(path.tool), h)
-            if prof.is_empty():
-                continue
-            region = m3d.CrossSection.batch_boolean([planar_region(path, p) for p in prof.to_polygons()],
-                                                    m3d.OpType.Add)
-            if outline_cs is not None and (region ^ outline_cs).area() <= 0:
-                continue
-            b = region.bounds()
-            r_out = max(abs(b[0]), abs(b[2]))
-            cut = _Cut(i, [], region, np.array([-r_out, -r_out, b[1]]), np.array([r_out, r_out, b[3]]))
-            if _overlap(cut.lo, cut.hi, slo, shi):
-                cuts.append(cut)
-                if path.rapid:
-                    checks.append((cut, path))
-        elif isinstance(path, SpatialPath):
-            if millb.take(i, path):  # flat end mill at constant Z: swept per Z level (stock/mill.py)
-                continue
-            checked = path.rapid or path.tool.is_lathe_tool or mill.plunges(path)
-            if checked:
-                millb.cut_run()
-            solids = spatial_hulls(path, body(path.tool)) if path.tool.is_lathe_tool else mill.sweep(path, tol, cap)
-            if not solids:
-                continue
-            lo, hi = _bbox(solids)
-            if _overlap(lo, hi, slo, shi):
-                cut = _Cut(i, solids, None, lo, hi)
-                cuts.append(cut)
-                if checked:
-                    checks.append((cut if path.tool.is_lathe_tool else
-                                   _Cut(i, mill.check_solids(path, tol, cap), None, lo, hi), path))
-    flush()
-    if screws:  # index n: never an "earlier cut" for the checks, which use each pass's own `near`
-        grouped = screws.solids()
-        if grouped:
-            cuts.append(_Cut(n, grouped, None, *_bbox(grouped)))
-    for lv in millb.levels():
-        work.add(_prism_triangles(lv.region()), lv.src, "this Z level of the end mill")  # exact 2D outline first
-        solid = lv.solid()
-        lo, hi = _bbox([solid])
-        if _overlap(lo, hi, slo, shi):
-            cuts.append(_Cut(lv.index, [solid], None, lo, hi))
+        sweep, _, ends_joins = STRATEGIES[kind]
+        if ends_joins:
+            sweeper.flush()
+        sweep(sweeper, i, path)
+    sweeper.finish(n, work)
     if progress:
         progress("sweeping", n, n)
+    warnings = _collisions(stock, sweeper, progress)
+    if sweeper.millb or any(is_mill_move(p) for p in paths):
+        warnings += mill.flute_warnings(sweeper.millb, paths, frame.top, tol, lambda idx, sol: _fresh_volume(
+            stock, _Cut(idx, sol, None, *_bbox(sol)), sweeper.cuts, frame.revolve))
+        stock = mill.refined(stock)
+    part, count = _subtract(stock, sweeper.cuts, paths, frame, work, progress)
+    return Removal(part, warnings, count)
 
+
+def _collisions(stock: m3d.Manifold, sweeper: _Sweeper, progress: Progress | None) -> list:
+    """(src, message) for each checked move that removes material still there when it runs."""
     warnings = []
-    for k, (cut, path) in enumerate(checks):
+    for k, (cut, path) in enumerate(sweeper.checks):
         if progress:
-            progress("checking rapids", k, len(checks))
-        vol = _fresh_volume(stock, cut, cuts, revolve)
+            progress("checking rapids", k, len(sweeper.checks))
+        vol = _fresh_volume(stock, cut, sweeper.cuts, sweeper.f.revolve)
         if vol > MIN_COLLISION_VOLUME:
             if path.rapid:
                 msg = f"rapid (G00) cuts the stock: {vol:.3f} mm^3 removed"
@@ -231,22 +312,22 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
             else:
                 msg = f"cutting with the spindle stopped: only the tool's own swept volume is removed ({vol:.3f} mm^3)"
             warnings.append((path.src, msg))
+    return warnings
 
-    if millb or any(isinstance(p, SpatialPath) and not p.tool.is_lathe_tool for p in paths):
-        warnings += mill.flute_warnings(millb, paths, float(shi[2]), tol, lambda idx, sol: _fresh_volume(
-            stock, _Cut(idx, sol, None, *_bbox(sol)), cuts, revolve))
-        stock = mill.refined(stock)
 
-    # One batch subtract; a program whose solids exceed CHUNK_TRIANGLES is subtracted in
-    # consecutive batches of about that size (cut order), each built just before and released
-    # after, so memory stays bounded however long the program is.
+def _subtract(stock: m3d.Manifold, cuts: list[_Cut], paths: list, frame: _Frame, work: "Work",
+              progress: Progress | None) -> tuple[m3d.Manifold, int]:
+    """One batch subtract; a program whose solids exceed CHUNK_TRIANGLES is subtracted in
+    consecutive batches of about that size (cut order), each built just before and released
+    after, so memory stays bounded however long the program is. Returns the part (debris
+    dropped) and the number of solids subtracted."""
     regions = [c.region for c in cuts if c.region is not None]
     part, pending, tris, count = stock, [], 0, 0
     if regions:
         union = m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)
         first = min(c.index for c in cuts if c.region is not None)
-        work.add(2 * union.num_vert() * nseg, paths[first].src, "the turning moves (one solid of revolution)")
-        pending.append(revolve(union))
+        work.add(2 * union.num_vert() * frame.nseg, paths[first].src, "the turning moves (one solid of revolution)")
+        pending.append(frame.revolve(union))
     for k, c in enumerate(cuts):
         if progress:
             progress("subtracting", k, len(cuts))
@@ -264,7 +345,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     part = drop_debris(part)
     if progress:
         progress("subtracting", len(cuts), len(cuts))
-    return Removal(part, warnings, count)
+    return part, count
 
 
 CHUNK_TRIANGLES = 1_000_000
@@ -435,8 +516,9 @@ BYTES_PER_TRIANGLE = 600
 
 class Work:
     """The triangles of the solids a run holds at once (the stock, every sweep kept for the batch
-    subtract, the largest batch of lazily swept mill moves), estimated before anything is swept.
-    More than ``limit`` is a CutsimError at the line of the move that goes over it."""
+    subtract, the largest piece of lazily swept mill moves), estimated before anything is swept,
+    path by path with the same strategy the sweep will use (``estimate``). More than ``limit`` is
+    a CutsimError at the line of the move that goes over it."""
 
     def __init__(self, limit: int, stock_triangles: int):
         self.limit = int(limit)
@@ -453,102 +535,107 @@ class Work:
                 f"({what}: about {tris:,}), more than [simulation] max_triangles = {self.limit:,}; this would take "
                 f"about {gb:.1f} GB of memory: raise max_triangles in the setup or use a coarser tolerance")
 
-    def estimate(self, paths: list, tol: float, profile, outline, r_clip: float, margin: float,
-                 top: float) -> dict[int, list]:
-        """Estimate every path's sweep (see ``_path_triangles``) in program order, refusing as soon
-        as the total goes over the limit; returns the screw paths' pieces (computed once, used by
-        the sweep)."""
-        cap = mill.cap_height(top, tol)
-        verts: dict = {}
+    def estimate(self, paths: list, kinds: list[str], tol: float, profile, frame: _Frame) -> dict[int, list]:
+        """Count every path's sweep in program order (STRATEGIES), refusing as soon as the total
+        goes over the limit; returns the screw paths' pieces (computed once, used by the sweep).
+        3D mill feeds are swept and subtracted piece by piece, so they count as the batch of
+        CHUNK_TRIANGLES plus their largest piece."""
+        self.tol, self.profile, self.frame = tol, profile, frame
+        self.cap = mill.cap_height(frame.top, tol)
+        self.screw_pieces: dict[int, list] = {}
+        self.arc: list = []  # [index, path] of the pending arc (consecutive arcs on one helix joined)
+        self.chain: list = []  # [tool, src, points...]: consecutive 3D feeds joined as mill.Chain does
+        self.lazy_total, self.lazy_piece, self.lazy_src = 0, 0, None
+        for i, (path, kind) in enumerate(zip(paths, kinds)):
+            _, count, ends_joins = STRATEGIES[kind]
+            if ends_joins:
+                self.flush()
+            count(self, i, path)
+        self.flush()
+        if self.lazy_src is not None:
+            self.add(min(self.lazy_total, CHUNK_TRIANGLES + self.lazy_piece), self.lazy_src,
+                     "the 3D milling moves, swept in batches")
+        return self.screw_pieces
 
-        def body_verts(tool: ToolSpec) -> int:
-            if tool not in verts:
-                pieces = lathe_body(tool, tol) if tool.is_lathe_tool else mill_body(tool, tol)
-                verts[tool] = sum(len(p) for p in pieces)
-            return verts[tool]
+    def screw(self, i: int, path: ScrewPath) -> None:
+        prof = self.profile(path.tool)
+        _check_axis(path, prof)
+        f = self.frame
+        pieces, tris = [], 0
+        for piece in _iter_screw_pieces(path, prof, f.outline, f.r_clip, f.margin):
+            pieces.append(piece)
+            tris += _screw_triangles(path, clipped_profile(prof, piece[2]), piece[0], piece[1], self.tol)
+            if self.held + tris > self.limit:  # stop a huge one early: extrapolate its total
+                self.add(round(tris / max(piece[1], 1e-9)), path.src, "this thread cut")
+        self.add(tris, path.src, "this thread cut")
+        self.screw_pieces[i] = pieces
 
-        screw: dict[int, list] = {}
-        lazy_total, lazy_piece, lazy_src = 0, 0, None
-        chain: list = []  # [tool, src, points...]: consecutive 3D feeds joined as stock/mill.py's Chain does
+    def revolve(self, i: int, path: PlanarPath) -> None:
+        pass  # counted exactly from the union of the regions before it is revolved (_subtract)
 
-        def flush_chain() -> None:
-            nonlocal lazy_total, lazy_piece, lazy_src
-            if not chain:
-                return
-            tool, src, parts = chain[0], chain[1], chain[2:]
-            chain.clear()
+    def level(self, i: int, path: SpatialPath) -> None:
+        pass  # counted exactly from the level's 2D outline before it is extruded (_Sweeper.finish)
+
+    def hull(self, i: int, path: SpatialPath) -> None:
+        tool = path.tool
+        if tool.is_lathe_tool:  # spindle stopped: a hull per segment and convex piece of the plate
+            verts = sum(len(p) for p in lathe_body(tool, self.tol))
+            self.add(2 * 4 * (len(path.points) - 1) * verts, path.src, "this move with the spindle stopped")
+            return
+        segs = sum(len(p) - 1 for p in mill.below_cap(path.points, self.cap)) if len(path.points) > 1 else 1
+        if mill.is_flat(tool) and mill.is_constant_z(path):
+            k = max(2, math.ceil(math.pi / segment_angle(tool.diameter / 2.0, self.tol)))
+            tris = 4 * 2 * (k + 1) * max(1, len(path.points) - 1)
+        else:
+            tris = 4 * segs * _body_vertices(tool, self.tol)
+        self.add(2 * tris, path.src, "this move (its sweep and its collision check)")
+
+    def helix(self, i: int, path: SpatialPath) -> None:
+        joined = helix.merge_arcs([self.arc[0][1], path]) if self.arc else []
+        if len(joined) == 1:
+            self.arc[0][1] = joined[0]
+        else:
+            self.flush()
+            self.arc.append([i, path])
+
+    def tube(self, i: int, path: SpatialPath) -> None:
+        chain = self.chain
+        if not self.arc and chain and chain[0] == path.tool and np.all(np.abs(chain[-1][-1] - path.points[0]) <= 1e-9):
+            chain.append(path.points[1:])
+        else:
+            self.flush()
+            chain.extend([path.tool, path.src, path.points])
+
+    def flush(self) -> None:
+        """Count the moves held back for joining, as ``_Sweeper.flush`` sweeps them."""
+        if self.chain:
+            tool, src, parts = self.chain[0], self.chain[1], self.chain[2:]
+            self.chain = []
             pts = np.concatenate(parts)
-            size = _piece_size(tool, tol)
-            total = 0
+            size = _piece_size(tool, self.tol)
             for k in range(0, max(1, len(pts) - 1), size - 1):
-                n = _chain_piece_triangles(pts[k:k + size], tool, tol, cap, (self.limit - self.held) / 4)
-                total += n
-                lazy_piece = max(lazy_piece, n)
-                if lazy_piece > self.limit - self.held:  # one piece is held whole while it is subtracted
-                    self.add(lazy_piece, src, "these 3D milling moves (one piece of their sweep)")
-            lazy_total += total
-            lazy_src = lazy_src or src
-        arc: list = []  # [index, path] of the pending arc (consecutive arcs on one helix joined)
+                n = _chain_piece_triangles(pts[k:k + size], tool, self.tol, self.cap, (self.limit - self.held) / 4)
+                self.lazy_total += n
+                self.lazy_piece = max(self.lazy_piece, n)
+                if self.lazy_piece > self.limit - self.held:  # one piece is held whole while it is subtracted
+                    self.add(self.lazy_piece, src, "these 3D milling moves (one piece of their sweep)")
+            self.lazy_src = self.lazy_src or src
+        if self.arc:
+            _, p = self.arc.pop()
+            verts = _body_vertices(p.tool, self.tol)
+            self.add(_arc_triangles(p, self.tol, self.frame.top, self.cap, verts), p.src, "this arc or helix")
 
-        def flush_arc() -> None:
-            if arc:
-                _, p = arc.pop()
-                self.add(_arc_triangles(p, tol, top, cap, body_verts(p.tool)), p.src, "this arc or helix")
 
-        for i, path in enumerate(paths):
-            if isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid \
-                    and not mill.batchable(path) and not mill.plunges(path) and path.arc is not None:
-                joined = helix.merge_arcs([arc[0][1], path]) if arc else []
-                if len(joined) == 1:
-                    arc[0][1] = joined[0]
-                else:
-                    flush_chain()
-                    flush_arc()
-                    arc.append([i, path])
-                continue
-            flush_arc()
-            if not (isinstance(path, SpatialPath) and not path.tool.is_lathe_tool and not path.rapid
-                    and not mill.batchable(path) and not mill.plunges(path)):
-                flush_chain()
-            if isinstance(path, ScrewPath):
-                _check_axis(path, profile(path.tool))
-                pieces, tris = [], 0
-                for piece in _iter_screw_pieces(path, profile(path.tool), outline, r_clip, margin):
-                    pieces.append(piece)
-                    n = _screw_triangles(path, clipped_profile(profile(path.tool), piece[2]), piece[0], piece[1], tol)
-                    tris += n
-                    if self.held + tris > self.limit:  # stop a huge one early: extrapolate its total
-                        self.add(round(tris / max(piece[1], 1e-9)), path.src, "this thread cut")
-                self.add(tris, path.src, "this thread cut")
-                screw[i] = pieces
-            elif isinstance(path, SpatialPath):
-                if path.tool.is_lathe_tool:  # spindle stopped: a hull per segment and piece of the body
-                    segs = len(path.points) - 1
-                    self.add(2 * 4 * segs * body_verts(path.tool), path.src, "this move with the spindle stopped")
-                    continue
-                if mill.batchable(path):
-                    continue  # 2.5D: its Z level is counted from the exact 2D union before extrusion
-                if not path.rapid and not mill.plunges(path):  # 3D feed: swept lazily in pieces
-                    if chain and chain[0] == path.tool and np.all(np.abs(chain[-1][-1] - path.points[0]) <= 1e-9):
-                        chain.append(path.points[1:])
-                    else:
-                        flush_chain()
-                        chain.extend([path.tool, path.src, path.points])
-                    continue
-                flush_chain()
-                segs = sum(len(p) - 1 for p in mill.below_cap(path.points, cap)) if len(path.points) > 1 else 1
-                if mill.is_flat(path.tool) and mill.is_constant_z(path):
-                    k = max(2, math.ceil(math.pi / segment_angle(path.tool.diameter / 2.0, tol)))
-                    tris = 4 * 2 * (k + 1) * max(1, len(path.points) - 1)
-                else:
-                    tris = 4 * segs * body_verts(path.tool)
-                self.add(2 * tris, path.src, "this move (its sweep and its collision check)")
-        flush_arc()
-        flush_chain()
-        if lazy_src is not None:
-            n = min(lazy_total, CHUNK_TRIANGLES + lazy_piece)
-            self.add(n, lazy_src, "the 3D milling moves, swept in batches")
-        return screw
+# The one table: each sweep kind's strategy (stock/removal.py _Sweeper), its estimate (Work) and
+# whether the moves held back for joining (a 3D mill chain, arcs on one helix) are swept first.
+STRATEGIES = {
+    "screw": (_Sweeper.screw, Work.screw, True),
+    "revolve": (_Sweeper.revolve, Work.revolve, True),
+    "hull": (_Sweeper.hull, Work.hull, True),
+    "level": (_Sweeper.level, Work.level, False),
+    "helix": (_Sweeper.helix, Work.helix, False),
+    "tube": (_Sweeper.tube, Work.tube, False),
+}
 
 
 @functools.lru_cache(maxsize=1024)
