@@ -97,18 +97,6 @@ M_CODES = {
     29: Code("end", "", "subprogram end"),
     30: Code("end", "", "program end"),
 }
-# # commands that do not change the tool path: accepted with one warning each.
-HARMLESS_COMMANDS = {
-    "MSG", "FLUSH", "CONTOUR", "HSC", "CHANNEL", "FILENAME", "IDENT", "DELETE", "VECTOR", "TOOL", "ORI", "KIN",
-    "TIME", "SLOPE", "SET", "PUT", "CAX", "INIT", "SIGNAL", "WAIT", "EXPORT", "TIMER", "PATH", "OPTIONAL", "SYN",
-    "AX", "MEAS", "CALL", "SUPPRESS", "AXLINK", "STROKE", "CLEAR", "PROG", "SPLINE", "TRAFO", "RTCP", "MCS", "PTP",
-    "TLAX", "ACS", "CYL", "TRANS", "ROTATION", "FACE", "TANGFEED", "HSC",
-}
-# commands whose ON form changes the tool path in ways the simulator does not model (exit 2)
-TRANSFORMS = {"TRAFO": "kinematic transformation", "RTCP": "tool centre point control (RTCP)",
-              "TLAX": "tool axis transformation", "ACS": "axial coordinate system", "CYL": "cylinder transformation",
-              "TRANS": "transformation", "FACE": "face machining transformation", "PTP": "point-to-point motion",
-              "SPLINE": "spline interpolation", "TANGFEED": "tangential feed"}
 LEADS = {"I": "X", "J": "Y", "K": "Z"}
 MIN_LEAD = 0.0001  # mm/rev: the programming resolution
 MAX_CALL_DEPTH = 20  # subprograms (local and global) open at once
@@ -153,7 +141,8 @@ class Isg(Interpreter):
         self.zero = (0.0, 0.0, 0.0)  # G54..G59 offset
         self.g92 = [0.0, 0.0, 0.0]
         self.cs: list[tuple[float, float, float]] = []  # active #CS translations (a stack)
-        self.cs_defs: dict[int, tuple[float, float, float]] = {}
+        self.cs_defs: dict[int, tuple[float, float, float]] = {}  # #CS DEF: id -> translation
+        self.cs_last: int | None = None  # the id #CS DEF or #CS ON [..] defined last
         self.mcs = False  # #MCS ON: machine coordinates (no offsets)
         self.centre_abs = False  # G161
         self.extra_pos: dict[str, float] = {a: 0.0 for a in cfg.axes}

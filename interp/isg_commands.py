@@ -160,7 +160,7 @@ def cs(m, st, text: str, col: int) -> None:
         if op == "ON":
             m.cs.append(t)
         return
-    key = ident if ident is not None else getattr(m, "cs_last", None)
+    key = ident if ident is not None else m.cs_last
     if key is None or key not in m.cs_defs:
         raise m.error(line, col, f"#CS ON{'' if ident is None else f' [{ident}]'}: no coordinate system "
                       f"{'defined' if ident is None else str(ident) + ' defined'} (#CS DEF first)")

@@ -437,14 +437,6 @@ def variable(cur: Cursor):
     return lambda env: env.read_var(scope, keyf(env), line, col)
 
 
-def compile_expr(prog: str, line: int, text: str, i: int, what: str):
-    """An expression that must fill ``text[i:]`` up to a comment: (closure, end index)."""
-    cur = Cursor(prog, line, text, i)
-    f = expression(cur)
-    cur.skip()
-    return f, cur.i
-
-
 def truth(v) -> bool:
     """A condition: a number is true when it is not 0 (a string when it is not empty)."""
     return bool(v)

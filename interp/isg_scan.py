@@ -12,12 +12,11 @@ import unicodedata
 from dataclasses import dataclass, field
 
 from .errors import CutsimError
-from .isg_lang import CONTROL, IDENT, Cursor, compile_expr, expression, param, primary, var_ref
+from .isg_lang import CONTROL, IDENT, Cursor, expression, param, primary, var_ref
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                     iter_lines, parse_number)
 
 LETTERS = set("NGMXYZIJKFSTDLHABCUVWR")
-EXTRA_AXES = set("ABCUVW")
 LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKABCUVWR"}, "F": (COORD_LIMIT, "mm/min"),
           "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTDH"}}
 NAME = re.compile(r"(?:\w|[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f])+")
