@@ -52,9 +52,8 @@ import numpy as np
 from cutsim.kinematics.paths import ArcGeom, SpatialPath, segment_angle
 
 from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES
-from .tools import positive
+from .tools import MILL_KINDS, positive
 
-MILL_KINDS = ("endmill", "ballmill", "bullnose")
 DELTA_SAMPLES = 257  # grid of polar offsets for the numeric lower profile (then refined)
 
 

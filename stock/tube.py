@@ -28,7 +28,7 @@ import numpy as np
 from cutsim.kinematics.paths import segment_angle
 
 from cutsim.base.specs import ToolSpec
-from .tools import positive
+from .tools import MILL_KINDS, positive
 
 TUBE_MIN_SEGMENTS = 3  # shorter stretches are cheaper as hulls
 MAX_SLOPE = 0.95  # |sin| of a segment's slope; steeper segments (plunges) are hulled
@@ -39,7 +39,7 @@ TOP_MARK = 1.0  # profile v of the two top vertices (the arc has v <= 0)
 
 
 def is_ball(tool: ToolSpec) -> bool:
-    return tool.kind in ("endmill", "ballmill", "bullnose") and tool.corner_radius >= tool.diameter / 2.0 - 1e-12
+    return tool.kind in MILL_KINDS and tool.corner_radius >= tool.diameter / 2.0 - 1e-12
 
 
 def max_turn(r: float, tol: float) -> float:
