@@ -25,6 +25,9 @@ against the program and the TwinCAT CNC programming manual's semantics:
   (1, 1); G92 X5 Y5 (a reference point offset, added like a zero offset) puts X10 Y10 at
   machine (15, 15); M200=40, H7, M110 are machine functions of the setup; A90 is tracked, X20
   goes to 25.
+- lathe-loop.nc (its own lathe setup): seed 004's M70x1.5 with the passes from
+  $FOR P1 = 1..4, X[70 - 0.46 * P1] = 69.54, 69.08, 68.62, 68.16 (diameters, G51; start X150
+  radius = 300), each pass LL PASS: G33 Z48 K1.5 from Z105, out to X72, back to Z105.
 - global.nc: L CYCLE [NAME = pocket_sub.nc @P1 = 4 @P2 = -1.5] runs the file beside it: from
   (10, 10, 2) incrementally Z[@P2 - 2] = -3.5 down to Z-1.5, a 4 mm square back to (10, 10) and
   Z[2 - @P2] = +3.5 up to Z2; then L pocket_sub [@P1 = 2, @P2 = -3]: Z-3 and a 2 mm square.
@@ -44,13 +47,14 @@ from cutsim.interp import canon
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "isg-lang"
 SETUP = GOLDEN / "setup.toml"
-NAMES = ["control", "expressions", "variables", "commands", "global"]
+NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop"]
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_isg_language_golden(name):
     prog = GOLDEN / f"{name}.nc"
-    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(SETUP)])
+    own = prog.with_suffix(".toml")  # a program with its own setup (the lathe), else setup.toml
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(own if own.is_file() else SETUP)])
     assert res.exit_code == 0, res.output
     golden = GOLDEN / f"{name}.txt"
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
