@@ -61,7 +61,7 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
          "SPOS": "(spindle positioning) changes nothing on the tool path",
          "LIMS": "(the spindle speed limit) changes nothing on the tool path"}
 # what PROC ... SAVE puts back on return (the machine functions append theirs: units, frames, ...)
-SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "feed", "comp", "d_no"]
+SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp"]  # the modal G groups, not F, S, T, D
 # keywords that are never a subprogram file, even with a file of that name beside the program
 NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",
            "CYCLE801", "CYCLE802", "CYCLE832", "CYCLE840", "CYCLE84", "CYCLE86", "CYCLE87", "CYCLE88", "CYCLE89",

@@ -111,7 +111,8 @@ def test_save_restores_the_modal_state_and_plain_procs_do_not():
     text = "G90 G17 F100\nKEEP\nG1 X10\nLOSE\nG1 X10\nM30\nPROC KEEP SAVE\nG91 G18 F50\nRET\nPROC LOSE\nG91\nRET\n"
     p = run(text)
     assert ends(p)[-1] == (20, 0, 50)  # after P2 (no SAVE) G91 stays: X10 is incremental
-    assert ends(p)[0] == (10, 0, 50) and p.moves[0].feed == 100
+    assert ends(p)[0] == (10, 0, 50)  # KEEP's G91 and G18 are gone: G90, and the XY move is a line
+    assert p.moves[0].feed == 50  # SAVE brings back the G functions, not F
 
 
 def test_l_programs_with_parameters_and_repetitions(tmp_path):
