@@ -1107,7 +1107,7 @@ class Sinumerik(ModalMachine):
     def save_modal(self) -> dict:
         """PROC ... SAVE: the modal state to put back on return (the G groups and what settings
         keeps modal; SAVED_MODAL lists the attributes, extended by the machine functions)."""
-        return {a: copy.copy(getattr(self, a)) for a in SAVED_MODAL if hasattr(self, a)}
+        return {a: copy.deepcopy(getattr(self, a)) for a in SAVED_MODAL if hasattr(self, a)}
 
     def restore_modal(self, saved: dict) -> None:
         for a, v in saved.items():
