@@ -543,6 +543,7 @@ class Work:
         self.tol, self.profile, self.frame = tol, profile, frame
         self.cap = mill.cap_height(frame.top, tol)
         self.screw_pieces: dict[int, list] = {}
+        self.screws = threads.ScrewGroups(tol)
         self.arc: list = []  # [index, path] of the pending arc (consecutive arcs on one helix joined)
         self.chain: list = []  # [tool, src, points...]: consecutive 3D feeds joined as mill.Chain does
         self.lazy_total, self.lazy_piece, self.lazy_src = 0, 0, None
@@ -552,6 +553,7 @@ class Work:
                 self.flush()
             count(self, i, path)
         self.flush()
+        self.screws_done()
         if self.lazy_src is not None:
             self.add(min(self.lazy_total, CHUNK_TRIANGLES + self.lazy_piece), self.lazy_src,
                      "the 3D milling moves, swept in batches")
@@ -561,14 +563,28 @@ class Work:
         prof = self.profile(path.tool)
         _check_axis(path, prof)
         f = self.frame
-        pieces, tris = [], 0
+        pieces, parts, tris = [], [], 0
         for piece in _iter_screw_pieces(path, prof, f.outline, f.r_clip, f.margin):
             pieces.append(piece)
-            tris += _screw_triangles(path, clipped_profile(prof, piece[2]), piece[0], piece[1], self.tol)
+            parts.append((piece[0], piece[1], clipped_profile(prof, piece[2])))
+            tris += _screw_triangles(path, parts[-1][2], piece[0], piece[1], self.tol)
             if self.held + tris > self.limit:  # stop a huge one early: extrapolate its total
                 self.add(round(tris / max(piece[1], 1e-9)), path.src, "this thread cut")
-        self.add(tris, path.src, "this thread cut")
         self.screw_pieces[i] = pieces
+        parts = [pt for pt in parts if not pt[2].is_empty()]
+        if parts and self.frame.meets(*threads.bounds(path, parts)):  # as _Sweeper.screw keeps it
+            self.screws.add(i, path, parts)  # counted as swept, grouped by helix (screws_done)
+
+    def screws_done(self) -> None:
+        """The thread cuts as ``threads.ScrewGroups`` sweeps them: one sweep per stretch of each
+        helix's group (the union of its passes' profiles), the ungrouped passes one by one. (The
+        passes' own sweeps near a checked rapid are built one at a time and released.)"""
+        for path, prof in self.screws.sweeps():
+            self.add(_screw_triangles(path, prof, 0.0, 1.0, self.tol), path.src,
+                     "the thread cuts on this helix, swept as one")
+        for m in self.screws.single:
+            self.add(sum(_screw_triangles(m.path, prof, s0, s1, self.tol) for s0, s1, prof in m.parts),
+                     m.path.src, "this thread cut")
 
     def revolve(self, i: int, path: PlanarPath) -> None:
         pass  # counted exactly from the union of the regions before it is revolved (_subtract)
