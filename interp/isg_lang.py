@@ -17,7 +17,7 @@ from .lexer import NUMBER_LIMIT, foreign_digit
 
 NUM = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-MAX_DEPTH = 64  # brackets, functions and signs nested in one expression
+MAX_DEPTH = 32  # brackets, functions and signs nested in one expression (each costs ~12 Python frames)
 CONTROL = {"IF", "ELSEIF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "DO", "ENDDO", "SWITCH",
            "CASE", "DEFAULT", "ENDSWITCH", "BREAK", "CONTINUE", "GOTO"}
 SCOPES = {"P": "program-global", "L": "local", "S": "self-retaining", "E": "external", "G": "global"}
@@ -204,7 +204,11 @@ def _power(cur: Cursor):
     if cur.text.startswith("**", cur.i):
         col = cur.i + 1
         cur.i += 2
+        cur.depth += 1
+        if cur.depth > MAX_DEPTH:
+            raise cur.error(f"expression nested more than {MAX_DEPTH} deep")
         exp = _power(cur)  # right-associative
+        cur.depth -= 1
         return _bin("**", base, exp, cur.prog, cur.line, col)
     return base
 
@@ -247,17 +251,13 @@ def primary(cur: Cursor):
     cur.skip()
     t, i = cur.text, cur.i
     c = cur.peek()
-    if c == "[":
+    if c == "[":  # its depth is counted by unary() around it
         cur.i += 1
-        cur.depth += 1
-        if cur.depth > MAX_DEPTH:
-            raise cur.error(f"expression nested more than {MAX_DEPTH} deep")
         f = expression(cur)
         cur.skip()
         if cur.peek() != "]":
             raise cur.error("']' expected to close the '[' at column %d" % (i + 1))
         cur.i += 1
-        cur.depth -= 1
         return f
     if c == '"':
         j = t.find('"', i + 1)
