@@ -459,6 +459,8 @@ class Isg(Interpreter):
         keep = []
         for g in gs:
             code = int(g.value) if g.value == int(g.value) else None
+            if code is None:
+                raise self.error(line, g.col, f"unknown G code G{g.raw}")
             if code in G_HARMLESS:
                 self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
                                "accepted, not simulated")

@@ -243,3 +243,9 @@ def test_conditional_interpretation():
     prog = run("%P\n#IF V.E.START_VALUE == TRUE\nG01 X1 F100\n#ELSE\nG01 X2 F40\n#ENDIF\nM30\n",
                variables={"V.E.START_VALUE": 0.0})
     assert ends(prog) == [(2.0, 0.0, 50.0)]
+
+
+@pytest.mark.parametrize("code", ["G5.4", "G9.1", "G80.5", "G805.2"])
+def test_fractional_g_code_is_unknown(code):
+    e = fails(f"%P\n{code}\nM30\n")
+    assert (e.line, e.col) == (2, 1) and f"unknown G code {code}" in e.message
