@@ -21,7 +21,8 @@ PASSIVE = {
     "MEAS": "measurement settings", "SUPPRESS": "suppress", "STROKE": "stroke settings", "CLEAR": "clear",
     "AX": "axis settings", "CAX": "C axis settings", "PROG": "program settings", "PUT": "put", "INIT": "init",
     "MACHINE": "machine data", "AXLINK": "axis link", "PATH": "path settings", "OVERRIDE": "override",
-    "ACHSE": "axis settings", "SAVE": "save", "RESTORE": "restore",
+    "ACHSE": "axis settings", "SAVE": "save", "RESTORE": "restore", "FGROUP": "feed axes group",
+    "PROG_END": "program end settings", "SPLINE_TYPE": "spline type",
 }
 # commands whose ON form changes the tool path in a way the simulator does not model
 NOT_MODELLED = {
@@ -49,6 +50,8 @@ def command(m, st, name: str, text: str, col: int) -> None:
     if name in PASSIVE:
         warn(m, st, name, text)
         return
+    if name == "ERROR":  # the program stops the controller with an error here
+        raise m.error(line, col, f"#ERROR {text}: the program raises an error here (the controller stops)")
     if name == "CS":
         return cs(m, st, text, col)
     if name == "FILE":

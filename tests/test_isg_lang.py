@@ -249,3 +249,8 @@ def test_conditional_interpretation():
 def test_fractional_g_code_is_unknown(code):
     e = fails(f"%P\n{code}\nM30\n")
     assert (e.line, e.col) == (2, 1) and f"unknown G code {code}" in e.message
+
+
+def test_error_command_stops_and_fgroup_passes():
+    e = fails('%P\n#FGROUP [X, Y, Z]\n$IF 1 == 1\n#ERROR [ID=1 RC=2]\n$ENDIF\nM30\n')
+    assert (e.line, e.col) == (4, 1) and "#ERROR" in e.message
