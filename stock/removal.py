@@ -1,5 +1,9 @@
 """Material removal: every path's swept solid, subtracted from the stock in one batch.
 
+Each path gets one sweep strategy (``sweep_kind``: screw, revolve, hull, level, helix, tube); the
+table STRATEGIES names, per kind, the sweep (``_Sweeper``) and the estimate of its triangles
+(``Work``), which runs over all paths before anything is built.
+
 Order does not change the final part (subtraction commutes), so all solids are built first and
 removed with one ``batch_boolean``. Order matters only for the warnings: a rapid (G00), or a cut
 with the spindle stopped, is reported when it removes material that is still there at that moment,
@@ -367,10 +371,6 @@ def _stock_rmax(outline: np.ndarray | None, zlo: float, zhi: float, default: flo
         for z in (max(lo, zlo), min(hi, zhi)):
             best = max(best, ra + (rb - ra) * (z - za) / (zb - za))
     return float(best) if best > -np.inf else 0.0
-
-
-def _screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, margin: float):
-    return list(_iter_screw_pieces(path, profile, outline, r_clip, margin))
 
 
 def _iter_screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: float, margin: float):
