@@ -29,7 +29,7 @@ METRIC_PITCH = {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 
                 48: 5.0}
 
 _COMMON = "RTP RFP SDIS DP DPR"
-_NEW = " _GMODE _DMODE _AMODE"  # the later (ShopMill / Operate) parameters: accepted, no effect
+_NEW = " _GMODE _DMODE _AMODE"  # the later (ShopMill / Operate) parameters: _GMODE checked (tip_reference)
 NAMES = {
     "CYCLE81": _COMMON + " DTB" + _NEW,
     "CYCLE82": _COMMON + " DTB" + _NEW,
@@ -45,8 +45,8 @@ NAMES = {
     "HOLES2": "CPA CPO RAD STA1 INDA NUM",
     "CYCLE801": "SPCA SPCO STA DIS1 DIS2 NUM1 NUM2",
 }
-DRILLS = {n for n in NAMES if n.startswith("CYCLE8") and n != "CYCLE801"}
-PATTERNS = {"HOLES1", "HOLES2", "CYCLE801"}
+PATTERNS = {"HOLES1", "HOLES2", "CYCLE801"}  # call the modal drilling cycle at their positions
+DRILLS = set(NAMES) - PATTERNS  # the cycles MCALL may make modal
 REQUIRED = {"HOLES1": "NUM", "HOLES2": "NUM", "CYCLE801": "NUM1 NUM2"}
 ANGLES = {"STA"}  # degrees (STA1, INDA are already angles of the milling cycles)
 
