@@ -105,6 +105,10 @@ def _tool_geometry(t) -> str:
         out += f", flute length {t.length:g} mm"
     if t.corner_radius and t.kind != "ballmill":
         out += f", corner radius {t.corner_radius:g} mm"
+    if t.kind == "drill":
+        out += f", point angle {t.point_angle:g}\u00b0"
+    if t.name:
+        out += f", name \u201c{t.name}\u201d"
     return out
 
 
