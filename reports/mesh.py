@@ -104,32 +104,43 @@ def surface_area(v: np.ndarray, f: np.ndarray) -> float:
     return float(np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum() / 2.0)
 
 
-def closed_by_position(v: np.ndarray, f: np.ndarray) -> str | None:
+def closed_by_position(v: np.ndarray, f: np.ndarray, distinct: bool = False) -> str | None:
     """None if the mesh, read back by position, is a closed oriented surface of positive volume;
     else what is wrong. Positions are compared as a reader compares them: float32 values (STL)
-    and trimesh's merge (coordinates rounded to 1e-8 of the unit) in mm and in metres (GLB)."""
+    and trimesh's merge (coordinates rounded to 1e-8 of the unit) in mm and in metres (GLB).
+
+    ``distinct``: the caller has found the vertices at pairwise distinct points of a grid of step
+    at least MIN_GRID (``closed_mesh``: one sort of the integer grid coordinates). Then no reader
+    can merge two: two of them differ by at least one step in some coordinate, exactly in float32,
+    and by at least MIN_GRID x 1e5 > 1 unit where trimesh rounds (metres at 1e-8, the finer of its
+    two merges), so the three sorts by position are skipped."""
     if len(f) == 0:
         return "no triangles"
     if f.min() < 0 or f.max() >= len(v) or not np.all(np.bincount(f.reshape(-1), minlength=len(v))):
         return "faces do not use every vertex exactly"
     if not np.array_equal(v.astype(np.float32).astype(np.float64), v):
         return "coordinates not exact in float32"
-    for scale in (None, 1e8, 1e5):  # exact (float32), trimesh's merge in mm and in metres
-        key = v if scale is None else np.round(v * scale)
-        k = key[np.lexsort(key.T)]
-        shared = int(np.all(k[1:] == k[:-1], axis=1).sum())
-        if shared:
-            return f"{shared} vertices share a position with another"
+    if not distinct:
+        for scale in (None, 1e8, 1e5):  # exact (float32), trimesh's merge in mm and in metres
+            key = v if scale is None else np.round(v * scale)
+            k = key[np.lexsort(key.T)]
+            shared = int(np.all(k[1:] == k[:-1], axis=1).sum())
+            if shared:
+                return f"{shared} vertices share a position with another"
     # every position is a distinct vertex from here on: indices stand for positions
     if np.any((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0])):
         return "a triangle has two corners at one position"
     n = len(v)
     a = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
     b = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
-    directed = np.sort(a * n + b)
-    if np.any(directed[1:] == directed[:-1]):
-        return "an edge is used twice in one direction (more than two faces or inconsistent winding)"
-    if not np.array_equal(directed, np.sort(b * n + a)):
+    # one sort of the undirected edges, the direction in the lowest bit: a closed oriented surface
+    # has every edge exactly once each way, i.e. the sorted keys come in pairs (2 e, 2 e + 1)
+    key = np.sort((np.minimum(a, b) * n + np.maximum(a, b)) * 2 + (a > b))
+    lo, hi = key[0::2], key[1::2]
+    if len(lo) != len(hi) or np.any(lo >> 1 != hi >> 1) or np.any(lo[1:] >> 1 == lo[:-1] >> 1) \
+            or np.any(lo & 1) or not np.all(hi & 1):
+        if np.any(key[1:] == key[:-1]):
+            return "an edge is used twice in one direction (more than two faces or inconsistent winding)"
         return "an edge has only one face (a hole)"
     if not signed_volume(v, f) > 0:
         return "the volume is not positive"
@@ -175,10 +186,12 @@ class _Faces:
         return {int(x) for t in self.of(vert) for x in self.f[t]} - {vert}
 
 
-def _collapse(q: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
-    """Collapse the edges whose ends share a grid point (module doc, step 2). Returns the grid
-    coordinates and faces of the result (unused vertices dropped, order kept) and the count."""
-    groups = _shared_points(q)
+def _collapse(q: np.ndarray, f: np.ndarray, groups: list[np.ndarray] | None = None
+              ) -> tuple[np.ndarray, np.ndarray, int]:
+    """Collapse the edges whose ends share a grid point (module doc, step 2; ``groups``: those
+    points' ``_shared_points(q)`` when known). Returns the grid coordinates and faces of the
+    result (unused vertices dropped, order kept) and the count."""
+    groups = _shared_points(q) if groups is None else groups
     if not groups:
         return q, f, 0
     f = f.copy()
@@ -266,10 +279,14 @@ def closed_mesh(part) -> ClosedMesh:
         return ClosedMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64), MIN_GRID, 0, 0, 0.0)
     h = grid_step(float(np.abs(v).max()))
     q = np.round(v / h).astype(np.int64)
-    q, f, collapsed = _collapse(q, f)
-    q, separated, rings = _separate(q, f)
+    groups = _shared_points(q)
+    collapsed = separated = rings = 0
+    if groups:  # most parts: none, and nothing to collapse or separate
+        q, f, collapsed = _collapse(q, f, groups)
+        q, separated, rings = _separate(q, f)
     out = q.astype(np.float64) * h
-    why = closed_by_position(out, f)
+    # no vertex moved by the separation: _shared_points found the grid points distinct (module doc, 4)
+    why = closed_by_position(out, f, distinct=separated == 0)
     if why is not None:
         raise LeakyMeshError(f"the part cannot be written as a closed mesh: {why}")
     return ClosedMesh(out, f, h, collapsed, separated, math.sqrt(3.0) * h * (0.5 + rings))
