@@ -4,10 +4,12 @@ exact manifold3d sweep (extrude + warp_batch) + batch subtract + binary STL writ
 five passes, no cutsim code. Each case runs in its own subprocess so its peak memory
 (resource.getrusage ru_maxrss, which sees manifold3d's C++ allocations) is its own.
 
-    python3 bench/bench_thread.py [TOL ...]      # default: 0.01 0.001
+    python3 bench/bench_thread.py [--repeat N] [--no-bare] [TOL ...]   # default: 0.01 0.001
 
-Prints, per tolerance: wall time of the work (after imports) and of the whole process, triangle
-count, peak RSS, and the ratios cutsim / bare and cutsim / floor.
+Prints, per tolerance: wall time and CPU time (time.process_time, all threads) of the work (after
+imports) and wall time of the whole process, triangle count, peak RSS, and the ratios cutsim / bare
+and cutsim / floor. With ``--repeat N`` the cases run N times interleaved (floor, cutsim, floor,
+...) and the medians are shown: on a loaded machine the CPU ratio is the steadier one.
 
 - bare: one exact sweep per pass, all subtracted in one batch (what cutsim did before issue 13).
 - floor: the least work for the same exact solid (issue 13): the passes lie on one helix, so the
@@ -199,35 +201,56 @@ def _stl_triangles(path: str) -> int:
 
 
 def child(kind: str, tol: float) -> None:
+    import manifold3d  # noqa: F401  imports before the clock, as for every case
+    import numpy  # noqa: F401
+
     with tempfile.TemporaryDirectory() as work:
+        c = time.process_time()
         out = {"cutsim": case_cutsim, "bare": case_bare, "floor": case_floor, "isg": case_isg}[kind](tol, work)
+        out["cpu"] = time.process_time() - c
     out["maxrss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     print(json.dumps(out))
 
 
-def main(tols: list[float]) -> None:
-    print(f"five-pass M70x1.5 over 57 mm ({len(PASSES)} G33 passes), {os.cpu_count()} cpus")
-    print(f"{'tol mm':>8} {'case':>7} {'work s':>8} {'proc s':>8} {'triangles':>10} {'peak MB':>8} {'removed mm3':>12}")
+def main(tols: list[float], repeat: int = 1, bare: bool = True) -> None:
+    import statistics
+
+    print(f"five-pass M70x1.5 over 57 mm ({len(PASSES)} G33 passes), {os.cpu_count()} cpus, "
+          f"medians of {repeat} run(s)")
+    print(f"{'tol mm':>8} {'case':>7} {'work s':>8} {'cpu s':>8} {'proc s':>8} {'triangles':>10} {'peak MB':>8} "
+          f"{'removed mm3':>12}")
     for tol in tols:
+        runs: dict[str, list[dict]] = {}
+        kinds = (("bare",) if bare else ()) + ("floor", "cutsim") + (("isg",) if os.path.exists(ISG) else ())
+        for _ in range(repeat):
+            for kind in kinds:
+                t = time.perf_counter()
+                p = subprocess.run([sys.executable, __file__, "--child", kind, str(tol)], capture_output=True, text=True)
+                wall = time.perf_counter() - t
+                if p.returncode != 0:
+                    sys.exit(f"{kind} at {tol} failed:\n{p.stderr}")
+                r = json.loads(p.stdout.strip().splitlines()[-1])
+                r["wall"] = wall
+                runs.setdefault(kind, []).append(r)
         res = {}
-        kinds = ("bare", "floor", "cutsim") + (("isg",) if os.path.exists(ISG) else ())
-        for kind in kinds:
-            t = time.perf_counter()
-            p = subprocess.run([sys.executable, __file__, "--child", kind, str(tol)], capture_output=True, text=True)
-            wall = time.perf_counter() - t
-            if p.returncode != 0:
-                sys.exit(f"{kind} at {tol} failed:\n{p.stderr}")
-            r = json.loads(p.stdout.strip().splitlines()[-1])
-            r["wall"] = wall
+        for kind, rs in runs.items():
+            r = dict(rs[0])
+            for key in ("time", "cpu", "wall", "maxrss_mb"):
+                r[key] = statistics.median(x[key] for x in rs)
             res[kind] = r
-            print(f"{tol:>8g} {kind:>7} {r['time']:>8.2f} {wall:>8.2f} {r['triangles']:>10d} {r['maxrss_mb']:>8.0f} {r['removed']:>12.3f}")
-        ratio = res["cutsim"]["time"] / res["bare"]["time"]
-        ratio_w = res["cutsim"]["wall"] / res["bare"]["wall"]
-        print(f"{tol:>8g}   ratio cutsim/bare: work {ratio:.2f}x, whole process {ratio_w:.2f}x")
+            print(f"{tol:>8g} {kind:>7} {r['time']:>8.2f} {r['cpu']:>8.2f} {r['wall']:>8.2f} {r['triangles']:>10d} "
+                  f"{r['maxrss_mb']:>8.0f} {r['removed']:>12.3f}")
+        if "bare" in res:
+            ratio = res["cutsim"]["time"] / res["bare"]["time"]
+            ratio_w = res["cutsim"]["wall"] / res["bare"]["wall"]
+            print(f"{tol:>8g}   ratio cutsim/bare: work {ratio:.2f}x, whole process {ratio_w:.2f}x")
         for k in ("cutsim", "isg"):
             if k in res:
                 rf = res[k]["time"] / res["floor"]["time"]
-                print(f"{tol:>8g}   ratio {k}/floor: work {rf:.2f}x ({'within' if rf <= 2 else 'OVER'} the 2x target)")
+                rc = res[k]["cpu"] / res["floor"]["cpu"]
+                print(f"{tol:>8g}   ratio {k}/floor: work {rf:.2f}x, cpu {rc:.2f}x "
+                      f"({'within' if max(rf, rc) <= 2 else 'OVER'} the 2x target); removed volume "
+                      f"{res[k]['removed'] - res['floor']['removed']:+.4f} mm^3 against the floor")
         print(f"load average: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
@@ -235,4 +258,11 @@ if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "--child":
         child(sys.argv[2], float(sys.argv[3]))
     else:
-        main([float(a) for a in sys.argv[1:]] or [0.01, 0.001])
+        import argparse
+
+        ap = argparse.ArgumentParser()
+        ap.add_argument("tols", nargs="*", type=float)
+        ap.add_argument("--repeat", type=int, default=1)
+        ap.add_argument("--no-bare", action="store_true", help="skip the one-sweep-per-pass script")
+        a = ap.parse_args()
+        main(a.tols or [0.01, 0.001], a.repeat, not a.no_bare)
