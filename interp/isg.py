@@ -22,7 +22,8 @@ from .isg_commands import command
 from .isg_lang import SCOPES, truth
 from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
 from .lexer import COORD_LIMIT, Word, check_range, fmt_count
-from .modal import AXES, InterpConfig
+from .compensation import compensate_records
+from .modal import AXES, PLANE_AXES, InterpConfig
 
 G_CODES = {
     0: Code("motion", "XYZ", "rapid"),
@@ -49,6 +50,10 @@ G_CODES = {
     162: Code("centre", "", "circle centre relative to the start"),
     71: Code("units", "", "millimetres"),
     70: Code("units", "", "inches"),
+    25: Code("trc transition", "", "linear transitions at outside corners with tool radius compensation"),
+    26: Code("trc transition", "", "circular transitions at outside corners with tool radius compensation"),
+    138: Code("trc selection", "", "direct selection/deselection of tool radius compensation"),
+    139: Code("trc selection", "", "indirect selection/deselection of tool radius compensation"),
 }
 # G codes that do not change the tool path (TwinCAT CNC programming manual, "G functions"):
 # accepted with one warning each. Those in G_AXIS_PARAMS take axis words as percentages or limits.
@@ -56,7 +61,6 @@ G_HARMLESS = {
     4: "dwell time", 8: "acceleration at block start", 9: "deceleration at block end",
     10: "constant feed with tool radius compensation", 11: "adapted feed with tool radius compensation",
     12: "corner deceleration off", 13: "corner deceleration on", 20: "mirroring off",
-    25: "linear transitions with tool radius compensation", 26: "circular transitions with tool radius compensation",
     60: "exact stop", 61: "polynomial contouring (blends corners within the contour tolerance)",
     63: "tapping without compensating chuck", 66: "synchronise cycle at block end", 69: "contour rotation off",
     96: "constant cutting speed", 97: "constant spindle speed", 98: "negative software limit switches",
@@ -66,13 +70,15 @@ G_HARMLESS = {
     293: "path-related feed interpolation", 230: "axis G00 acceleration weighting",
     231: "G00 acceleration weighting", 233: "G00 ramp time weighting", 333: "axis feedhold acceleration weighting",
     334: "feedhold acceleration weighting", 900: "acceleration on block transitions", 901: "acceleration on block transitions",
-    5: "tangential selection of tool radius compensation (acts with G41/G42)",
-    138: "tool radius compensation approach method", 139: "tool radius compensation approach method",
-    237: "tool radius compensation approach method", 238: "tool radius compensation approach method",
-    239: "tool radius compensation approach method", 359: "exact stop mode", 360: "exact stop mode",
+    359: "exact stop mode", 360: "exact stop mode",
     260: "polynomial contouring mode", 261: "polynomial contouring mode", 93: "feed as machining time",
 }
 G_AXIS_PARAMS = {4, 98, 99, 130, 132, 230, 333}
+# selection/deselection methods of tool radius compensation the simulator does not model: they only
+# act when G41/G42 is selected or deselected, which is then refused (G138 direct and G139 indirect are)
+TRC_METHODS = {5: "tangential selection/deselection", 236: "direct selection/deselection on the path",
+               237: "perpendicular selection/deselection", 238: "inside corner selection",
+               239: "direct selection/deselection without a block"}
 # G codes that change the tool path in a way the simulator does not model: exit 2 naming them
 G_NOT_MODELLED = {
     101: "measuring offsets into the zero offsets", 102: "measuring offsets out of the zero offsets",
@@ -149,6 +155,16 @@ class Isg(Interpreter):
         self.warned: set = set()
         self.files: dict[str, tuple] = {}  # global subprogram files read: path -> (main, local)
         self.implicit_files: dict[str, str] = {}  # #FILE NAME [G80 = "file"]: G code -> file name
+        # tool radius compensation (G40/G41/G42): records between selection and deselection are buffered
+        self.tool_no: int | None = next(iter(cfg.tool_radii), None)
+        self.d_zero = False  # D0: no tool compensation
+        self.comp = 40
+        self.comp_buf: list | None = None
+        self.comp_radius = 0.0
+        self.comp_plane = ""
+        self.comp_off = False  # G40 programmed: the next motion in the plane departs
+        self.trc_linear = True  # G25 (default) / G26
+        self.trc_method: tuple = (139, None)  # G139 indirect (default), G138 direct, or an unmodelled one
 
     # -- messages ----------------------------------------------------------------------------------
     def warn_once(self, key, src: Src, message: str) -> None:
@@ -167,6 +183,8 @@ class Isg(Interpreter):
             self.warn(Src(self.name, other.line, other.col), f"a further main program '%{other.name}' in this file "
                       f"is not run (the file runs its first main program, '%{main.name}')")
         self.section(main)
+        if self.comp_buf is not None:
+            self.flush_comp(departure=False)
         if not self.ended and self.last_block is not None:
             b = self.last_block
             self.warn(Src(self.name, b.line, 1, getattr(b, "label", "")), "the main program ends without M30")
@@ -392,6 +410,9 @@ class Isg(Interpreter):
         elif scope in ("P", "S"):
             store = self.vars
         else:
+            if key == "V.G.WZ_AKT.R" and self.comp_buf is not None:
+                raise self.error(line, col, f"{key} = ...: changing the tool radius while tool radius compensation is "
+                                 "active is not modelled by the simulator")
             if key.startswith("V.G.WZ_AKT.") and key != "V.G.WZ_AKT.R":
                 raise self.error(line, col, f"{key} = ...: changing the active tool's data (length, offsets) moves the "
                                  "tool tip in a way the simulator does not model")
@@ -461,6 +482,12 @@ class Isg(Interpreter):
             code = int(g.value) if g.value == int(g.value) else None
             if code is None:
                 raise self.error(line, g.col, f"unknown G code G{g.raw}")
+            if code in TRC_METHODS:
+                if code == 5:
+                    st.g["trc tangential"] = g  # non-modal: this block only
+                else:
+                    self.trc_method = (code, g)
+                continue
             if code in G_HARMLESS:
                 self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
                                "accepted, not simulated")
@@ -501,9 +528,11 @@ class Isg(Interpreter):
         elif row.group == "zero offset":
             self.zero_offset(st, code, g)
         elif row.group == "radius comp":
-            if code != 40:
-                raise self.error(line, g.col, f"G{g.raw} (tool radius compensation) is not modelled by the simulator: "
-                                 "program the tool centre path (G40)")
+            st.g["radius comp"] = g
+        elif row.group == "trc transition":
+            self.trc_linear = code == 25
+        elif row.group == "trc selection":
+            self.trc_method = (code, g)
         elif row.group == "centre":
             self.centre_abs = code == 161
         elif row.group == "units":
@@ -549,6 +578,8 @@ class Isg(Interpreter):
                 raise self.error(b.line, w.col, f"H{w.raw} is not a machine function the setup declares "
                                  f"([machine] h_functions = [{w.raw}])")
         words.pop("H", None)
+        if "D" in words:
+            self.d_zero = words["D"].value == 0
         speed = st.speed = words.pop("S", None)
         if speed is not None and speed.value < 0:
             raise self.error(b.line, speed.col, "spindle speed S must not be negative")
@@ -616,7 +647,96 @@ class Isg(Interpreter):
                                "move the tool or the workpiece in this 3-axis simulation")
             self.extra_pos[a] = new
 
+    # -- tool radius compensation (G40/G41/G42; geometry in interp/compensation.py) -----------------
+    def tool(self, src: Src, number: int, offset: int | None) -> None:
+        if self.comp_buf is not None and number != self.tool_no:
+            raise self.error(src.line, 1, f"tool change (T{number}) while tool radius compensation is active: "
+                             "not modelled by the simulator (deselect it with G40 first)")
+        self.tool_no = number
+        super().tool(src, number, offset)
+
+    def emit(self, rec) -> None:
+        if self.comp_buf is not None:
+            self.comp_buf.append(rec)
+        else:
+            self.program.records.append(rec)
+
+    def trc_radius(self) -> float:
+        """The active tool's radius: V.G.WZ_AKT.R when the program wrote it, else the setup's tool
+        (its diameter / 2); 0 after D0."""
+        if "V.G.WZ_AKT.R" in self.vars:
+            v = self.vars["V.G.WZ_AKT.R"]
+            return v if isinstance(v, float) else 0.0
+        if self.d_zero or self.tool_no is None:
+            return 0.0
+        return float(self.cfg.tool_radii.get(self.tool_no, 0.0))
+
+    def check_trc_method(self, st: Step, g: Word, what: str) -> None:
+        """G41/G42/G40 (word ``g``) under a selection method the simulator does not model: an error."""
+        t = st.g.get("trc tangential")
+        code = 5 if t is not None else self.trc_method[0]
+        if code in TRC_METHODS:
+            raise self.error(st.block.line, g.col, f"G{g.raw} under G{code} ({TRC_METHODS[code]} of tool radius "
+                             f"compensation): not modelled by the simulator; {what} with G139 (indirect, the default) "
+                             "or G138 (direct)")
+
+    def radius_comp(self, st: Step, g: Word) -> None:
+        """G41/G42 select tool radius compensation from the next motion in the plane on; G40 deselects
+        it with the next motion in the plane (TwinCAT CNC manual, "Tool radius compensation")."""
+        code = int(g.value)
+        line = st.block.line
+        if code == 40:
+            if self.comp_buf is not None:
+                self.check_trc_method(st, g, "deselect it")
+                self.comp_off = True
+            return
+        if self.comp_buf is not None:
+            if code != self.comp:
+                raise self.error(line, g.col, f"G{code} while G{self.comp} is active: a change of the compensation "
+                                 "side without G40 is not modelled by the simulator (program G40 in between)")
+            return
+        if self.cfg.machine_kind == "lathe":
+            raise self.error(line, g.col, f"G{code} (tool nose radius compensation on a lathe) is not modelled by the "
+                             "simulator: program the tool tip path (G40)")
+        self.check_trc_method(st, g, "select it")
+        r = self.trc_radius()
+        if r == 0:
+            self.warn(st.src, f"G{code} with tool radius 0 (the setup gives no radius for the active tool, or D0): "
+                      "the path is not offset")
+        self.comp, self.comp_radius, self.comp_plane, self.comp_off = code, r, self.plane, False
+        self.comp_buf = []
+
+    def flush_comp(self, departure: bool) -> None:
+        """The buffered records, offset to the tool centre path, go to the program."""
+        buf, self.comp_buf = self.comp_buf, None
+        side = 1.0 if self.comp == 41 else -1.0
+        self.comp, self.comp_off = 40, False
+
+        def err(r, msg):
+            return CutsimError(r.src.program, r.src.line, r.src.col, msg)
+        recs = compensate_records(buf, side * self.comp_radius, self.comp_plane, departure,
+                                  self.trc_method[0] == 138, self.trc_linear, err)
+        self.program.records.extend(recs)
+        for rec in reversed(recs):
+            if isinstance(rec, canon.MOTIONS):
+                self.moved(rec.end)
+                break
+
     def convert_motion(self, st: Step) -> None:
+        g = st.g.get("radius comp")
+        if g is not None:
+            self.radius_comp(st, g)
+        if self.comp_buf is not None and self.plane != self.comp_plane:
+            raise self.error(st.block.line, 1, f"plane changed to {self.plane} while tool radius compensation is active "
+                             f"in {self.comp_plane}: not modelled by the simulator")
+        before = tuple(self.pos)
+        self.convert_path(st)
+        if self.comp_off and self.comp_buf is not None:
+            a, c, _ = PLANE_AXES[self.comp_plane]
+            if self.pos[a] != before[a] or self.pos[c] != before[c]:
+                self.flush_comp(departure=True)
+
+    def convert_path(self, st: Step) -> None:
         b, src, words, motion = st.block, st.src, st.words, st.motion
         self.extra_axes(st)
         if "R" in words:

@@ -99,7 +99,7 @@ def test_passive_commands_warn_once_each():
     ("#ROTATION ON [ANGLE=30]", "#ROTATION"),
     ("G68 X0 Y0 R30", "contour rotation"),
     ("G21", "mirroring"),
-    ("G41 D1", "radius compensation"),
+    ("G237 G41 D1", "G41 under G237 (perpendicular selection/deselection of tool radius compensation)"),
     ("G74 Z1", "homing"),
     ("#FOO", "#FOO is not known"),
 ])
