@@ -164,7 +164,8 @@ class Isg(Interpreter):
         self.comp_plane = ""
         self.comp_off = False  # G40 programmed: the next motion in the plane departs
         self.trc_linear = True  # G25 (default) / G26
-        self.trc_method: tuple = (139, None)  # G139 indirect (default), G138 direct, or an unmodelled one
+        self.trc_method: tuple = (139, None)
+        self.circle_r: tuple[float, int] | None = None  # R (circle radius, modal) and its column  # G139 indirect (default), G138 direct, or an unmodelled one
 
     # -- messages ----------------------------------------------------------------------------------
     def warn_once(self, key, src: Src, message: str) -> None:
@@ -739,9 +740,11 @@ class Isg(Interpreter):
     def convert_path(self, st: Step) -> None:
         b, src, words, motion = st.block, st.src, st.words, st.motion
         self.extra_axes(st)
-        if "R" in words:
-            raise self.error(b.line, words["R"].col, "R (circle radius programming) is not supported by the simulator: "
-                             "program the circle centre with I, J, K")
+        if "R" in words:  # circle radius, modal (manual: "Radius programming (R, G163)")
+            w = words.pop("R")
+            if w.value == 0:
+                raise self.error(b.line, w.col, "circle radius R must not be 0")
+            self.circle_r = (w.value, w.col)
         axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
         values = {i: w.value for i, w in axis_words.items()}
         cols = {i: w.col for i, w in axis_words.items()}
@@ -934,10 +937,42 @@ class Isg(Interpreter):
             if self.diameter and "I" in words:
                 w = words["I"]
                 words["I"] = Word("I", w.value / 2.0, w.raw, w.col)
-        centre = self.centre_words(b.line, words, ", relative to the start")
         end = self.target(values)
         self.check_position(b.line, end, cols)
+        a, c, _ = PLANE_AXES[self.plane]
+        if not words and self.circle_r is not None:
+            centre = self.radius_centre(b.line, end, self.motion == 2)
+        else:
+            centre = self.centre_words(b.line, words, ", relative to the start; or its radius R")
         self.arc(src, end, centre, self.motion == 2)
+
+    def radius_centre(self, line: int, end, cw: bool):
+        """The centre of a circle given by its radius R (modal): the shorter arc for R > 0, the
+        longer one for R < 0 (manual: "Radius programming (R, G163)"); the chord in the plane."""
+        r, col = self.circle_r
+        a, c, _ = PLANE_AXES[self.plane]
+        k = 0.5 if self.diameter else 1.0  # X as a diameter
+
+        def phys(p, i):
+            return p[i] * k if i == 0 else p[i]
+        s2 = (phys(self.pos, a), phys(self.pos, c))
+        e2 = (phys(end, a), phys(end, c))
+        dx, dy = e2[0] - s2[0], e2[1] - s2[1]
+        chord = math.hypot(dx, dy)
+        if chord < 1e-9:
+            raise self.error(line, col, "a full circle cannot be programmed with its radius R (start and end point "
+                             "coincide): program its centre with I, J, K")
+        if chord > 2 * abs(r) + 1e-4:
+            raise self.error(line, col, f"circle radius R{abs(r):g} is too small for the distance {chord:.4f} between "
+                             "the start and the end point")
+        h = math.sqrt(max(r * r - chord * chord / 4, 0.0))
+        side = (-1.0 if cw else 1.0) * (1.0 if r > 0 else -1.0)  # centre left of the chord for a short CCW arc
+        mx, my = (s2[0] + e2[0]) / 2, (s2[1] + e2[1]) / 2
+        cen = list(self.pos)
+        ca, cc = mx + side * h * -dy / chord, my + side * h * dx / chord
+        cen[a] = ca / k if a == 0 else ca
+        cen[c] = cc / k if c == 0 else cc
+        return (cen[0], cen[1], cen[2])
 
 
 def _element_keys(name: str, dims: tuple) -> list[str]:
