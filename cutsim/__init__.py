@@ -182,6 +182,7 @@ def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConf
                         max_blocks=setup.max_blocks, tool_radii={t.number: t.diameter / 2.0 for t in setup.tools},
                         axes=dict(setup.axes), m_functions=frozenset(setup.m_functions),
                         h_functions=frozenset(setup.h_functions), variables=dict(setup.variables),
+                        transformations=frozenset(setup.transformations),
                         work_offsets=dict(setup.work_offsets), subprogram_path=tuple(setup.subprogram_path),
                         tool_names=dict(setup.tool_names))
 

@@ -66,6 +66,7 @@ class Setup:
     axes: dict[str, str] = field(default_factory=dict)  # [machine] axes: extra axis name -> "rotary" | "linear"
     m_functions: frozenset[int] = frozenset()  # [machine] m_functions
     h_functions: frozenset[int] = frozenset()  # [machine] h_functions
+    transformations: frozenset[str] = frozenset()  # [machine] transformations: Cartesian ones ("TRAFO")
     subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute folders
     variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: upper-case name -> value
     work_offsets: dict[str, tuple[float, float, float]] = field(default_factory=dict)  # [work_offsets]: "G54" -> xyz
@@ -83,6 +84,7 @@ MAX_SETUP_BYTES = 16 * 1024 * 1024
 FUNCTION_MAX = 99_999  # [machine] m_functions / h_functions: numbers 0 to this
 STRING_MAX = 200  # characters of a string value in [variables] (a Sinumerik STRING holds at most 200)
 AXIS_KINDS = ("rotary", "linear")
+TRANSFORMATIONS = ("TRAFO",)  # [machine] transformations the dialects know (ISG #TRAFO ON)
 # extra axis names: A B C U V W, optionally with a number (A1, C2), or two or three letters with a
 # number (SP1; Sinumerik channel axis names, written NAME=value in the program). X, Y, Z are the machine's own.
 _AXIS_NAME = re.compile(r"[ABCUVW][0-9]{0,2}|[A-Z]{2,3}[0-9]{1,2}")
@@ -261,6 +263,7 @@ class _Loader:
         axes = self.axes(m)
         m_functions = self.functions(m, "m_functions", "M")
         h_functions = self.functions(m, "h_functions", "H")
+        transformations = self.transformations(m)
         subprogram_path = self.subprogram_path(m)
         m.done()
         machine = MachineSpec(kind, dialect, diam, m03, start, rapid, feed)
@@ -320,7 +323,7 @@ class _Loader:
         return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks, max_blocks,
                      max_triangles, stock_where, axes=axes, m_functions=m_functions, h_functions=h_functions,
                      subprogram_path=subprogram_path, variables=variables, work_offsets=work_offsets,
-                     tool_names=tool_names)
+                     tool_names=tool_names, transformations=transformations)
 
     # -- what only the setup can say about the machine (docs/setup.md) -----------------------------
     def axes(self, m: _Reader) -> dict[str, str]:
@@ -351,6 +354,16 @@ class _Loader:
                 raise m.fail_at(key, (k,), f"an {letter} function is a whole number from 0 to {FUNCTION_MAX}, "
                                            f"not {_show(c)}")
         return frozenset(v)
+
+    def transformations(self, m: _Reader) -> frozenset[str]:
+        """[machine] transformations = ["TRAFO"]: kinematic transformations under which the program's
+        coordinates are the workpiece's Cartesian coordinates (ISG #TRAFO ON on a gantry or robot)."""
+        v = m.get("transformations", list, [])
+        for k, c in enumerate(v):
+            if not isinstance(c, str) or c.strip().upper() not in TRANSFORMATIONS:
+                raise m.fail_at("transformations", (k,), f"a transformation is one of {', '.join(TRANSFORMATIONS)}, "
+                                                          f"not {_show(c)}")
+        return frozenset(c.strip().upper() for c in v)
 
     def subprogram_path(self, m: _Reader) -> tuple[str, ...]:
         """[machine] subprogram_path = ["subs", ...]: folders searched for subprograms after the

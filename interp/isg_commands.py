@@ -68,6 +68,14 @@ def command(m, st, name: str, text: str, col: int) -> None:
         if angle and float(angle.group(1)) % 360 == 0:
             return
         raise m.error(line, col, "#ROTATION ON (a rotated coordinate system) is not modelled by the simulator")
+    if name == "TRAFO" and first != "OFF":
+        if "TRAFO" in m.cfg.transformations:
+            m.warn_once(("#", "TRAFO"), st.src, "#TRAFO ON: the setup declares the transformation Cartesian "
+                        "([machine] transformations = [\"TRAFO\"]): the program's X/Y/Z are simulated as they are")
+            return
+        raise m.error(line, col, f"#TRAFO {first}: a kinematic transformation is not modelled by the simulator; if "
+                      "this machine's transformation is Cartesian (a gantry or robot programmed in workpiece "
+                      "coordinates), declare it in the setup: [machine] transformations = [\"TRAFO\"]")
     if name in NOT_MODELLED:
         if first == "OFF" or (name in ("TRAFO", "RTCP", "TLAX", "ACS", "CYL", "TRANS", "FACE", "BCS", "PCS",
                                        "MIRROR", "SCALE", "POLAR") and first == "OFF"):

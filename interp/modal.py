@@ -37,6 +37,7 @@ class InterpConfig:
     axes: dict[str, str] = field(default_factory=dict)  # [machine] axes: extra axis -> "rotary" | "linear"
     m_functions: frozenset[int] = frozenset()  # [machine] m_functions: machine M codes that pass silently
     h_functions: frozenset[int] = frozenset()  # [machine] h_functions (ISG H words)
+    transformations: frozenset[str] = frozenset()  # [machine] transformations: Cartesian ones ("TRAFO")
     variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: "$P_X", "$A_DBB[5]", "V.G.X"
     work_offsets: dict[str, Vec3] = field(default_factory=dict)  # [work_offsets] "G54" = [x, y, z] (mm, machine frame)
     subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute dirs, searched after the program's
