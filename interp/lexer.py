@@ -35,12 +35,12 @@ def is_digit(c: str) -> bool:
     return "0" <= c <= "9"
 
 
+_DIGITS = re.compile(r"[0-9]*")
+
+
 def digits_end(text: str, i: int) -> int:
     """The index after the run of ASCII digits starting at ``i``."""
-    n = len(text)
-    while i < n and "0" <= text[i] <= "9":
-        i += 1
-    return i
+    return _DIGITS.match(text, i).end()
 
 
 def foreign_digit(program: str, line: int, text: str, i: int) -> None:
@@ -179,7 +179,8 @@ def block_number(program: str, line: int, text: str, i: int, block: Block, must_
         raise CutsimError(program, line, col, "the block number N must open the block")
     if block.label:
         raise CutsimError(program, line, col, "two block numbers N in one block")
-    read_whole(program, line, text, i, "N")
+    if j - i > 8 or (j < len(text) and text[j] >= "\x80"):  # the checks only where they can fail
+        read_whole(program, line, text, i, "N")
     block.label = "N" + text[i:j]
     return j
 
