@@ -50,6 +50,8 @@ def command(m, st, name: str, text: str, col: int) -> None:
     if name in PASSIVE:
         warn(m, st, name, text)
         return
+    if name == "DIST_CTRL":
+        return dist_ctrl(m, st, text, col)
     if name == "ERROR":  # the program stops the controller with an error here
         raise m.error(line, col, f"#ERROR {text}: the program raises an error here (the controller stops)")
     if name == "CS":
@@ -190,3 +192,20 @@ def file_names(m, st, text: str, col: int) -> None:
         found = True
     if not found:
         warn(m, st, "FILE", text)
+
+
+def dist_ctrl(m, st, text: str, col: int) -> None:
+    """``Z[DIST_CTRL [WAIT] OFF [NO_MOVE]]`` / ``FREEZE``: distance control (a sensor makes the axis
+    follow the workpiece surface) off or frozen - the simulator never has it on, so nothing moves:
+    one warning. ``ON``, ``DRYRUN``, ``REF``, ``CHECK_POS``: the axis would follow a sensor or a
+    measurement the simulator does not have: exit 2."""
+    axis, _, rest = text.partition(" ")
+    words = [w.upper() for w in re.findall(r"[A-Za-z_]+", rest)][1:]
+    words = [w for w in words if w != "WAIT"]
+    mode = words[0] if words else ""
+    if mode in ("OFF", "FREEZE", "NO_MOVE"):
+        m.warn_once(("#", "DIST_CTRL"), st.src, f"{axis}[DIST_CTRL {mode}] (distance control off) does not change the "
+                    "tool path in the simulation (distance control is never on here): accepted")
+        return
+    raise m.error(st.block.line, col, f"{axis}[DIST_CTRL {mode or '...'}]: distance control (the axis follows a sensor "
+                  "on the workpiece surface) is not modelled by the simulator")

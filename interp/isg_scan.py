@@ -203,6 +203,13 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         f = expression(cur)
     elif c == "[" and AXIS_COMMAND.match(text, cur.i) and not NOT_AXIS_COMMAND.match(text, cur.i):
         m = re.match(r"\[\s*([A-Za-z_]\w*)", text[cur.i:])
+        if m.group(1).upper() == "DIST_CTRL":  # Z[DIST_CTRL OFF NO_MOVE]: run as a command (isg_commands)
+            j = _closing(text, cur.i)
+            if j < 0:
+                raise cur.error("']' expected to close the axis command")
+            block.commands.append(("DIST_CTRL", f"{letter} {text[cur.i + 1:j]}", col))
+            cur.i = j + 1
+            return
         raise CutsimError(prog, lineno, col, f"{letter}[{m.group(1)} ...]: an axis-specific command "
                           "is not modelled by the simulator")
     elif c in "[@" or c.isalpha():
@@ -211,6 +218,19 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         raise cur.error(f"malformed number after {letter}")
     raw = text[col:cur.i].strip()
     block.items.append(("x", letter, f, raw, col))
+
+
+def _closing(text: str, i: int) -> int:
+    """Index of the ']' that closes the '[' at ``text[i]`` (-1 without one)."""
+    depth = 0
+    for j in range(i, len(text)):
+        if text[j] == "[":
+            depth += 1
+        elif text[j] == "]":
+            depth -= 1
+            if depth == 0:
+                return j
+    return -1
 
 
 def dwell_time(cur: Cursor) -> None:

@@ -254,3 +254,12 @@ def test_fractional_g_code_is_unknown(code):
 def test_error_command_stops_and_fgroup_passes():
     e = fails('%P\n#FGROUP [X, Y, Z]\n$IF 1 == 1\n#ERROR [ID=1 RC=2]\n$ENDIF\nM30\n')
     assert (e.line, e.col) == (4, 1) and "#ERROR" in e.message
+
+
+def test_distance_control_off_passes_on_is_refused():
+    # the manual's deselect forms: <axis>[DIST_CTRL [WAIT] OFF [NO_MOVE]] and FREEZE move nothing here
+    prog = run("%P\nG01 X1 F100\nZ[DIST_CTRL OFF NO_MOVE] ; off\nZ[DIST_CTRL WAIT FREEZE]\nG01 X2\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0), (2.0, 0.0, 50.0)]
+    assert sum("DIST_CTRL" in m for _, m in prog.warnings) == 1
+    e = fails("%P\nG01 X1 F100\nZ[DIST_CTRL DRYRUN CONST_DIST SET_DIST=[2*0.5]]\nM30\n")
+    assert (e.line, e.col) == (3, 1) and "DRYRUN" in e.message

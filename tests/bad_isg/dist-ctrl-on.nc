@@ -1,0 +1,6 @@
+; EXPECT 4:1 Z[DIST_CTRL ON]: distance control
+%P
+G01 X10 F100
+Z[DIST_CTRL ON SET_POS=0.5]
+G01 X20
+M30
