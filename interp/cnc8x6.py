@@ -234,6 +234,8 @@ class Cnc8x6(Interpreter):
         self.helix_on = False
         self.helix_pitch: float | None = None
         self.after_ramp: tuple[Src, int] | None = None  # (G33 src, 1 = expect empty, 2 = expect all axes)
+        self.blocks: list[Block] = []  # run_blocks: the program's blocks (stream keeps none)
+        self.loops: dict[int, int] = {}  # run_blocks: G73 block index -> repeats still to do
 
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:

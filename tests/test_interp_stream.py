@@ -152,3 +152,11 @@ def test_plain_blocks_run_as_the_long_way(lines, mill):
 def test_test_programs_run_as_the_long_way(path):
     text = path.read_text(encoding="utf-8", errors="replace")
     assert outcome("run", text, LATHE) == long_way(text, LATHE)
+
+
+def test_a_program_over_max_blocks_is_refused_alike():
+    cfg = InterpConfig("cnc8x6", "lathe", True, (40.0, 0.0, 5.0), max_blocks=5)
+    text = "".join(f"N{k} G01 X{k} Z-1 F0.1\n" for k in range(1, 9))
+    streamed, listed = both(text, cfg)
+    assert streamed == listed
+    assert streamed[0] == "error" and streamed[1].startswith("p.nc:6:1: error: the program is longer than the limit of 5")
