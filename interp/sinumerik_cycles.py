@@ -17,8 +17,8 @@ from . import canon
 from .canon import Src
 from .errors import CutsimError
 from .modal import PLANE_AXES
-from .sinumerik_lang import (COORD_LIMIT, Call, Frame, Goto, Num, Repeat, Ret, SubCall, SubprogramMissing, Word,
-                             range_message)
+from .sinumerik_lang import (COORD_LIMIT, Branch, Call, Case, Frame, Goto, Num, Repeat, Ret, SubCall,
+                             SubprogramMissing, Word, range_message)
 
 SIDE_STEP = 1.0  # pocket/slot roughing: radial step between concentric paths, x tool radius
 INNER_LOOP = 0.9  # the innermost roughing path lies this many tool radii inside the final one
@@ -1005,10 +1005,12 @@ def contour_lines(m, name: str, cy: Cycle):
 def contour_records(m, unit, lines, cy: Cycle) -> list:
     """Run the contour's blocks in a sandbox: their records, with the machine's state put back."""
     saved = ModalState.of(m)
+    saved_program = m.unit_program
     recs: list = []
     m.program.records = recs
     m.comp_buf = None
     m.feed = m.feed or 1.0
+    m.unit_program = unit.program  # errors of the contour's blocks name its own file
     try:
         fr = Frame(unit, pc=0)
         for ln in lines:
@@ -1017,15 +1019,21 @@ def contour_records(m, unit, lines, cy: Cycle) -> list:
             if any(isinstance(st, Ret) for st in ln.stmts):  # RET ends a contour subprogram
                 break
             for st in ln.stmts:
-                if isinstance(st, (Call, SubCall, Goto, Repeat)) or (
+                # the sandbox runs the lines in order: a jump, a branch of IF/ELSE, a loop or a call
+                # would be run straight through (both branches of an IF), so they are errors
+                if isinstance(st, (Call, SubCall, Goto, Repeat, Branch, Case)) or (
                         isinstance(st, Word) and st.address == "G" and isinstance(st.value, Num)
                         and st.value.value in (41, 42)):
-                    raise m.error(ln.line, st.col, f"a contour for {cy.name} holds only G blocks (no jumps, calls or G41/G42)")
+                    what = st.kind if isinstance(st, (Branch, Goto)) else "CASE" if isinstance(st, Case) else \
+                        "REPEAT" if isinstance(st, Repeat) else "G41/G42" if isinstance(st, Word) else "a call"
+                    raise m.error(ln.line, st.col, f"a contour for {cy.name} holds only G blocks: {what} is not allowed "
+                                  "there (no jumps, control structures IF/WHILE/FOR/CASE, calls or G41/G42)")
             m.block(ln, fr, [fr])
             if m.plane != "XY":
                 raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in G17 (XY)")
     finally:
         saved.restore(m)
+        m.unit_program = saved_program
     return recs
 
 

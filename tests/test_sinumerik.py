@@ -312,3 +312,25 @@ def test_cycle_moves_up_to_max_blocks_run():
     p = interpret("t.mpf", "G17 G90 S1000 M3 F300\nPOCKET2(10, 0, 2, -4, , 14, 50, 50, 100, 300, 1, 0, 0, 0)\nM30\n", cfg)
     assert 20 < len(p.moves) <= 200
     assert min(r.end[2] for r in p.moves) == pytest.approx(-4.0)
+
+
+@pytest.mark.parametrize("body, line, what", [
+    ("IF R1==1\nG1 X20\nELSE\nG1 X40\nENDIF\n", 3, "IF"),
+    ("WHILE R1<2\nG1 X=R1*10\nR1=R1+1\nENDWHILE\n", 3, "WHILE"),
+    ("FOR R2=1 TO 2\nG1 X=R2*10\nENDFOR\n", 3, "FOR"),
+    ("CASE R1 OF 1 GOTOF A1 DEFAULT GOTOF A2\nA1: G1 X20\nA2: G1 Y20\n", 3, "CASE"),
+])
+def test_cycle72_contour_with_control_flow_is_refused(tmp_path, body, line, what):
+    """The contour's blocks run in a sandbox line after line: an IF/ELSE there would run both
+    branches (a contour the controller never cuts), so control structures are errors at their
+    line, in the contour's own file."""
+    main = ("R1=1\nT1 D1 M6\nF100\nCYCLE72(\"{}\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 42, 1, 5, 0, 1, 5)\nM30\n")
+    contour = "G17 G90\nG1 X0 Y0\n" + body + "G1 Y30\n"
+    with pytest.raises(CutsimError) as e:
+        moves(main.format("KONT") + "PROC KONT\n" + contour + "RET\n")
+    assert (e.value.program, e.value.line) == ("t.mpf", 6 + line) and f"{what} is not allowed" in e.value.message
+    (tmp_path / "kont5.spf").write_text(contour + "M17\n")
+    with pytest.raises(CutsimError) as e:
+        moves(main.format("KONT5"), name=str(tmp_path / "main.mpf"))
+    assert (e.value.program, e.value.line) == (str(tmp_path / "kont5.spf"), line)
+    assert f"{what} is not allowed" in e.value.message
