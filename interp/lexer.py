@@ -193,9 +193,20 @@ def split_lines(text: str) -> list[str]:
 _EOL = re.compile(r"\r\n|\r|\n")
 
 
-def iter_lines(text: str):
+def iter_lines(text: str, chunk: int = 1 << 16):
     """(line number, line) without building a list of all lines: memory stays flat in the length
-    of the program. The same lines as ``split_lines``."""
+    of the program. The same lines as ``split_lines``. Text with LF line ends only (the usual) is
+    split a ``chunk`` of characters at a time (str.split), other text by a regular expression."""
+    if "\r" not in text:
+        lineno, start, n = 0, 0, len(text)
+        while True:
+            end = text.find("\n", start + chunk) if start + chunk < n else -1
+            for line in text[start:].split("\n") if end < 0 else text[start:end].split("\n"):
+                lineno += 1
+                yield lineno, line
+            if end < 0:
+                return
+            start = end + 1
     lineno, i = 0, 0
     for m in _EOL.finditer(text):
         lineno += 1

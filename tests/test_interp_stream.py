@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cutsim.interp import canon, cnc8x6
+from cutsim.interp import canon, cnc8x6, lexer
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.modal import InterpConfig
 
@@ -160,3 +160,13 @@ def test_a_program_over_max_blocks_is_refused_alike():
     streamed, listed = both(text, cfg)
     assert streamed == listed
     assert streamed[0] == "error" and streamed[1].startswith("p.nc:6:1: error: the program is longer than the limit of 5")
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.sampled_from(["a", "N1 X2", "\n", "\n\n", "\r", "\r\n", " ", "\u2028"]), max_size=30),
+       st.sampled_from([1, 2, 3, 7, 1 << 16]))
+def test_lines_are_those_of_split_lines(pieces, chunk):
+    """lexer.iter_lines (chunks of str.split for LF text, a regular expression otherwise) gives
+    the lines of split_lines, numbered from 1, whatever the chunk size."""
+    text = "".join(pieces)
+    assert list(lexer.iter_lines(text, chunk)) == list(enumerate(lexer.split_lines(text), 1))
