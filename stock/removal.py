@@ -70,6 +70,11 @@ def _overlap(lo1, hi1, lo2, hi2) -> bool:
     return bool(np.all(lo1 <= hi2) and np.all(lo2 <= hi1))
 
 
+def _box_overlap(lo1, hi1, lo2, hi2) -> float:
+    """Volume of the intersection of two boxes."""
+    return float(np.prod(np.maximum(np.minimum(hi1, hi2) - np.maximum(lo1, lo2), 0.0)))
+
+
 @dataclass
 class _Frame:
     """Where the stock is: its box, the radius a lathe profile is clipped at (the stock's largest
@@ -488,12 +493,15 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve) -> float:
     regions = [c.region for c in earlier if c.region is not None]
     if regions:
         prior.insert(0, revolve(m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)))
-    # Newest first, in batches of 1, 2, 4 ... FRESH_BATCH, stopping once nothing is left: the hit is
-    # small and the earlier sweeps overlap each other (a pocket's passes), so their union in one
-    # batch costs far more than taking them off the hit a few at a time, and the move just before
-    # (where a retract starts, the level above a deeper pass) usually takes it all (a flute check
-    # after a deep pocket: 0.8 s per check in one batch, 0.1 s so).
-    prior.reverse()
+    # The sweeps whose boxes cover most of the hit's box first (newest first among equals), in
+    # batches of 1, 2, 4 ... FRESH_BATCH, stopping once nothing is left: the hit is small and the
+    # earlier sweeps overlap each other (a pocket's passes), so their union in one batch costs far
+    # more than taking them off the hit a few at a time, and one or two sweeps (the move a retract
+    # starts from, the shallower pass that cleared what is above the flutes) usually take it all
+    # (a flute check after a deep pocket: 0.8 s per check in one batch, 0.1 s so).
+    hvol = float(np.prod(np.maximum(hhi - hlo, 1e-9)))
+    cover = [_box_overlap(*_bbox([s]), hlo, hhi) / hvol for s in prior]
+    prior = [s for _, _, s in sorted(zip(cover, range(len(prior)), prior), key=lambda t: (-round(t[0], 3), -t[1]))]
     k, size = 0, 1
     while k < len(prior):
         hit = m3d.Manifold.batch_boolean([hit] + prior[k:k + size], m3d.OpType.Subtract)
