@@ -7,7 +7,7 @@ them into tool poses.  Nothing here knows about text or meshes.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields
 from functools import lru_cache
 
 Vec3 = tuple[float, float, float]
@@ -129,6 +129,31 @@ class ProgramEnd:
 
 
 Record = Rapid | Feed | Arc | SyncedFeed | Spindle | ToolChange | ProgramEnd
+
+
+def _quick_init(cls) -> None:
+    """Give a frozen slots dataclass an ``__init__`` that fills the slots through their member
+    descriptors: the same signature and defaults as the generated one, about a third faster (a
+    program makes one Src and one record per block)."""
+    names, params, env = [], [], {}
+    for f in fields(cls):
+        owner = next(k for k in cls.__mro__ if f.name in k.__dict__)
+        env[f"_set_{f.name}"] = owner.__dict__[f.name].__set__
+        if f.default is not MISSING:
+            env[f"_default_{f.name}"] = f.default
+            params.append(f"{f.name}=_default_{f.name}")
+        else:
+            params.append(f.name)
+        names.append(f.name)
+    body = "".join(f"    _set_{n}(self, {n})\n" for n in names)
+    exec(f"def __init__(self, {', '.join(params)}):\n{body}", env)  # noqa: S102 - fixed text from field names
+    init = env["__init__"]
+    init.__qualname__ = f"{cls.__qualname__}.__init__"
+    cls.__init__ = init
+
+
+for _cls in (Src, Ramp, Rapid, Feed, Arc, SyncedFeed, Spindle, ToolChange, ProgramEnd):
+    _quick_init(_cls)
 MOTIONS = (Rapid, Feed, Arc, SyncedFeed)
 
 
