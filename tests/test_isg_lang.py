@@ -31,6 +31,13 @@ against the program and the TwinCAT CNC programming manual's semantics:
 - global.nc: L CYCLE [NAME = pocket_sub.nc @P1 = 4 @P2 = -1.5] runs the file beside it: from
   (10, 10, 2) incrementally Z[@P2 - 2] = -3.5 down to Z-1.5, a 4 mm square back to (10, 10) and
   Z[2 - @P2] = +3.5 up to Z2; then L pocket_sub [@P1 = 2, @P2 = -3]: Z-3 and a 2 mm square.
+- compensation.nc: G41 with the setup's tool 1 (diameter 6, r = 3) round a contour run clockwise
+  (up X0, a half circle G02 X20 Y20 R10 about (10, 20), down X20, back along Y0): the left of the
+  travel is outside. The approach (-10, -10) -> (0, 0) moved 3 to its left meets x = -3 at
+  y = 3*sqrt(2) - 3 = 1.2426 (an inside corner); the line ends at (-3, 20), where the arc, now of
+  radius 13 about (10, 20), starts tangentially and ends at (23, 20); the right-angle corner at
+  (20, 0) becomes the extended lines' intersection (23, -3) (G25); the line y = -3 meets the
+  departure moved left at (3*sqrt(2) - 3, -3) = (1.2426, -3); the departure ends at (-10, -10).
 """
 from __future__ import annotations
 
@@ -47,7 +54,7 @@ from cutsim.interp import canon
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "isg-lang"
 SETUP = GOLDEN / "setup.toml"
-NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop"]
+NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation"]
 
 
 @pytest.mark.parametrize("name", NAMES)
