@@ -8,7 +8,9 @@ calls, then jumps and the program end. Cycles (SLOT1, POCKET1, CYCLE72, ...) exp
 interp/sinumerik_cycles.py into ordinary moves through the ModalMachine methods. Tool radius
 compensation (G41/G42) buffers the compensated moves and offsets them analytically at G40.
 
-Imports flow one way: sinumerik -> sinumerik_cycles -> sinumerik_lang.
+Imports flow one way (issue 11): sinumerik -> sinumerik_drill -> sinumerik_cycles, sinumerik_machine
+-> sinumerik_lang. This module, the one above them all, registers the drilling cycles into the
+cycles' tables and hands ``run_cycle`` and the cycle names to the machine side's hooks.
 
 What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinumerik.md.
 """
@@ -28,10 +30,10 @@ from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
 from . import sinumerik_drill as drill
-from .sinumerik_cycles import CYCLES, compensate_records, run_cycle
+from .sinumerik_cycles import ANGLES, CYCLES, RUNNERS, SPECS, _spec, compensate_records, run_cycle
 from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
 from .sinumerik_lang import STRING_FUNCS
-from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
+from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, KNOWN_M, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
                              BinOp, Branch, Call, Case, Command, Def, Frame, FuncCall, Goto, Index, Line, Neg, Not,
                              Num, Repeat, Ret, RIndex, Stmt, Str, SubCall, SubprogramMissing, Unit, Var, Word,
                              range_message, split_units)
@@ -44,7 +46,6 @@ G_CODES = {**{c: Code(MOTION, "XYZIJK", m) for c, m in ((0, "rapid"), (1, "line"
            94: Code("feed mode", "F", "per minute"), 95: Code("feed mode", "F", "per revolution"),
            40: Code("radius compensation", "", "off"), 41: Code("radius compensation", "", "left"),
            42: Code("radius compensation", "", "right")}
-KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
 # calls with no geometric effect (high-speed settings, blank definition for the HMI)
 IGNORED_CALLS = {"WORKPIECE", "CYCLE832"}
 # language calls that do not change the tool path: one warning per kind (SETAL: an alarm, exit 2)
@@ -60,8 +61,11 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
          "H": "(an auxiliary function for the machine's PLC) changes nothing on the tool path",
          "SPOS": "(spindle positioning) changes nothing on the tool path",
          "LIMS": "(the spindle speed limit) changes nothing on the tool path"}
-# what PROC ... SAVE puts back on return (the machine functions append theirs: units, frames, ...)
-SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp"]  # the modal G groups, not F, S, T, D
+# what PROC ... SAVE puts back on return: the modal G groups, not F, S, T, D, and the machine
+# functions' modal state (units, settable and programmable frames: sinumerik_machine.Modal)
+SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"]
+# the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
+drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec)
 # keywords that are never a subprogram file, even with a file of that name beside the program
 NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",
            "CYCLE801", "CYCLE802", "CYCLE832", "CYCLE840", "CYCLE84", "CYCLE86", "CYCLE87", "CYCLE88", "CYCLE89",
@@ -221,6 +225,7 @@ class Sinumerik(ModalMachine):
         self.sysvars: dict[str, Slot] = {}  # system variables and setup data read or written so far
         self.warned: set[str] = set()  # command kinds warned about (one warning each)
         self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
+        machine.state(self)  # the machine side's state (its modal part is saved by PROC ... SAVE)
 
     # -- values ----------------------------------------------------------------------------------
     def tool_radius(self) -> float:
@@ -816,15 +821,15 @@ class Sinumerik(ModalMachine):
                 motion = code
             elif code in PLANES and self.comp_buf is not None:
                 raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
-            elif self.common_g(code):
-                pass
             elif code in (40, 41, 42):
                 new_comp = code
+            else:
+                self.common_g(code)  # G90/G91, G94/G95, G17/G18/G19
         return motion, new_comp
 
     def settings(self, src: Src, blk: Block, motion: int | None) -> bool:
         """Spindle, tool (T, D, M6), feed and the motion mode; True when an M2/M30 ends the program."""
-        machine.settings(self, src, blk)  # frames, TRAORI, CYCLE800, F under G700 (sinumerik_machine)
+        machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (sinumerik_machine)
         line, words = src.line, blk.words
         direction = self.spindle_code(line, blk.ms)
         end = any(code in (2, 30) for code, _ in blk.ms)
@@ -1106,7 +1111,7 @@ class Sinumerik(ModalMachine):
 
     def save_modal(self) -> dict:
         """PROC ... SAVE: the modal state to put back on return (the G groups and what settings
-        keeps modal; SAVED_MODAL lists the attributes, extended by the machine functions)."""
+        keeps modal; SAVED_MODAL lists the attributes, the machine functions' among them)."""
         return {a: copy.deepcopy(getattr(self, a)) for a in SAVED_MODAL if hasattr(self, a)}
 
     def restore_modal(self, saved: dict) -> None:
@@ -1125,7 +1130,7 @@ class Sinumerik(ModalMachine):
 
     def move(self, ln: Line, src: Src, words: dict[str, Value], motion_word) -> None:
         line = ln.line
-        machine.move(self, src, words)  # WCS -> machine: units, frames, extra axes (sinumerik_machine)
+        machine.move(self, src, words, run_cycle)  # WCS -> machine: units, frames, extra axes (sinumerik_machine)
         cols = {i: words[a].col for i, a in enumerate("XYZ") if a in words}
         targets = self.axis_targets(words)
         if not targets and motion_word not in (2, 3) and not any(k in words for k in ("I", "J", "K", "CR")):

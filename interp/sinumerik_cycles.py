@@ -1160,8 +1160,3 @@ def run_cycle(m, name: str, args, src: Src, col: int) -> None:
     RUNNERS[name](cy)
     m.motion = motion
 
-
-# the drilling cycles, MCALL's position patterns (interp/sinumerik_drill.py) join the tables
-from . import sinumerik_drill  # noqa: E402  (it imports this module lazily)
-
-sinumerik_drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec)

@@ -8,13 +8,17 @@ where they are silent the simulator decides as listed in docs/dialects/sinumerik
 cycles". Dwells (DTB, DTS, _DTD), spindle stops and orientations change no geometry and are not in
 the moves.
 
-Registered into sinumerik_cycles' SPECS / RUNNERS at the end of that module (``register``).
+Registered into sinumerik_cycles' SPECS / RUNNERS by interp/sinumerik.py (``register``), the module
+above both: imports flow one way, sinumerik -> sinumerik_drill -> sinumerik_cycles, sinumerik_machine.
 """
 from __future__ import annotations
 
 import math
 
 from .canon import Src
+from .sinumerik_cycles import CYCLES, run_cycle
+from .sinumerik_lang import COORD_LIMIT, Call, SubCall, range_message
+from .sinumerik_machine import in_wcs
 
 EPS = 1e-9
 CHIP_BREAK_RETRACT = 1.0  # mm: CYCLE83 VARI=0 retraction when _VRT is 0 (manual: 1 mm)
@@ -411,8 +415,6 @@ POSITIONS = {"HOLES1": holes1, "HOLES2": holes2, "CYCLE801": cycle801}
 def run_pattern(cy) -> None:
     """G0 in the plane to each position of the pattern, the modal cycle (MCALL) after each; without
     a modal cycle the positions are only approached (one warning)."""
-    from .sinumerik_lang import COORD_LIMIT, range_message
-
     pts = POSITIONS[cy.name](cy)
     m = cy.m
     for p in pts:
@@ -439,9 +441,6 @@ def modal_call(m, blk, line: int) -> list:
     now, its arguments are evaluated at each call), ``MCALL`` alone ends it. Returns the block's
     other calls. (Hook in Sinumerik.calls.) ``m.mcall`` is (name, arguments or the call, column,
     "cycle" | "sub") or None."""
-    from .sinumerik_cycles import CYCLES
-    from .sinumerik_lang import Call, SubCall
-
     calls = blk.calls
     if not calls or not (isinstance(calls[0], SubCall) and calls[0].name == "MCALL"):
         return calls
@@ -473,8 +472,6 @@ def modal_call(m, blk, line: int) -> list:
 def dry_run(m, name: str, args, src: Src, col: int) -> None:
     """Run the cycle where the tool stands with nothing recorded, so a wrong parameter is an error
     at the MCALL block itself; the machine state is left as it was."""
-    from .sinumerik_cycles import run_cycle
-
     saved = (list(m.pos), m.feed, m.per_rev, m.motion, m._warned_feed, len(m.program.warnings))
     m.emit = lambda rec: None  # an instance attribute shadows the method for the dry run
     try:
@@ -494,8 +491,6 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
     """Run the modal call after a block that programmed a position (not the MCALL block itself,
     nor a block of the modal subprogram while it runs). (Hook in Sinumerik.block, after the
     block's motion.)"""
-    from .sinumerik_lang import Call, SubCall
-
     call = getattr(m, "mcall", None)
     if not moved or call is None:
         return
@@ -522,12 +517,9 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
 def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
     """Run the modal cycle where the tool stands, in the workpiece coordinates of the active frames
     and offsets (interp/sinumerik_machine.in_wcs maps its moves into the machine)."""
-    from . import sinumerik_machine as machine
-    from .sinumerik_cycles import run_cycle
-
     if name is None:
         name, args, col, _ = m.mcall
-    machine.in_wcs(m, lambda: run_cycle(m, name, args, src, col), name, src.line, col)
+    in_wcs(m, lambda: run_cycle(m, name, args, src, col), name, src.line, col)
 
 
 RUNNERS = {"CYCLE81": cycle81, "CYCLE82": cycle82, "CYCLE83": cycle83, "CYCLE84": cycle84, "CYCLE840": cycle840,

@@ -13,8 +13,9 @@ G53 and SUPA suppress both offsets for their block. A point that is not programm
 value (so a changed offset moves only the axes a block names, as on the control).
 
 The interpreter calls in through one small hook in each of ``word``, ``modal_codes``,
-``settings``, ``move``, ``change_tool`` (and reads ``arc_flip``): see ``state``. Nothing here
-imports interp/sinumerik.py (that module imports this one).
+``settings``, ``move``, ``change_tool`` (and reads ``arc_flip``): see ``state``. Imports flow one
+way: this module imports only sinumerik_lang below it; the interpreter hands in what it needs from
+above (the cycle names to ``settings``, ``run_cycle`` to ``move``).
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field, replace
 from . import canon
 from .errors import CutsimError
 from .modal import PLANE_AXES, InterpConfig
-from .sinumerik_lang import COORD_LIMIT, range_message
+from .sinumerik_lang import COORD_LIMIT, KNOWN_M, range_message
 
 INCH = 25.4
 AXES = "XYZ"
@@ -245,9 +246,6 @@ def state(m) -> Machine:
     if st is None:
         m.machine_modal = Modal()
         st = m.__dict__["_machine"] = Machine(m.cfg, m)
-        from . import sinumerik  # loaded: it is the caller
-        if "machine_modal" not in getattr(sinumerik, "SAVED_MODAL", ["machine_modal"]):
-            sinumerik.SAVED_MODAL.append("machine_modal")  # PROC ... SAVE restores units and frames too
     return st
 
 
@@ -293,7 +291,6 @@ def word(m, st, val, line: int, blk) -> bool:
 
 
 def m_code(m, val: float, col: int, line: int, blk) -> bool:
-    from .sinumerik import KNOWN_M  # the language's own M codes
     if val != int(val) or int(val) in KNOWN_M:
         return False
     code = int(val)
@@ -393,9 +390,10 @@ def flipped(ms: Machine, plane: str) -> bool:
 
 
 # -- hook: settings (frames, accepted commands, cycles under a frame, feed units) --------------------
-def settings(m, src, blk) -> None:
+def settings(m, src, blk, cycles: set) -> None:
     """The block's machine keywords (``blk.commands``: frames, SUPA, TRAORI, the commands that do not
-    change the tool path), CYCLE800/CYCLE832, F under G700, and cycles called under a frame."""
+    change the tool path), CYCLE800/CYCLE832, F under G700, and cycles called under a frame
+    (``cycles``: the names of the cycles, sinumerik_cycles.CYCLES)."""
     ms = state(m)
     for msg in ms.pending:
         m.warn(src, msg)
@@ -444,7 +442,7 @@ def settings(m, src, blk) -> None:
         f = blk.words["F"]
         f.value *= INCH
     if not ms.identity() and not ms.sandbox:
-        cycles_in_frame(m, ms, src, blk)
+        cycles_in_frame(m, ms, src, blk, cycles)
 
 
 def traori_on(m, ms: Machine, src, col: int) -> None:
@@ -538,17 +536,16 @@ def rotation(m, ms: Machine, vals: dict, name: str, line: int, col: int) -> Mat:
     return r
 
 
-def cycles_in_frame(m, ms: Machine, src, blk) -> None:
+def cycles_in_frame(m, ms: Machine, src, blk, cycles: set) -> None:
     """A cycle called while a frame, an offset or inch units are active runs in the WCS and its moves
     are mapped into the machine afterwards (the cycles compute in the program's coordinates)."""
-    from .sinumerik_cycles import CYCLES
     line = src.line
     if any(getattr(st, "name", None) == "MCALL" for st in blk.calls):
         return  # MCALL CYCLE8x(..) only names the modal cycle: it runs after the moves (in_wcs)
     keep = []
     for stmt in blk.calls:
         name, args = getattr(stmt, "name", None), getattr(stmt, "args", None)
-        if args is None or name not in CYCLES:
+        if args is None or name not in cycles:
             keep.append(stmt)
             continue
         if any(a in blk.words for a in AXES) or m.comp_buf is not None:
@@ -632,10 +629,10 @@ def plane_image(m, ms: Machine, plane: str, line: int, col: int) -> bool:
 
 
 # -- hook: move (the programmed point into the machine) ------------------------------------------------
-def move(m, src, words: dict) -> None:
+def move(m, src, words: dict, run_cycle) -> None:
     """Turn the block's X/Y/Z, I/J/K and CR into machine values (absolute, mm) and track the extra
-    axes; sets ``arc_flip`` for the interpreter's G2/G3."""
-    from .sinumerik_cycles import run_cycle
+    axes; sets ``arc_flip`` for the interpreter's G2/G3. The cycles ``cycles_in_frame`` deferred run
+    first, through ``run_cycle`` (sinumerik_cycles.run_cycle, handed in by the interpreter)."""
     ms = state(m)
     ms.arc_flip = False
     line = src.line

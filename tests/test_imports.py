@@ -48,19 +48,6 @@ LAZY_THIRD_PARTY = {"pyvista", "vtkmodules", "matplotlib", "trimesh", "scipy", "
 
 # (importer, imported) -> why it is still there. Every entry names the issue that removes it.
 KNOWN: dict[tuple[str, str], str] = {
-    # The Sinumerik modules of issue 12 (interp/sinumerik*.py, in progress) import each other late:
-    # sinumerik imports sinumerik_machine and sinumerik_cycles, sinumerik_cycles imports sinumerik_drill
-    # (to register the drilling cycles), and these import back inside functions. Issue 11 item 4
-    # removes them: KNOWN_M and the other shared tables into sinumerik_lang; the drilling tables
-    # registered by sinumerik (the module above both), run_cycle handed to the drilling cycles.
-    ("cutsim.interp.sinumerik_machine", "cutsim.interp.sinumerik"):
-        "issue 11/12: sinumerik_machine reads sinumerik's KNOWN_M/tables inside functions",
-    ("cutsim.interp.sinumerik_machine", "cutsim.interp.sinumerik_cycles"):
-        "issue 11/12: sinumerik_machine calls run_cycle/CYCLES; sinumerik_cycles -> sinumerik_drill -> it",
-    ("cutsim.interp.sinumerik_drill", "cutsim.interp.sinumerik_cycles"):
-        "issue 11/12: sinumerik_cycles imports sinumerik_drill to register it, which calls run_cycle back",
-    ("cutsim.interp.sinumerik_drill", "cutsim.interp.sinumerik_machine"):
-        "issue 11/12: the drilling cycles use the machine side, which imports sinumerik_cycles",
 }
 
 
