@@ -5,6 +5,7 @@ five passes, no cutsim code. Each case runs in its own subprocess so its peak me
 (resource.getrusage ru_maxrss, which sees manifold3d's C++ allocations) is its own.
 
     python3 bench/bench_thread.py [--repeat N] [--no-bare] [TOL ...]   # default: 0.01 0.001
+    python3 bench/bench_thread.py --wide [TOL ...]                     # default: 0.002
 
 Prints, per tolerance: wall time and CPU time (time.process_time, all threads) of the work (after
 imports) and wall time of the whole process, triangle count, peak RSS, and the ratios cutsim / bare
@@ -17,6 +18,10 @@ and cutsim / floor. With ``--repeat N`` the cases run N times interleaved (floor
   ONE sweep, plus the ring the G00 X72 retracts at Z48 cut with the spindle turning (revolved
   once, as cutsim does), one subtract, STL: the same solid as cutsim's. Target: cutsim <= 2.0x
   the floor at 1 um.
+- wide (``--wide``): one G33 pass whose profile is wider than its lead (lead 0.1 at X28 on a
+  30 mm bar, a 60 degree tool 1.05 mm deep: 12 leads wide), swept as one turn of the profile's
+  lead-shifted copies (stock/threads.py fold); before that it was refused at about 12.5M
+  estimated triangles. Shows the time and the part's triangles, or the refusal.
 - isg: ``cutsim simulate`` of the ISG manual's example (shared/examples/isg-lathe/m70x1.5.nc:
   four passes and a spring pass through a subprogram), when that file is there.
 """
@@ -194,6 +199,41 @@ def case_isg(tol: float, work: str) -> dict:
             "removed": rep["removed_volume"]}
 
 
+WIDE_PROGRAM = "N10 G00 G95 T1 S1000 M03\nN20 G00 X28. Z3.\nN30 G33 Z-19. I0. F0.1\nN40 G00 X32.\n"
+WIDE_SETUP = """[machine]
+kind = "lathe"
+dialect = "cnc8x6"
+diameter_programming = true
+start = [40.0, 0.0, 20.0]
+
+[stock]
+shape = "cylinder"
+diameter = 30.0
+z = [-30.0, 0.0]
+
+[[tool]]
+number = 1
+kind = "thread"
+angle = 60.0
+"""
+
+
+def case_wide(tol: float, work: str) -> dict:
+    import cutsim
+
+    prog, setup = os.path.join(work, "wide.nc"), os.path.join(work, "wide.toml")
+    with open(prog, "w") as f:
+        f.write(WIDE_PROGRAM)
+    with open(setup, "w") as f:
+        f.write(WIDE_SETUP)
+    t = time.perf_counter()
+    try:
+        r = cutsim.simulate(prog, setup, tolerance=tol)
+    except cutsim.CutsimError as e:
+        return {"rc": 2, "time": time.perf_counter() - t, "triangles": 0, "removed": 0.0, "error": e.message}
+    return {"rc": 0, "time": time.perf_counter() - t, "triangles": r.part.num_tri(), "removed": r.report["removed_volume"]}
+
+
 def _stl_triangles(path: str) -> int:
     with open(path, "rb") as f:
         f.seek(80)
@@ -206,10 +246,25 @@ def child(kind: str, tol: float) -> None:
 
     with tempfile.TemporaryDirectory() as work:
         c = time.process_time()
-        out = {"cutsim": case_cutsim, "bare": case_bare, "floor": case_floor, "isg": case_isg}[kind](tol, work)
+        out = {"cutsim": case_cutsim, "bare": case_bare, "floor": case_floor, "isg": case_isg,
+               "wide": case_wide}[kind](tol, work)
         out["cpu"] = time.process_time() - c
     out["maxrss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     print(json.dumps(out))
+
+
+def wide(tols: list[float]) -> None:
+    print("one G33 pass 12 leads wide (lead 0.1 over 22 mm at X28, 60 degree tool)")
+    for tol in tols:
+        p = subprocess.run([sys.executable, __file__, "--child", "wide", str(tol)], capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"wide at {tol} failed:\n{p.stderr}")
+        r = json.loads(p.stdout.strip().splitlines()[-1])
+        if r["rc"]:
+            print(f"{tol:>8g}  refused after {r['time']:.2f} s: {r['error']}")
+        else:
+            print(f"{tol:>8g}  {r['time']:.2f} s, cpu {r['cpu']:.2f} s, {r['triangles']} triangles, removed "
+                  f"{r['removed']:.3f} mm^3, peak {r['maxrss_mb']:.0f} MB")
 
 
 def main(tols: list[float], repeat: int = 1, bare: bool = True) -> None:
@@ -264,5 +319,9 @@ if __name__ == "__main__":
         ap.add_argument("tols", nargs="*", type=float)
         ap.add_argument("--repeat", type=int, default=1)
         ap.add_argument("--no-bare", action="store_true", help="skip the one-sweep-per-pass script")
+        ap.add_argument("--wide", action="store_true", help="only the single pass wider than its lead")
         a = ap.parse_args()
-        main(a.tols or [0.01, 0.001], a.repeat, not a.no_bare)
+        if a.wide:
+            wide(a.tols or [0.002])
+        else:
+            main(a.tols or [0.01, 0.001], a.repeat, not a.no_bare)
