@@ -694,6 +694,9 @@ class Sinumerik(ModalMachine):
             return
         if st.name == "EXTERN":
             return  # a declaration: the call finds the subprogram by itself
+        if st.name == "SETMS":  # SETMS alone: the master spindle of the machine data again (spindle 1)
+            machine.state(self).master = 1
+            return
         what = NOTES.get(st.name, "changes nothing on the tool path")
         self.note(Src(self.unit_program, ln.line, st.col, ln.nlabel or ln.label), st.name, f"{st.name} {what}")
 
@@ -707,13 +710,26 @@ class Sinumerik(ModalMachine):
         raises the alarm it names: the program stops there (exit 2)."""
         line = ln.line
         vals = [None if a.value is None else self.ev(a.value, line, a.col) for a in st.args] \
-            if st.name in ("MSG", "SETAL") else []  # FGROUP(X, Y) & co. take axis names, not values
+            if st.name in ("MSG", "SETAL", "SETMS") else []  # FGROUP(X, Y) & co. take axis names, not values
+        if st.name == "SETMS":
+            self.master_spindle(st, vals, line)
+            return
         if st.name == "SETAL":
             raise self.error(line, st.col, f"SETAL({', '.join(to_text(v) for v in vals if v is not None)}): the "
                              "program raises an alarm here and the controller stops it")
         src = Src(self.unit_program, line, st.col, ln.nlabel or ln.label)
         text = f" \"{vals[0]}\"" if st.name == "MSG" and vals and isinstance(vals[0], str) else ""
         self.note(src, st.name, f"{st.name}{text} {NOTES.get(st.name, 'changes nothing on the tool path')}")
+
+    def master_spindle(self, st: Call, vals: list, line: int) -> None:
+        """SETMS(n): spindle n is the master spindle from now on (S, M3/M4/M5 and Sn=/Mn= of it drive
+        the simulated spindle); SETMS() / SETMS alone: spindle 1 again."""
+        if len(vals) > 1:
+            raise self.error(line, st.args[1].col, "SETMS takes one spindle number")
+        n = 1.0 if not vals or vals[0] is None else self.num(vals[0], line, st.args[0].col)
+        if n != int(n) or not 1 <= n <= 99:
+            raise self.error(line, st.args[0].col, f"SETMS({n:.10g}): a spindle number is a whole number from 1 to 99")
+        machine.state(self).master = int(n)
 
     def dwell(self, blk: Block, line: int) -> None:
         """G4 F<seconds> / G4 S<spindle revolutions>: a dwell, alone in its block with its F or S;

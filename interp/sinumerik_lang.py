@@ -33,8 +33,8 @@ JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
 # the language's own M codes (interp/sinumerik.py); every other M code is the machine side's
 # (interp/sinumerik_machine.py: spindle orientation, gear stages, the setup's m_functions)
 KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
-IGNORED_WORDS = {"FFWON", "FFWOF", "SOFT", "BRISK", "CFC", "CFTCP", "CFIN", "G601", "G602", "G603",
-                 "DIAMOF", "M17"}
+# DIAMOF (radius programming) is a mill's only mode: nothing to say about it
+IGNORED_WORDS = {"DIAMOF"}
 # Bare keywords without parameters read as ``Command`` (never a subprogram, never a file name):
 # LANG_COMMANDS change nothing on the tool path and get one warning per kind (docs: "Warnings");
 # MACHINE_COMMANDS are for interp/sinumerik.py's settings (frames, units, compensation...), which
@@ -49,6 +49,8 @@ MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR
                     "ORIWKS", "ORIMKS", "ORIAXES", "ORIVECT", "ORICONCW", "ORICONCCW", "TOFRAME", "TOROT",
                     "PAROT", "PAROTOF", "TOROTOF", "G500", "DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN",
                     "DYNFINISH", "FGREF", "OFFN",
+                    # acceleration, feed-forward and feed-reference modes (one warning each, machine side)
+                    "SOFT", "BRISK", "SOFTA", "BRISKA", "FFWON", "FFWOF", "CFC", "CFTCP", "CFIN",
                     # motion types the simulator does not interpolate: never read as G1 (an error)
                     "ASPLINE", "BSPLINE", "CSPLINE", "POLY", "CIP", "CT", "COMPSURF"}
 # NAME=value / NAME[n]=value settings without effect on the tool path (spindle positioning and

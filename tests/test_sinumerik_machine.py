@@ -224,6 +224,17 @@ def test_spindle_addresses():
     assert any(isinstance(r, canon.ProgramEnd) for r in p.records)
 
 
+def test_setms_chooses_the_master_spindle():
+    """SETMS(2): spindle 2 is simulated (S2=, M2=3), spindle 1 only warns; SETMS alone: spindle 1 again."""
+    _, p = run("G17 SETMS(2)\nS2=800 M2=3\nM1=4 S1=100\nSETMS\nS1=600 M1=4\nM30\n")
+    sp = [r for r in p.records if isinstance(r, canon.Spindle)]
+    assert [(r.direction, r.speed, r.src.line) for r in sp] == [(1, 800.0, 2), (-1, 600.0, 5)]
+    assert sum("spindle 1 is not the master" in w for w in warnings(p)) == 1
+    assert not any(isinstance(r, canon.ProgramEnd) and r.src.line == 2 for r in p.records)  # M2=3 is no end
+    e = err("G17 SETMS(1.5)\nM30\n")
+    assert (e.line, e.col) == (1, 11) and "whole number" in e.message
+
+
 def test_machine_m_functions():
     _, p = run("G17 M20\nM70\nM30\n", m_functions=frozenset({20, 70}))
     assert not p.warnings
@@ -237,6 +248,19 @@ def test_accepted_commands_warn_once_each():
     ws = warnings(p)
     assert sum(w.startswith("COMPOF") for w in ws) == 1 and sum(w.startswith("COMPCAD") for w in ws) == 1
     assert sum(w.startswith("G64") for w in ws) == 1 and sum(w.startswith("CYCLE832") for w in ws) == 1
+
+
+@pytest.mark.parametrize("word, what", [("SOFT", "jerk"), ("BRISK", "step"), ("SOFTA", "jerk"), ("BRISKA", "step"),
+                                        ("FFWON", "feed forward"), ("FFWOF", "feed forward"), ("CFC", "contour"),
+                                        ("CFTCP", "tool centre"), ("CFIN", "inner arcs"), ("SOFTA(X, Y)", "jerk")])
+def test_acceleration_and_feed_modes_warn_once_and_keep_the_path(word, what):
+    """Bare SOFTA/BRISKA were read as subprogram calls; FFWON & co. passed without a word: each is
+    accepted with one warning naming it, and the moves are those of the program without it."""
+    body = "G1 X10 Y5\n{0}\nG1 X20\n{0}\nM30\n"
+    _, p = run(HEAD + body.format(word))
+    ws = [w for w in warnings(p) if w.startswith(word.split("(")[0] + " (")]
+    assert len(ws) == 1 and what in ws[0] and "does not change the tool path" in ws[0]
+    assert [r.end for r in p.moves] == [r.end for r in run(HEAD + body.format(""))[1].moves]
 
 
 def test_cycle800_reset_passes_a_swivel_does_not():
