@@ -308,13 +308,21 @@ def moves(program, setup_path):
     """Print the canonical moves of PROGRAM (the interpreter's transcript)."""
     try:
         import cutsim
-        from cutsim.interp import interpret, transcript
+        from cutsim.interp import interpret
+        from cutsim.interp.canon import transcript_lines
 
         setup = cutsim.load_setup(setup_path)
         text = cutsim.read_program(program)
         m = setup.machine
         start = m.start if m.start is not None else cutsim.default_start(setup, _stock(setup))
-        click.echo(transcript(interpret(program, text, cutsim.interp_config(setup, start))), nl=False)
+        prog = interpret(program, text, cutsim.interp_config(setup, start))  # errors before any output
+        chunk: list[str] = []
+        for line in transcript_lines(prog):  # never the whole transcript in memory (~170 MB at 1M moves)
+            chunk.append(line)
+            if len(chunk) == 8192:
+                click.echo("".join(chunk), nl=False)
+                chunk.clear()
+        click.echo("".join(chunk), nl=False)
         sys.stdout.flush()
     except BaseException as e:  # noqa: BLE001 - no input may end in a traceback
         if isinstance(e, SystemExit):
