@@ -38,7 +38,8 @@ from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, KNOWN_M, MACHINE_COMMA
                              Num, Repeat, Ret, RIndex, Stmt, Str, SubCall, SubprogramMissing, Unit, Var, Word,
                              range_message, split_units)
 
-KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506}
+KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506,
+           *drill.ISO_G}  # the ISO shell's drilling cycles G73 .. G89 / G80, G98/G99, G290/G291
 # modal groups of the language's own G codes (core.Code rows; the machine functions keep theirs)
 G_CODES = {**{c: Code(MOTION, "XYZIJK", m) for c, m in ((0, "rapid"), (1, "line"), (2, "arc cw"), (3, "arc ccw"))},
            **{c: Code("plane", "", p) for c, p in PLANES.items()},
@@ -624,11 +625,18 @@ class Sinumerik(ModalMachine):
         line = ln.line
         blk = self.evaluate(ln)
         motion, new_comp = self.modal_codes(blk.gs, line)
+        iso = drill.iso_codes(self, blk, src)  # G81 .. G89 / G80: True when this block drills a hole
         end = self.settings(src, blk, motion)
         self.unsupported(blk, line)
         self.comp_on(new_comp, src, line)
         moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
-        self.move(ln, src, blk.words, motion)
+        if iso:  # the hole position: G0 in the plane at the level the tool stands on, then the hole
+            modal_motion, self.motion = self.motion, 0
+            self.move(ln, src, blk.words, 0)
+            self.motion = modal_motion
+            drill.iso_drill(self, src)
+        else:
+            self.move(ln, src, blk.words, motion)
         if new_comp == 40 and self.comp_buf is not None:
             self.flush_comp(src, line)
         drill.after_block(self, src, moved, blk, stack)

@@ -345,8 +345,9 @@ CYCLES = set(SPECS)
 class Cycle:
     """One cycle call: its parameters by name (checked against SPECS) and the motion helpers."""
 
-    def __init__(self, m, name: str, args, src: Src, col: int):
+    def __init__(self, m, name: str, args, src: Src, col: int, label: str | None = None):
         self.m, self.name, self.src, self.line, self.col = m, name, src, src.line, col
+        self.label = label or name  # what the messages call it: the cycle, or the ISO code run as it
         spec = SPECS[name]
         if len(args) > len(spec):
             raise m.error(self.line, args[len(spec)][1], f"{name} takes at most {len(spec)} parameters, not {len(args)}")
@@ -376,7 +377,7 @@ class Cycle:
         return self.v[k]
 
     def err(self, msg: str):
-        return self.m.error(self.line, self.col, f"{self.name}: {msg}")
+        return self.m.error(self.line, self.col, f"{self.label}: {msg}")
 
     def unsigned(self, *names):
         for n in names:
@@ -1148,14 +1149,16 @@ RUNNERS = {"SLOT1": slot1, "SLOT2": slot2, "POCKET1": pocket1, "POCKET2": pocket
            "POCKET4": pocket4, "CYCLE71": cycle71, "CYCLE72": cycle72}
 
 
-def run_cycle(m, name: str, args, src: Src, col: int) -> None:
+def run_cycle(m, name: str, args, src: Src, col: int, label: str | None = None) -> None:
     """Run the cycle ``name`` called at ``src`` (column ``col``) with evaluated ``args``
-    [(value or None, column)] on the machine ``m`` (a Sinumerik interpreter)."""
+    [(value or None, column)] on the machine ``m`` (a Sinumerik interpreter); ``label`` names it in
+    the messages (the ISO shell's "G83 (CYCLE83)")."""
+    label = label or name
     if m.comp_buf is not None:
-        raise m.error(src.line, 1, f"{name} cannot run with radius compensation G41/G42 on: program G40 first")
+        raise m.error(src.line, 1, f"{label} cannot run with radius compensation G41/G42 on: program G40 first")
     if m.plane != "XY":
-        raise m.error(src.line, 1, f"{name} is simulated in the G17 plane only")
-    cy = Cycle(m, name, args, src, col)
+        raise m.error(src.line, 1, f"{label} is simulated in the G17 plane only")
+    cy = Cycle(m, name, args, src, col, label)
     motion = m.motion
     RUNNERS[name](cy)
     m.motion = motion

@@ -1,5 +1,5 @@
-"""Sinumerik drilling cycles (CYCLE81-CYCLE89, CYCLE840), the modal call MCALL and the position
-patterns HOLES1, HOLES2 and CYCLE801.
+"""Sinumerik drilling cycles (CYCLE81-CYCLE89, CYCLE840), the modal call MCALL, the position
+patterns HOLES1, HOLES2 and CYCLE801, and the ISO shell G73/G74/G81...G89/G80 (G98/G99).
 
 Every cycle drills at the position the tool stands on in the G17 plane and expands into plain
 moves (through the Cycle motion helpers of interp/sinumerik_cycles.py), each carrying the cycle
@@ -14,11 +14,13 @@ above both: imports flow one way, sinumerik -> sinumerik_drill -> sinumerik_cycl
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 from .canon import Src
 from .sinumerik_cycles import CYCLES, run_cycle
 from .sinumerik_lang import COORD_LIMIT, Call, SubCall, range_message
 from .sinumerik_machine import in_wcs
+from .sinumerik_machine import state as machine_state
 
 EPS = 1e-9
 CHIP_BREAK_RETRACT = 1.0  # mm: CYCLE83 VARI=0 retraction when _VRT is 0 (manual: 1 mm)
@@ -525,6 +527,129 @@ def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
 RUNNERS = {"CYCLE81": cycle81, "CYCLE82": cycle82, "CYCLE83": cycle83, "CYCLE84": cycle84, "CYCLE840": cycle840,
            "CYCLE85": cycle85, "CYCLE86": cycle86, "CYCLE87": cycle87, "CYCLE88": cycle88, "CYCLE89": cycle89,
            "HOLES1": run_pattern, "HOLES2": run_pattern, "CYCLE801": run_pattern}
+
+
+# ---------------------------------------------------------------------------------------------
+# the ISO shell: G81 X.. Y.. Z.. R.. F.. modal until G80 (or G0..G3), as the 840D's ISO dialect mode
+# (G291) and the Fanuc-style programs written for it. Each code runs the Siemens cycle of the same
+# sequence, with RFP = R, SDIS 0, DP = Z and RTP the return level: G98 the initial level (where the
+# tool stood on its axis when the cycle mode began), G99 the R plane.
+ISO_CYCLES = {73: "CYCLE83", 74: "CYCLE840", 81: "CYCLE81", 82: "CYCLE82", 83: "CYCLE83", 84: "CYCLE840",
+              85: "CYCLE89", 86: "CYCLE86", 88: "CYCLE88", 89: "CYCLE89"}
+ISO_MODES = {98, 99, 290, 291}  # return level: initial level / R plane; Siemens / ISO dialect mode
+ISO_G = set(ISO_CYCLES) | {80, 87} | ISO_MODES
+
+
+@dataclass
+class IsoCycle:
+    code: int  # 73, 74, 81 ... 89
+    col: int  # the column of its G word (errors of the holes point there)
+    initial: float  # the initial level: the tool's Z in the workpiece coordinates when the mode began
+    r: float | None = None  # the R plane (absolute)
+    z: float | None = None  # the hole's depth (absolute)
+    q: float | None = None  # G73/G83: the peck depth
+    p: float = 0.0  # G82/G88/G89: the dwell at the bottom (ms; no geometric effect)
+
+
+def iso_codes(m, blk, src: Src) -> bool:
+    """The block's ISO cycle codes and words (hook in Sinumerik.block, before the modal G codes):
+    G73/G74/G81..G89 start or change the modal cycle, G80 and G0..G3 end it, G98/G99 choose the
+    return level; R, Q, P (dwell) and Z (the depth) of a block in cycle mode are the cycle's data.
+    True when the block drills (the cycle is on and the block names X, Y, Z or R): the block's
+    X/Y then position the tool with G0 and ``iso_drill`` drills there after the move."""
+    line = src.line
+    codes = [(c, col) for c, col in blk.gs if c in ISO_G]
+    if codes:
+        blk.gs[:] = [(c, col) for c, col in blk.gs if c not in ISO_G]
+    cycle = [(c, col) for c, col in codes if c in ISO_CYCLES or c in (80, 87)]
+    motion = [(c, col) for c, col in blk.gs if c in (0, 1, 2, 3)]
+    for group in (cycle, [(c, col) for c, col in codes if c in (98, 99)], [(c, col) for c, col in codes if c in (290, 291)]):
+        if len({c for c, _ in group}) > 1:
+            raise m.error(line, group[1][1], f"G{group[1][0]} conflicts with G{group[0][0]} in the same block")
+    if cycle and cycle[0][0] != 80 and motion:
+        raise m.error(line, motion[0][1], f"G{motion[0][0]} and the drilling cycle G{cycle[0][0]} in one block")
+    for c, col in codes:
+        if c in (98, 99):
+            m.iso_return = c
+        elif c == 291 and not getattr(m, "iso_warned", False):
+            m.iso_warned = True
+            m.warn(src, "G291 (ISO dialect mode): the simulator reads the Siemens language and the ISO drilling "
+                        "cycles G73..G89; other ISO forms are errors (warned once)")
+    iso = getattr(m, "iso", None)
+    if motion and iso is not None:
+        m.iso = iso = None  # a G0..G3 ends the cycle mode, as G80
+    if cycle:
+        c, col = cycle[0]
+        if c == 87:
+            raise m.error(line, col, "G87 (back boring) is not simulated: the tool would have to pass the bore "
+                                     "off-centre; write CYCLE86/CYCLE87 boring from above")
+        if c == 80:
+            m.iso = iso = None
+        else:
+            if getattr(m, "mcall", None) is not None:
+                raise m.error(line, col, f"G{c} while the modal call MCALL {m.mcall[0]} is active: end it with MCALL first")
+            initial = iso.initial if iso is not None else wcs_z(m)
+            old = iso
+            m.iso = iso = IsoCycle(c, col, initial)
+            if old is not None:  # the hole data stay until G80 (a new cycle code keeps R, Z, Q, P)
+                iso.r, iso.z, iso.q, iso.p = old.r, old.z, old.q, old.p
+    words = blk.words
+    if iso is None:
+        for a in ("R", "Q"):  # addresses only the ISO cycles read
+            if a in words:
+                w = words[a]
+                raise m.error(line, w.col, f"{a}{w.value:g}: the address {a} belongs to the ISO drilling cycles (G81 .. "
+                              f"G89){'; an R parameter is assigned with R<n>=<value>' if a == 'R' else ''}")
+        return False
+    drills = any(a in words for a in ("X", "Y", "Z", "R"))
+    for a in ("K", "L"):
+        if a in words:
+            raise m.error(line, words[a].col, f"{a}: a repeat count of the drilling cycle G{iso.code} is not simulated: "
+                          "program each hole position")
+    if not m.absolute or any(words[a].mode == "IC" for a in ("Z", "R") if a in words):
+        raise m.error(line, iso.col, f"G{iso.code} with G91 (incremental R and Z) is not simulated: program the "
+                      "cycle under G90")
+    if "R" in words:
+        iso.r = words.pop("R").value
+    if "Z" in words:
+        iso.z = words.pop("Z").value
+    if "Q" in words:
+        iso.q = words.pop("Q").value
+    if "P" in words and iso.code in (82, 88, 89):
+        iso.p = words.pop("P").value
+    return drills
+
+
+def wcs_z(m) -> float:
+    """The tool's Z in the workpiece coordinates (the initial level of an ISO cycle)."""
+    ms = machine_state(m)
+    return ms.to_wcs(m.pos)[2] / ms.unit()
+
+
+def iso_drill(m, src: Src) -> None:
+    """Drill one hole of the active ISO cycle where the tool stands (after the block's positioning),
+    as the Siemens cycle of the same sequence (``ISO_CYCLES``), in the workpiece coordinates."""
+    c = m.iso
+    code = f"G{c.code}"
+    if c.z is None:
+        raise m.error(src.line, c.col, f"{code} needs the depth of the hole: Z")
+    if c.r is None:
+        raise m.error(src.line, c.col, f"{code} needs the R plane: R (the level the feed starts from)")
+    if c.code in (73, 83) and not c.q:
+        raise m.error(src.line, c.col, f"{code} needs the peck depth Q (positive)")
+    name = ISO_CYCLES[c.code]
+    rtp = c.initial if getattr(m, "iso_return", 98) == 98 else c.r
+    vals = {"RTP": rtp, "RFP": c.r, "SDIS": 0.0, "DP": c.z}
+    if c.code in (73, 83):
+        vals.update(FDPR=c.q, DAM=0.0, FRF=1.0, VARI=1.0 if c.code == 83 else 0.0)
+    elif c.code in (74, 84):
+        vals.update(ENC=1.0)  # at the F in force (F = pitch x speed), in and out, as Fanuc's G84
+    elif c.code in (86, 88):
+        vals.update(SDIR=3.0 if m.spindle_dir >= 0 else 4.0)
+    if c.code in (82, 88, 89):
+        vals.update(DTB=c.p / 1000.0)
+    args = [(vals.get(n), c.col) for n in NAMES[name].split()]
+    in_wcs(m, lambda: run_cycle(m, name, args, src, c.col, label=f"{code} (as {name}: RFP = R, DP = Z, RTP = the return level)"), code, src.line, c.col)
 
 
 def register(specs: dict, runners: dict, cycles: set, angles: set, spec) -> None:

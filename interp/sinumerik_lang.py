@@ -24,6 +24,7 @@ from .lexer import split_lines
 
 EXTRA_AXES = set("ABCUVW")  # axis letters beyond X/Y/Z: words for them need the setup's [machine] axes
 ADDRESSES = set("GMXYZIJKFSTDLP") | EXTRA_AXES  # single-letter addresses with a number
+ISO_ADDRESSES = {"R", "Q"}  # the ISO drilling cycles' R plane and peck depth, with a plain number
 EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P", "RPL"} | EXTRA_AXES  # RPL: ROT RPL=30
 STRUCTURED = {"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "UNTIL"}
 KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "REPEATB", "CALL", "OF", "DEFAULT",
@@ -86,7 +87,9 @@ MAX_BLOCK_CHARS = 512  # characters of a block's statements (its comment not cou
 MAX_NESTING = 32  # parentheses, function calls and signs nested in one expression
 RANGES = {**{a: (-COORD_LIMIT, COORD_LIMIT, "mm") for a in ("X", "Y", "Z", "I", "J", "K", "CR")},
           "F": (0.0, FEED_LIMIT, "mm/min or mm/rev"), "S": (0.0, SPEED_LIMIT, "rpm"),
-          "T": (0, TOOL_LIMIT, ""), "D": (0, TOOL_LIMIT, ""), "P": (1, PASS_LIMIT, ""), "L": (0, L_LIMIT, "")}
+          "T": (0, TOOL_LIMIT, ""), "D": (0, TOOL_LIMIT, ""), "P": (1, PASS_LIMIT, ""), "L": (0, L_LIMIT, ""),
+          # the ISO drilling cycles' R plane and peck depth Q (G81 .. G89)
+          "R": (-COORD_LIMIT, COORD_LIMIT, "mm"), "Q": (0.0, COORD_LIMIT, "mm")}
 
 
 def _fmt(v: float) -> str:
@@ -631,6 +634,15 @@ class _Scanner:
             return self.extended(col, ext, ln)
         if up == "H" and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.=":
             return self.h_word(col, ln)
+        if up in ISO_ADDRESSES and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212":
+            # R2.5, Q3 of an ISO drilling cycle (G81 R2 Z-10): R<n>=.. is an R parameter (above), R<n>
+            # alone has no other meaning; the interpreter refuses them outside a cycle
+            self.i += 1
+            v = self.number_word()
+            if v is None:
+                raise self.err(col, f"malformed number after {up}")
+            ln.stmts.append(Word(col, up, Num(v)))
+            return True
         if up in ADDRESSES and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212":
             self.i += 1
             v = self.number_word()

@@ -458,3 +458,62 @@ def test_drill_ranges(kw, key):
 
     t = ToolSpec(**{"number": 1, "kind": "drill", "diameter": 8.5, "length": 40.0, "point_angle": 118.0, **kw})
     assert tool_problem(t)[0] == key
+
+
+# ---------------------------------------------------------------------------------------------
+# the ISO shell G81 ... G89 / G80 (G98 / G99)
+def test_iso_g81_and_g83_holes_on_the_solid(tmp_path):
+    """G81 and G83 in ISO form leave the drill's cylinder and cone with the tip at Z (the pecks of
+    G83 retrace the hole); the initial level Z20 and the R plane 2 lie above the stock: nothing
+    else is cut."""
+    r = simulate(tmp_path, "G0 X30 Y30 Z20\nG98 G81 X30 Y30 Z-15 R2 F100\nG83 X70 Y60 Z-25 R2 Q6\nG80 G0 Z50")
+    m = r.mesh()
+    assert r.report["warnings"] == []
+    assert floor_z(m, (30.0, 30.0), 1.0) == pytest.approx(-15.0, abs=2 * TOL)
+    assert floor_z(m, (70.0, 60.0), 1.0) == pytest.approx(-25.0, abs=2 * TOL)
+    for c, depth in (((30.0, 30.0), 15.0), ((70.0, 60.0), 25.0)):
+        segs = hsection(m, -depth / 2)
+        for a in range(0, 360, 45):
+            u = (math.cos(math.radians(a)), math.sin(math.radians(a)))
+            assert ray(segs, c, u) == pytest.approx(R, abs=TOL + 1e-6)
+    v = hole_volume(15.0, 118.0) + hole_volume(25.0, 118.0)
+    assert r.report["removed_volume"] == pytest.approx(v, abs=TOL * (wall_area(15.0, 118.0) + wall_area(25.0, 118.0)))
+
+
+def test_iso_cycle_is_modal_until_g80_or_a_motion_code():
+    mv, _ = moves("G0 X10 Y10 Z30\nG99 G81 Z-5 R3 F100\nX20\nF200\nM8\nY20\nG80\nX30\nG81 X40 Z-2 R1\nG1 X50\n")
+    holes = [(m.end[0], m.end[1]) for m in mv if isinstance(m, canon.Feed) and m.end[2] < 0]
+    # the G81 block drills where the tool stands; F200 and M8 alone drill nothing; after G80 and
+    # after G1 the blocks only move
+    assert holes == [(10, 10), (20, 10), (20, 20), (40, 20)]
+    assert mv[-1].end == (50, 20, 1) and isinstance(mv[-1], canon.Feed)  # G1 at the level G99 left: R1
+    assert mv[-2].end == (40, 20, 1)  # G99: back to R
+
+
+def test_iso_g98_returns_to_the_initial_level_of_the_mode():
+    """The initial level is where the tool stood when the mode began (Z30), not where a later hole
+    started from; a new cycle code keeps it and the hole data (R, Z)."""
+    mv, _ = moves("G0 X10 Y10 Z30\nG99 G81 Z-5 R3 F100\nX20\nG98 G82 X30\n")
+    assert [m.end[2] for m in mv if m.end[:2] == (30, 10)] == [3, -5, 30]  # at R already: in, out to 30
+
+
+@pytest.mark.parametrize("body, line, col, text", [
+    ("G0 X1 R2", 4, 7, "the address R belongs to the ISO drilling cycles"),
+    ("G1 X1 Q3", 4, 7, "the address Q belongs to the ISO drilling cycles"),
+    ("G91 G81 X1 Z-5 R2", 4, 5, "G91"),
+    ("G0 Z10\nG83 X1 Z-5 R2", 5, 1, "G83 needs the peck depth Q"),
+    ("G0 Z10\nG81 X1 R2", 5, 1, "G81 needs the depth of the hole: Z"),
+    ("G0 Z10\nG81 X1 Z-3", 5, 1, "G81 needs the R plane"),
+    ("G0 Z10\nG87 X1 Z-5 R2", 5, 1, "G87 (back boring) is not simulated"),
+    ("G0 Z10\nG81 X1 Z-5 R2 K3", 5, 15, "repeat count"),
+    ("G0 Z10\nG0 G81 X1 Z-5 R2", 5, 1, "G0 and the drilling cycle G81 in one block"),
+    ("G0 Z10\nG81 G82 X1 Z-5 R2", 5, 5, "G82 conflicts with G81"),
+    ("G0 Z10\nG81 X1 Z5 R2", 5, 1, "G81 (as CYCLE81: RFP = R, DP = Z, RTP = the return level): the final drilling depth 5"),
+    ("G0 Z1\nG98 G81 X1 Z-5 R2", 5, 5, "the retraction plane RTP 1 lies below the reference plane RFP 2"),
+    ("MCALL CYCLE81(10, 0, 2, -5)\nG81 X1 Z-5 R2", 5, 1, "while the modal call MCALL CYCLE81 is active"),
+    ("G0 Z10\nG82 X1 Z-5 R2 P500\nG80 X3 P2", 6, 8, "P (repeat count) only goes with a subprogram call"),
+])
+def test_iso_errors(body, line, col, text):
+    with pytest.raises(CutsimError) as e:
+        moves(body)
+    assert (e.value.line, e.value.col) == (line, col) and text in e.value.message, e.value
