@@ -1,0 +1,59 @@
+"""The happy path of the ISG line scanner (interp/isg_scan.py, ``scan``): a line made only of an
+optional block number and plain address words ``<letter><number>`` (``N10 G01 X20.5 Z-1 F100``),
+with an optional ``;`` comment at its end, is split by one regular expression into exactly the
+IsgBlock ``scan`` builds. Every other line gives None and goes the long way, which builds the
+block or names the error. tests/test_fast_readers.py checks, line by line, that the two agree.
+
+Conservative on purpose: only blanks and tabs between words, no blank between a letter and its
+number, no ``( )`` comment, no ``/``, ``#``, ``$``, ``"``, ``[``, ``=``, ``@``, ``:``; the letters
+L (calls), H (machine functions), V and P (variables) and N after the first word are left to the
+long way, as is a repeated address other than G and M and any number the long way would refuse
+(out of range, glued to a point or a digit, more digits than the regular expression allows).
+"""
+from __future__ import annotations
+
+import re
+
+from .isg_scan import LIMITS, IsgBlock
+from .lexer import Word
+
+# letters whose plain word is just Word(letter, value, raw, col) in isg_scan.word
+_LETTERS = "GMXYZIJKFSTDABCUWR"
+_NUM = r"[+\-]?(?:[0-9]{1,12}(?:\.[0-9]{0,12})?|\.[0-9]{1,12})"
+_CLASS = _LETTERS + _LETTERS.lower()
+PLAIN_LINE = re.compile(
+    rf"[ \t]*(?:[Nn]([0-9]{{1,8}})(?![0-9:])[ \t]*)?((?:[{_CLASS}]{_NUM}(?![0-9.])[ \t]*)*)(?s:;.*)?")
+PLAIN_WORD = re.compile(rf"([{_CLASS}])({_NUM})([ \t]*)")
+# letter as written -> (address, the largest magnitude it accepts)
+_LIMITS = {c: (k, LIMITS[k][0]) for k in _LETTERS for c in (k, k.lower())}
+
+
+def read_plain(program: str, lineno: int, text: str) -> IsgBlock | None:
+    """``isg_scan.scan(program, lineno, text)`` for a plain line; None for any other line (and for a
+    line without words: ``scan`` decides what that is)."""
+    m = PLAIN_LINE.fullmatch(text)
+    if m is None:
+        return None
+    number, rest = m.groups()
+    if not rest:
+        if number is None:
+            return None  # blank or comment only: the long way returns None
+        return IsgBlock(lineno, 1, "N" + number)
+    words = []
+    items = []
+    seen = ""
+    new = tuple.__new__
+    col = m.start(2) + 1
+    for letter, raw, gap in PLAIN_WORD.findall(rest):
+        address, limit = _LIMITS[letter]
+        if address in seen and address not in "GM":
+            return None  # the long way's "appears twice" error
+        seen += address
+        value = float(raw)
+        if not -limit <= value <= limit:
+            return None  # the long way's range error
+        w = new(Word, (address, value, raw, col, None))
+        words.append(w)
+        items.append(("w", w))
+        col += 1 + len(raw) + len(gap)
+    return IsgBlock(lineno, 1, "" if number is None else "N" + number, words, [], items=items)

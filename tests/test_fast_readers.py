@@ -1,0 +1,174 @@
+"""The plain-line readers (interp/isg_fast.py, interp/sinumerik_fast.py) are shortcuts of the full
+line readers (isg_scan.scan, sinumerik_lang.scan_line): for every line they give either None
+(the line goes the long way) or exactly the object the full reader builds, field by field. A
+line the full reader refuses (an error) must give None.
+
+Checked on every line of every program under tests/, examples/ and ../shared/examples (both
+readers on every program, whatever its dialect: the property holds for any line), on lines made
+of random pieces (hypothesis, derandomized) and on the lines of the benchmark's programs.
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cutsim.interp import isg_fast, isg_scan, sinumerik_fast, sinumerik_lang
+from cutsim.interp.errors import CutsimError
+from cutsim.interp.lexer import split_lines
+
+ROOT = Path(__file__).parent.parent
+DIRS = [ROOT / "tests", ROOT / "examples", ROOT.parent / "shared" / "examples"]
+
+
+def program_lines() -> list[str]:
+    """Every distinct line of every program file (.nc, .mpf, .spf) in DIRS."""
+    seen: dict[str, None] = {}
+    for d in DIRS:
+        if not d.is_dir():
+            continue
+        for p in sorted(d.rglob("*")):
+            if p.suffix.lower() in (".nc", ".mpf", ".spf") and p.is_file():
+                for line in split_lines(p.read_text(encoding="utf-8", errors="replace")):
+                    seen.setdefault(line, None)
+    return list(seen)
+
+
+LINES = program_lines()
+
+
+def full_isg(line: str):
+    try:
+        return isg_scan.scan("p.nc", 7, line)
+    except CutsimError as e:
+        return ("error", str(e))
+
+
+def full_sinumerik(line: str):
+    try:
+        return sinumerik_lang.scan_line("p.mpf", 7, line)
+    except CutsimError as e:
+        return ("error", str(e))
+
+
+def check_isg(line: str) -> bool:
+    """The ISG property for one line; True when the shortcut took it."""
+    fast = isg_fast.read_plain("p.nc", 7, line)
+    if fast is None:
+        return False
+    full = full_isg(line)
+    assert isinstance(full, isg_scan.IsgBlock), (line, full)
+    assert fast == full, line
+    assert [type(w) for w in fast.words] == [type(w) for w in full.words]
+    assert [type(w.value) for w in fast.words] == [type(w.value) for w in full.words]
+    # what isg_scan.parse does before it scans a line leaves a plain line as it is
+    assert isg_scan.expand_macros("p.nc", 7, line, {}) == line
+    assert isg_scan.MACRO_DEF.match(line) is None
+    assert not line.lstrip().startswith("%") and "\\" not in line.split(";", 1)[0]
+    return True
+
+
+def check_sinumerik(line: str) -> bool:
+    fast = sinumerik_fast.read_plain("p.mpf", 7, line)
+    if fast is None:
+        return False
+    full = full_sinumerik(line)
+    assert isinstance(full, sinumerik_lang.Line), (line, full)
+    assert fast == full, line
+    assert [type(s) for s in fast.stmts] == [type(s) for s in full.stmts]
+    assert [type(s.value.value) for s in fast.stmts] == [type(s.value.value) for s in full.stmts]
+    return True
+
+
+def test_there_are_program_lines():
+    assert len(LINES) > 1000
+
+
+def test_every_program_line_isg():
+    taken = sum(check_isg(line) for line in LINES)
+    assert taken > 200  # the shortcut is used at all
+
+
+def test_every_program_line_sinumerik():
+    taken = sum(check_sinumerik(line) for line in LINES)
+    assert taken > 200
+
+
+PIECES = ["N", "n", "N10", "G", "g", "G01", "G1", "G4", "G04", "M", "M30", "X", "x", "Y", "Z", "I", "J", "K", "F",
+          "S", "S.", "OFFSET", "T", "D", "L", "LL", "H", "A", "B", "C", "U", "V", "V.", "W", "R", "P", "Q", "E", "@",
+          "0", "1", "01", "7.", ".5", "-", "+", "\u2212", ".", "99999", "99999.9999", "100000", "99999999",
+          "123456789", "1234567890123", "1e3", "EX3", " ", "  ", "\t", "\f", "\v", ";", "; c", '"', '"M"', "(", ")",
+          "[", "]", "=", ":", "/", "#", "$", "%", "\\", "\x1a", "\x00", "\uff11", "\u0661", "\u00e4", "\r", "AC(",
+          "IC(", "CR=", "1=", "DEF", "IF", "GOTOF", "MSG", "SIN(", "R1", "R1=", "P1", "P[1]"]
+
+
+@settings(max_examples=3000, deadline=None, derandomize=True)
+@given(st.lists(st.sampled_from(PIECES), max_size=16))
+def test_random_lines_isg(pieces):
+    check_isg("".join(pieces))
+
+
+@settings(max_examples=3000, deadline=None, derandomize=True)
+@given(st.lists(st.sampled_from(PIECES), max_size=16))
+def test_random_lines_sinumerik(pieces):
+    check_sinumerik("".join(pieces))
+
+
+WORDS = ["G0", "G1", "G01", "G2", "G03", "G4", "G17", "G90", "G91", "G33", "M3", "M30", "X10", "X-5.5", "X20.", "Z-3",
+         "Z.5", "Y2", "I5", "K-2", "F0.1", "F100", "S500", "T1", "D1", "A90", "C-45", "U1", "W2", "R5", "Q2", "L5",
+         "H3", "P2", "x1", "z-.25", "X99999.9999", "X100000", "F-1", "N5"]
+
+
+@settings(max_examples=2000, deadline=None, derandomize=True)
+@given(st.booleans(), st.lists(st.sampled_from(WORDS), max_size=7), st.sampled_from(["", " ", "\t"]),
+       st.sampled_from(["", " ;c", ';"x" # (y)', "; \u00e4"]))
+def test_random_blocks(numbered, words, gap, comment):
+    """Blocks shaped like real ones: the shortcut takes most of them; both properties hold."""
+    line = ("N10 " if numbered else "") + gap.join(words) + comment
+    check_isg(line)
+    check_sinumerik(line)
+
+
+def test_plain_blocks_are_taken():
+    """The lines the benchmark is made of go the short way (else it measures nothing)."""
+    sys.path.insert(0, str(ROOT / "bench"))
+    try:
+        import bench_interp
+    finally:
+        sys.path.pop(0)
+    for case in ("isg-lathe", "isg-mill", "sinumerik-mill", "sinumerik-lathe"):
+        lines = bench_interp.program(case, 300).splitlines()
+        check = check_isg if case.startswith("isg") else check_sinumerik
+        taken = [check(line) for line in lines if not line.startswith("%")]
+        assert all(taken), case
+
+
+@pytest.mark.parametrize("line, words", [
+    ("N10 G01 X20.5 Z-1 F100", [("G", 1.0, "01", 5), ("X", 20.5, "20.5", 9), ("Z", -1.0, "-1", 15), ("F", 100.0, "100", 19)]),
+    ("\tg1x.5 ; comment", [("G", 1.0, "1", 2), ("X", 0.5, ".5", 4)]),
+])
+def test_isg_words_by_hand(line, words):
+    b = isg_fast.read_plain("p.nc", 3, line)
+    assert [(w.letter, w.value, w.raw, w.col) for w in b.words] == words
+    assert b.line == 3 and b.items == [("w", w) for w in b.words]
+
+
+@pytest.mark.parametrize("line", ["N10 X1 X2", "X100000", "L5", "N10: X1", "X 1", "X1.2.3", "G04 3.0", "/X1", "X1 N5",
+                                  "P1=2", "V.L.A=1", "H5", "X1 (c)", ""])
+def test_isg_not_plain(line):
+    assert isg_fast.read_plain("p.nc", 1, line) is None
+
+
+@pytest.mark.parametrize("line", ["X=5", "M3=1", "X1 N5", "X 1", "X1.2.3", "/X1", "R1=2", "X1EX3", "N1: X1",
+                                  "X" + "1" * 13, "H5", "%_N_A_MPF", "X1\f"])
+def test_sinumerik_not_plain(line):
+    assert sinumerik_fast.read_plain("p.mpf", 1, line) is None
+
+
+def test_sinumerik_words_by_hand():
+    ln = sinumerik_fast.read_plain("p.mpf", 4, "N0010 G1 x-2.5 ; \u00e4 \"q\"")
+    assert (ln.line, ln.text, ln.label, ln.nlabel) == (4, "N0010 G1 x-2.5 ; \u00e4 \"q\"", "", "N10")
+    assert [(s.col, s.address, s.value.value) for s in ln.stmts] == [(7, "G", 1.0), (10, "X", -2.5)]
