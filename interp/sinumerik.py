@@ -30,7 +30,7 @@ from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
 from . import sinumerik_drill as drill
-from .sinumerik_cycles import ANGLES, CYCLES, RUNNERS, SPECS, _spec, compensate_records, run_cycle
+from .sinumerik_cycles import ANGLES, CYCLES, DRILLING, RUNNERS, SPECS, _spec, compensate_records, run_cycle
 from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
 from .sinumerik_lang import STRING_FUNCS
 from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, KNOWN_M, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
@@ -66,7 +66,7 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
 # functions' modal state (units, settable and programmable frames: sinumerik_machine.Modal)
 SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"]
 # the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
-drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec)
+drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec, DRILLING)
 # keywords that are never a subprogram file, even with a file of that name beside the program
 NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",
            "CYCLE801", "CYCLE802", "CYCLE832", "CYCLE840", "CYCLE84", "CYCLE86", "CYCLE87", "CYCLE88", "CYCLE89",

@@ -90,6 +90,15 @@ def length(e) -> float:
     return _norm(_sub(e.start, e.centre)) * sweep(e)
 
 
+def arc_elems(start, end, centre, cw: bool, full: bool) -> list:
+    """An arc as elements: a full circle (start and end the same point) as its two halves, through
+    the point opposite the start, so every element has a definite sweep for the offset."""
+    if not full:
+        return [Elem("A", start, end, centre, cw)]
+    opp = (2 * centre[0] - start[0], 2 * centre[1] - start[1])
+    return [Elem("A", start, opp, centre, cw), Elem("A", opp, end, centre, cw)]
+
+
 def reverse(elems):
     out = []
     for e in reversed(elems):
@@ -236,13 +245,12 @@ def _contour_of(m, buf, body, plane):
         r = buf[k]
         if _norm(_sub(_p2(r.end, plane), _p2(r.start, plane))) < 1e-9 and not (isinstance(r, canon.Arc) and r.full_turn):
             continue
-        if isinstance(r, canon.Arc):
-            if r.full_turn:
-                raise m.error(r.src.line, r.src.col, "a full circle under G41/G42 is not supported: split it in two arcs")
-            elems.append(Elem("A", _p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise))
+        if isinstance(r, canon.Arc):  # a full circle: its two halves, both owned by the record
+            pieces = arc_elems(_p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise, r.full_turn)
         else:
-            elems.append(Elem("L", _p2(r.start, plane), _p2(r.end, plane)))
-        owner.append(k)
+            pieces = [Elem("L", _p2(r.start, plane), _p2(r.end, plane))]
+        elems.extend(pieces)
+        owner.extend([k] * len(pieces))
     return elems, owner
 
 
@@ -340,6 +348,7 @@ SPECS = {
                      "_KNAME _RTP _RFP _DP", "_KNAME"),
 }
 CYCLES = set(SPECS)
+DRILLING: set[str] = set()  # the drilling cycles and patterns (sinumerik_drill.register fills it)
 
 
 class Cycle:
@@ -1050,11 +1059,10 @@ def contour_elements(m, name: str, cy: Cycle):
     elems, srcs = [], []
     for r in motions[1:]:
         s, e = (r.start[0], r.start[1]), (r.end[0], r.end[1])
-        if isinstance(r, canon.Arc):
-            if r.full_turn:
-                raise contour_error(cy, r.src, "a full circle in the contour is not supported: split it in two arcs")
-            elems.append(Elem("A", s, e, (r.center[0], r.center[1]), r.clockwise))
-            srcs.append(r.src)
+        if isinstance(r, canon.Arc):  # a full circle: its two halves
+            pieces = arc_elems(s, e, (r.center[0], r.center[1]), r.clockwise, r.full_turn)
+            elems.extend(pieces)
+            srcs.extend([r.src] * len(pieces))
         elif _norm(_sub(e, s)) > 1e-9:
             elems.append(Elem("L", s, e))
             srcs.append(r.src)
@@ -1156,6 +1164,11 @@ def run_cycle(m, name: str, args, src: Src, col: int, label: str | None = None) 
     label = label or name
     if m.comp_buf is not None:
         raise m.error(src.line, 1, f"{label} cannot run with radius compensation G41/G42 on: program G40 first")
+    if m.plane != "XY" and name in DRILLING:
+        g, axis = ("G18", "Y") if m.plane == "ZX" else ("G19", "X")
+        raise m.error(src.line, 1, f"{label} in {g} drills along {axis}: the simulated tool stands along Z (a "
+                      "vertical 3-axis machine), so drilling along another axis is not simulated; program the "
+                      "holes in G17")
     if m.plane != "XY":
         raise m.error(src.line, 1, f"{label} is simulated in the G17 plane only")
     cy = Cycle(m, name, args, src, col, label)

@@ -27,7 +27,9 @@ CHIP_BREAK_RETRACT = 1.0  # mm: CYCLE83 VARI=0 retraction when _VRT is 0 (manual
 # CYCLE83 VARI=1: the anticipation distance above the last depth where the feed resumes (manual:
 # 0.6 mm up to 30 mm of drilling depth, depth / 50 beyond that, at most 7 mm), unless _DIS1 > 0
 ANTICIPATION_MIN, ANTICIPATION_DEPTH, ANTICIPATION_MAX = 0.6, 30.0, 7.0
-HOLES_LIMIT = 1000  # NUM of HOLES1/HOLES2, NUM1 x NUM2 of CYCLE801
+# HOLES1/HOLES2 NUM and CYCLE801 NUM1 x NUM2 are bounded by [simulation] max_blocks, as every cycle's
+# moves: a pattern of n holes with a modal cycle makes at least MOVES_PER_HOLE moves per hole
+MOVES_PER_HOLE = 4  # G0 to the position, G0 to RFP + SDIS, G1 to the depth, G0 to RTP
 
 # coarse metric threads M3..M48 (ISO 261): MPIT -> pitch (mm)
 METRIC_PITCH = {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 2.0, 16: 2.0, 18: 2.5,
@@ -365,15 +367,24 @@ def budget(cy, moves: int, what: str) -> None:
 # the modal call and the position patterns
 def _count(cy, name: str, lo: int = 1) -> int:
     v = cy[name]
-    if v != int(v) or not lo <= v <= HOLES_LIMIT:
-        raise cy.err(f"{name} must be a whole number from {lo} to {HOLES_LIMIT} (got {v:g})")
+    limit = cy.m.cfg.max_blocks
+    if v != int(v) or not lo <= v <= limit:
+        raise cy.err(f"{name} must be a whole number from {lo} to {limit:,} ([simulation] max_blocks) (got {v:g})")
     return int(v)
+
+
+def hole_budget(cy, n: int) -> None:
+    """A pattern of ``n`` holes makes at least MOVES_PER_HOLE moves per hole with a modal cycle (one
+    without): more than [simulation] max_blocks is an error before any position is built."""
+    per = MOVES_PER_HOLE if getattr(cy.m, "mcall", None) is not None else 1
+    budget(cy, n * per, f"{n:,} holes, at least {per} move(s) each")
 
 
 def holes1(cy) -> list[tuple[float, float]]:
     """A row: NUM holes on the line through (SPCA, SPCO) at STA1 degrees, the first FDIS from that
     point, DBH apart; machined from the end nearer to the tool."""
     n = _count(cy, "NUM")
+    hole_budget(cy, n)
     a = math.radians(cy["STA1"])
     u = (math.cos(a), math.sin(a))
     pts = [(cy["SPCA"] + (cy["FDIS"] + k * cy["DBH"]) * u[0], cy["SPCO"] + (cy["FDIS"] + k * cy["DBH"]) * u[1])
@@ -388,6 +399,7 @@ def holes2(cy) -> list[tuple[float, float]]:
     """A circle: NUM holes on radius RAD about (CPA, CPO), the first at STA1 degrees, INDA apart
     (0: 360 / NUM)."""
     n = _count(cy, "NUM")
+    hole_budget(cy, n)
     cy.unsigned("RAD")
     inda = cy["INDA"] if cy["INDA"] != 0 else 360.0 / n
     return [(cy["CPA"] + cy["RAD"] * math.cos(math.radians(cy["STA1"] + k * inda)),
@@ -398,8 +410,7 @@ def cycle801(cy) -> list[tuple[float, float]]:
     """A grid: NUM1 columns DIS1 apart along the angle STA, NUM2 rows DIS2 apart across it, the
     first hole at (SPCA, SPCO); row by row, every other row backwards (meander)."""
     n1, n2 = _count(cy, "NUM1"), _count(cy, "NUM2")
-    if n1 * n2 > HOLES_LIMIT:
-        raise cy.err(f"NUM1 x NUM2 = {n1 * n2:,}: a grid may have at most {HOLES_LIMIT} holes")
+    hole_budget(cy, n1 * n2)
     a = math.radians(cy["STA"])
     u, v = (math.cos(a), math.sin(a)), (-math.sin(a), math.cos(a))
     pts = []
@@ -652,10 +663,12 @@ def iso_drill(m, src: Src) -> None:
     in_wcs(m, lambda: run_cycle(m, name, args, src, c.col, label=f"{code} (as {name}: RFP = R, DP = Z, RTP = the return level)"), code, src.line, c.col)
 
 
-def register(specs: dict, runners: dict, cycles: set, angles: set, spec) -> None:
-    """Add the drilling cycles to sinumerik_cycles' tables (``spec`` is its _spec)."""
+def register(specs: dict, runners: dict, cycles: set, angles: set, spec, drilling: set) -> None:
+    """Add the drilling cycles to sinumerik_cycles' tables (``spec`` is its _spec; ``drilling`` the
+    set of the cycles that drill along the tool axis)."""
     for name, names in NAMES.items():
         specs[name] = spec(names, REQUIRED.get(name, ""))
     runners.update(RUNNERS)
     cycles.update(NAMES)
+    drilling.update(NAMES)
     angles.update(ANGLES)

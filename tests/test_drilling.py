@@ -301,8 +301,8 @@ def test_pattern_without_mcall_only_positions_and_warns():
     ("CYCLE84(10, 0, 2, -20, , , 6, 10)", "SDAC must be"),
     ("CYCLE85(10, 0, 2, -20, , , 0, 100)", "FFR (the boring feed) must be positive"),
     ("CYCLE86(10, 0, 2, -20, , , 5)", "SDIR must be 3 or 4"),
-    ("HOLES1(0, 0, 0, 0, 10, 0)", "NUM must be a whole number from 1 to 1000"),
-    ("CYCLE801(0, 0, 0, 1, 1, 100, 100)", "a grid may have at most 1000 holes"),
+    ("HOLES1(0, 0, 0, 0, 10, 0)", "NUM must be a whole number from 1 to 5,000,000 ([simulation] max_blocks)"),
+    ("CYCLE801(0, 0, 0, 1, 1, 10, 2.5)", "NUM2 must be a whole number"),
     ("CYCLE81(10, 0, 2, -20, , , , , , 1)", "at most 9 parameters"),
     ("CYCLE82(10, 0, 2, -20, , 0, 1)", "_GMODE 1: a depth measured other than at the tool's tip"),
     ("CYCLE83(10, 0, 2, -20, , , 5, , , , , 1, 1)", "_AXN 1"),
@@ -517,3 +517,32 @@ def test_iso_errors(body, line, col, text):
     with pytest.raises(CutsimError) as e:
         moves(body)
     assert (e.value.line, e.value.col) == (line, col) and text in e.value.message, e.value
+
+
+def test_a_grid_of_5000_holes_runs_and_max_blocks_bounds_it():
+    """CYCLE801 100 x 50 (5,000 holes, as a real program writes): every hole is drilled, the grid
+    meanders (row 2 backwards); a pattern whose holes alone exceed [simulation] max_blocks is
+    refused before any move (4 moves per hole at least with a modal cycle)."""
+    body = "G0 X0 Y0 Z20\nMCALL CYCLE81(10, 0, 1, -3)\nCYCLE801(30, 20, 0, 10, 15, 100, 50)\nMCALL"
+    mv, _ = moves(body)
+    holes = [m.end[:2] for m in mv if isinstance(m, canon.Feed) and m.end[2] == -3]
+    assert len(holes) == 5000 and len(set(holes)) == 5000
+    assert holes[0] == (30, 20) and holes[99] == (30 + 99 * 10, 20) and holes[100] == (30 + 99 * 10, 35)
+    assert holes[-1] == (30, 20 + 49 * 15)  # 50 rows: the last (even count) runs backwards
+    with pytest.raises(CutsimError) as e:
+        moves(body, max_blocks=19_999)
+    assert e.value.line == 6 and "5,000 holes, at least 4 move(s) each" in e.value.message
+    assert "max_blocks = 19,999" in e.value.message
+    moves(body, max_blocks=20_500)  # 5,000 x 4 moves fit
+
+
+@pytest.mark.parametrize("plane, axis", [("G18", "Y"), ("G19", "X")])
+def test_drilling_in_another_plane_is_refused_with_the_axis(plane, axis):
+    """The simulated tool stands along Z: CYCLE81 in G18 would drill along Y (a horizontal
+    spindle), which the simulator cannot cut; an error names the axis, also for MCALL and the ISO
+    shell."""
+    for body, line in ((f"{plane}\nCYCLE81(10, 0, 2, -5)", 5), (f"{plane}\nMCALL CYCLE81(10, 0, 2, -5)", 5),
+                       (f"{plane}\nG0 Z10\nG81 X1 Z-5 R2", 6)):
+        with pytest.raises(CutsimError) as e:
+            moves(body)
+        assert e.value.line == line and f"in {plane} drills along {axis}" in e.value.message, e.value

@@ -334,3 +334,29 @@ def test_cycle72_contour_with_control_flow_is_refused(tmp_path, body, line, what
         moves(main.format("KONT5"), name=str(tmp_path / "main.mpf"))
     assert (e.value.program, e.value.line) == (str(tmp_path / "kont5.spf"), line)
     assert f"{what} is not allowed" in e.value.message
+
+
+@pytest.mark.parametrize("comp, radius", [(41, 25.0), (42, 15.0)])
+def test_full_circle_under_radius_compensation(comp, radius):
+    """A full circle G2 of radius 20 about (0, 0) from (-20, 0) (clockwise: upwards at the start) with
+    a 10 mm tool: G41 keeps the tool left of travel, outside (radius 25), G42 inside (radius 15).
+    The circle runs as its two halves through the opposite point; approach and departure straight."""
+    p = moves(f"T1 D1 M6\nG0 X-40 Y0 Z10\nG1 Z-2 F300\nG{comp} X-20 Y0\nG2 X-20 Y0 I20 J0\nG40 G1 X-40\nM30\n")
+    mv = p.moves
+    arcs = [m for m in mv if isinstance(m, canon.Arc)]
+    assert [(a.start[:2], a.end[:2], a.center[:2], a.clockwise) for a in arcs] == [
+        ((-radius, 0), (radius, 0), (0, 0), True), ((radius, 0), (-radius, 0), (0, 0), True)]
+    assert all(a.src.line == 5 for a in arcs)
+    assert mv[mv.index(arcs[0]) - 1].end == (-radius, 0, -2)  # the approach
+    assert mv[-1].end == (-40, 0, -2) and mv[-1].start == (-radius, 0, -2)  # the departure
+
+
+def test_cycle72_full_circle_contour():
+    """A contour that is one full circle (radius 20 about (50, 50)), milled outside (_RL 41 on a
+    clockwise circle: left of travel is outside) with a 10 mm tool: the tool centre runs at radius
+    25, as two halves, at the depth -3."""
+    p = moves("T1 D1 M6\nF100\nCYCLE72(\"RING\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 41, 1, 5, 0, 1, 5)\nM30\n"
+              "PROC RING\nG17 G90\nG0 X30 Y50\nG2 X30 Y50 I20 J0\nRET\n")
+    arcs = [m for m in p.moves if isinstance(m, canon.Arc)]
+    assert len(arcs) == 2 and all(a.end[2] == -3 and a.center[:2] == (50, 50) and a.clockwise for a in arcs)
+    assert [a.start[:2] for a in arcs] == [(25, 50), (75, 50)] and arcs[-1].end[:2] == (25, 50)
