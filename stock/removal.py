@@ -25,7 +25,8 @@ from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_s
 from . import helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from cutsim.base.specs import StockSpec, ToolSpec
-from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, planar_region, screw_sweep, spatial_hulls
+from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, planar_region, screw_sweep,
+                     screw_twist, spatial_hulls)
 from .tools import check_tool, lathe_body, lathe_profile, mill_body
 
 # A collision smaller than this is numerical noise between two discretisations of one surface.
@@ -587,8 +588,8 @@ class Work:
         """The thread cuts as ``threads.ScrewGroups`` sweeps them: one sweep per stretch of each
         helix's group (the union of its passes' profiles), the ungrouped passes one by one. (The
         passes' own sweeps near a checked rapid are built one at a time and released.)"""
-        for path, prof in self.screws.sweeps():
-            self.add(_screw_triangles(path, prof, 0.0, 1.0, self.tol), path.src,
+        for path, prof in self.screws.sweeps():  # a wide group folded onto one turn (threads.fold)
+            self.add(threads.sweep_triangles(path, prof, self.tol), path.src,
                      "the thread cuts on this helix, swept as one")
         for m in self.screws.single:
             self.add(sum(_screw_triangles(m.path, prof, s0, s1, self.tol) for s0, s1, prof in m.parts),
@@ -727,7 +728,7 @@ def _prism_triangles(region: m3d.CrossSection) -> int:
 
 def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: float, tol: float) -> int:
     """Triangles of ``sweeps.screw_sweep(path, prof, tol, s0, s1)`` without building it: the same
-    stations and chunks, the profile's vertices after ``subdivide``."""
+    stations and chunks, the profile's vertices after ``subdivide`` (its length and twist rules)."""
     if prof.is_empty():
         return 0
     bounds = prof.bounds()
@@ -739,10 +740,8 @@ def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: flo
     step = math.degrees(segment_angle(reach, tol))
     limit = math.inf if width < 0.999 * lead else MAX_CHUNK_DEGREES
     max_len = EDGE_STEPS * math.sqrt(tol * reach)
-    nv = 0
-    for poly in prof.to_polygons():
-        d = np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)
-        nv += int(np.maximum(1, np.ceil(d / max_len)).sum())
+    twist = screw_twist(path, prof, tol, s0, s1)
+    nv = sum(int(edge_pieces(poly, max_len, twist).sum()) for poly in prof.to_polygons())
     tris = 0
     for a, b in zip(brk, brk[1:]):
         span = (b - a) * total

@@ -13,6 +13,9 @@ are one group; taper passes too where the taper and lead agree.
 - The starts of a multi-start thread are separate groups: profiles join a group only when their
   offset profile overlaps the group's (passes of one start nest; the grooves of two starts do
   not), so a group's profile stays narrower than the lead like each pass.
+- A group whose profile is wider than its lead (its turns would overlap: a fine lead, a deep
+  tool) is folded onto one turn (``fold``): the union of its profiles shifted by whole leads,
+  swept over one turn in a few stretches.
 - Where the members' theta ranges differ the group is split at every range end; each stretch
   sweeps the union of the members that cover it.
 - Paths with lead-in or runout ramps are not grouped (the ramps are kinks of their own), nor are
@@ -26,9 +29,9 @@ from dataclasses import dataclass, field
 import manifold3d as m3d
 import numpy as np
 
-from cutsim.kinematics.paths import ScrewPath
+from cutsim.kinematics.paths import ScrewPath, segment_angle
 
-from .sweeps import screw_sweep
+from .sweeps import EDGE_STEPS, MAX_CHUNK_DEGREES, edge_pieces, screw_sweep, screw_twist
 
 REL_EPS = 1e-9  # relative: two motions (a, p) agree within this
 THETA_EPS = 1e-9  # rad: range ends closer than this are one
@@ -133,9 +136,13 @@ class ScrewGroups:
 
     def sweeps(self) -> list[tuple[ScrewPath, m3d.CrossSection]]:
         """(path, profile) per stretch of each group: the group's motion over the stretch and the
-        union of the profiles of the members that cover it."""
+        union of the profiles of the members that cover it; a group whose profiles are wider
+        than its lead folded onto one turn (``fold``)."""
         out = []
         for g in self.groups:
+            if wide(g):
+                out.extend((_group_path(g, lo, hi), prof) for lo, hi, prof in fold(g))
+                continue
             ends = sorted({e for pc in g.pieces for e in (pc.lo, pc.hi)})
             cuts = [ends[0]]
             for e in ends[1:]:
@@ -159,6 +166,86 @@ class ScrewGroups:
             for s0, s1, prof in m.parts:
                 out.extend(screw_sweep(m.path, prof, self.tol, s0, s1))
         return out
+
+
+def turn_shift(g: _Group) -> tuple[float, float]:
+    """How far the group's frame moves in the half-plane per turn: (2 pi a, 2 pi p)."""
+    return 2.0 * math.pi * g.a, 2.0 * math.pi * g.p
+
+
+OVERLAP_EPS = 1e-9  # relative area: profiles that only touch their next turn's copy are not wide
+
+
+def wide(g: _Group) -> bool:
+    """The group's profiles reach into their own copy one turn on (a profile wider than the lead:
+    fine leads, a thread tool deeper than the lead allows): its turns would overlap each other."""
+    profs = [pc.profile for pc in g.pieces]
+    u = profs[0] if len(profs) == 1 else m3d.CrossSection.batch_boolean(profs, m3d.OpType.Add)
+    area = u.area()
+    return area > 0 and (u ^ u.translate(turn_shift(g))).area() > OVERLAP_EPS * area
+
+
+# Folding a group onto one turn. The group's motion M(theta) (rotation by theta, the frame moved
+# by (a, p) theta in the half-plane) satisfies M(theta + 2 pi k) = M(theta) T(k D), T(k D) the
+# shift by k D = k (2 pi a, 2 pi p) in the half-plane. A piece (profile P, angles lo..hi) at angle
+# phi0 + phi + 2 pi k is therefore M(phi0 + phi) applied to T(k D) P: over one turn of phi the
+# whole group is the sweep of the union of the copies T(k D) P of every piece at every k whose
+# angle phi0 + phi + 2 pi k falls in the piece's range. That set changes only where phi passes a
+# range end (mod 2 pi): between two such ends it is one profile, swept once (exactly the same solid,
+# not an approximation). A single pass of N turns becomes one turn of N lead-shifted copies plus
+# the last partial turn of N + 1: no turn overlaps another, where the turn-by-turn sweep stacked
+# width / lead turns over every point of the groove for the subtract to intersect.
+def fold(g: _Group) -> list[tuple[float, float, m3d.CrossSection]]:
+    """(lo, hi, profile) whose sweeps along the group's motion (each less than one turn, at most
+    MAX_CHUNK_DEGREES: never overlapping itself) union to the group's sweep."""
+    turn = 2.0 * math.pi
+    dr, dz = turn_shift(g)
+    phi0 = min(pc.lo for pc in g.pieces)
+    ends = {0.0, turn}
+    for pc in g.pieces:
+        for e in (pc.lo, pc.hi):
+            x = math.fmod(e - phi0, turn)
+            ends.add(x if x > THETA_EPS and turn - x > THETA_EPS else 0.0)
+    cuts = [0.0]
+    for e in sorted(ends)[1:]:
+        if e - cuts[-1] > THETA_EPS:
+            cuts.append(e)
+    cuts[-1] = turn
+    out = []
+    for lo, hi in zip(cuts, cuts[1:]):
+        mid = phi0 + 0.5 * (lo + hi)
+        copies = []
+        for pc in g.pieces:
+            ka = math.ceil((pc.lo - mid) / turn)
+            kb = math.floor((pc.hi - mid) / turn)
+            copies.extend(pc.profile.translate((k * dr, k * dz)) for k in range(ka, kb + 1))
+        if not copies:
+            continue
+        prof = copies[0] if len(copies) == 1 else m3d.CrossSection.batch_boolean(copies, m3d.OpType.Add)
+        k = max(1, math.ceil(math.degrees(hi - lo) / MAX_CHUNK_DEGREES))
+        edges = np.linspace(phi0 + lo, phi0 + hi, k + 1)
+        out.extend((float(a), float(b), prof) for a, b in zip(edges, edges[1:]))
+    return out
+
+
+def sweep_triangles(path: ScrewPath, prof: m3d.CrossSection, tol: float) -> int:
+    """Triangles of ``screw_sweep(path, prof, tol)`` for one stretch of ``sweeps()`` (no ramps),
+    counted without building it: per chunk, two per profile vertex (after ``subdivide``) and
+    station, and both caps. No stretch's turns overlap each other (a narrow profile's turns lie
+    side by side, a wide group is folded to less than a turn per stretch), so this is the work."""
+    if prof.is_empty():
+        return 0
+    b = prof.bounds()
+    reach = max(path.r0, path.r1) + b[2]
+    step = math.degrees(segment_angle(reach, tol))
+    total = 360.0 * path.revolutions
+    lead = path.travel / path.revolutions if path.revolutions > 0 else math.inf
+    chunks = 1 if b[3] - b[1] < 0.999 * lead else max(1, math.ceil(total / MAX_CHUNK_DEGREES))
+    n = max(1, math.ceil(total / chunks / step))
+    max_len = EDGE_STEPS * math.sqrt(tol * reach)
+    twist = screw_twist(path, prof, tol)
+    nv = sum(int(edge_pieces(poly, max_len, twist).sum()) for poly in prof.to_polygons())
+    return chunks * (2 * nv * n + 2 * nv)
 
 
 def _group_path(g: _Group, lo: float, hi: float) -> ScrewPath:
