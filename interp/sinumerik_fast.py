@@ -13,6 +13,7 @@ R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``
 """
 from __future__ import annotations
 
+import dataclasses
 import re
 
 from .sinumerik_lang import MAX_BLOCK_CHARS, Line, Num, Word
@@ -24,6 +25,28 @@ PLAIN_LINE = re.compile(
     rf"[ \t]*(?:[Nn]([0-9]{{1,12}})(?![0-9.])[ \t]*)?((?:[{_CLASS}]{_NUM}(?![0-9.])[ \t]*)*)(?s:;.*)?")
 PLAIN_WORD = re.compile(rf"([{_CLASS}])({_NUM})([ \t]*)")
 _UPPER = {c: c.upper() for c in _CLASS}
+
+
+def _defaults(cls) -> dict | None:
+    """The fields of the frozen dataclass ``cls`` with their defaults (MISSING for the required
+    ones), or None when its instances have no ``__dict__`` to fill (slots): building Word and Num
+    through their frozen ``__init__`` (one object.__setattr__ per field) is most of the reader's
+    time, filling the instance dict directly gives the same (equal, hashable, frozen) object."""
+    if "__slots__" in cls.__dict__ or not dataclasses.is_dataclass(cls):
+        return None
+    out = {}
+    for f in dataclasses.fields(cls):
+        if f.default_factory is not dataclasses.MISSING:
+            return None
+        out[f.name] = f.default
+    return out
+
+
+_WORD = _defaults(Word)
+_NUM_FIELDS = _defaults(Num)
+_FAST = (_WORD is not None and _NUM_FIELDS == {"value": dataclasses.MISSING}
+         and list(_WORD)[:3] == ["col", "address", "value"]
+         and all(v is not dataclasses.MISSING for v in list(_WORD.values())[3:]))
 
 
 def read_plain(program: str, lineno: int, text: str) -> Line | None:
@@ -38,7 +61,22 @@ def read_plain(program: str, lineno: int, text: str) -> Line | None:
         stmts = ln.stmts
         col = m.start(2) + 1
         upper = _UPPER
+        if not _FAST:
+            for letter, raw, gap in PLAIN_WORD.findall(rest):
+                stmts.append(Word(col, upper[letter], Num(float(raw))))
+                col += 1 + len(raw) + len(gap)
+            return ln
+        new = object.__new__
+        template = _WORD
         for letter, raw, gap in PLAIN_WORD.findall(rest):
-            stmts.append(Word(col, upper[letter], Num(float(raw))))
+            n = new(Num)
+            n.__dict__["value"] = float(raw)
+            w = new(Word)
+            d = w.__dict__
+            d.update(template)
+            d["col"] = col
+            d["address"] = upper[letter]
+            d["value"] = n
+            stmts.append(w)
             col += 1 + len(raw) + len(gap)
     return ln

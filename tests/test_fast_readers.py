@@ -172,3 +172,15 @@ def test_sinumerik_words_by_hand():
     ln = sinumerik_fast.read_plain("p.mpf", 4, "N0010 G1 x-2.5 ; \u00e4 \"q\"")
     assert (ln.line, ln.text, ln.label, ln.nlabel) == (4, "N0010 G1 x-2.5 ; \u00e4 \"q\"", "", "N10")
     assert [(s.col, s.address, s.value.value) for s in ln.stmts] == [(7, "G", 1.0), (10, "X", -2.5)]
+
+
+def test_sinumerik_both_ways_of_building_words(monkeypatch):
+    """The reader fills the frozen Word/Num instances directly (sinumerik_fast._FAST); through
+    their constructors it builds the same objects."""
+    assert sinumerik_fast._FAST  # else the fast way is not what the other tests check
+    lines = [line for line in LINES if sinumerik_fast.read_plain("p.mpf", 7, line) is not None]
+    direct = [sinumerik_fast.read_plain("p.mpf", 7, line) for line in lines]
+    monkeypatch.setattr(sinumerik_fast, "_FAST", False)
+    built = [sinumerik_fast.read_plain("p.mpf", 7, line) for line in lines]
+    assert direct == built and len(lines) > 200
+    assert [hash(s) for ln in direct for s in ln.stmts] == [hash(s) for ln in built for s in ln.stmts]
