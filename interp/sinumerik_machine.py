@@ -40,7 +40,11 @@ PATH_G = {9: "exact stop for one block", 60: "exact stop", 64: "continuous-path 
           644: "rounding with maximum dynamics", 645: "rounding with tangential transitions",
           450: "transition circle at outside corners of radius compensation",
           451: "intersection at outside corners of radius compensation; simulated as G450, the part is the same"}
-MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G)
+# spindle speed modes: G97 (S in rpm, the start state) passes silently; G96 (S a cutting speed in m/min,
+# LIMS the speed limit) changes the spindle speed with the tool's diameter, not the path: one warning
+SPEED_G = {96: "constant cutting speed", 961: "constant cutting speed with the feed per minute",
+           97: "", 971: ""}
+MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G) | set(SPEED_G)
 # M codes every 840D knows that do not change the tool path: spindle orientation and gear stages
 QUIET_M = {19, 40, 41, 42, 43, 44, 45}
 ROTARY_LETTERS = "ABC"
@@ -365,6 +369,12 @@ def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
             suppress(m, ms, f"G{code}")
         elif code in PATH_G:
             ms.warn_once(m, None, f"G{code}", f"G{code} ({PATH_G[code]}) does not change the tool path; accepted")
+        elif code in SPEED_G:
+            if code in (961, 971):
+                m.per_rev = False  # G961/G971: the feed in mm/min, as G94
+            if SPEED_G[code]:
+                ms.warn_once(m, None, f"G{code}", f"G{code} ({SPEED_G[code]}): S is a cutting speed in m/min; the "
+                             "tool path is unchanged, the spindle speed is recorded as written (not in rpm)")
         elif code in (41, 42) and flipped(ms, m.plane):
             rest.append((83 - code, col))
         else:

@@ -341,3 +341,13 @@ def test_proc_save_restores_units_and_frames():
             "PROC SUB2\nTRANS X100\nG1 X1\nRET\n")
     ends = [r.end[0] for r in moves(prog)[1:]]
     assert ends == pytest.approx([125.4, 10.0, 101.0, 110.0])
+
+
+def test_spindle_speed_modes():
+    """G97 (S in rpm) is the start state and passes silently; G96 (S a cutting speed) warns once
+    and leaves the path; G961/G971 also make the feed per minute (as G94)."""
+    _, p = run(HEAD + "G97 S1000 M3\nG96 S200 LIMS=3000\nG95 F0.1\nG1 X10\nG971 F300\nX20\nM30\n")
+    ws = warnings(p)
+    assert sum(w.startswith("G96 ") for w in ws) == 1 and not any(w.startswith("G97") for w in ws)
+    mv = [r for r in p.moves if isinstance(r, canon.Feed)]
+    assert [(r.end[0], r.feed, r.per_rev) for r in mv[-2:]] == [(10, 0.1, True), (20, 300, False)]
