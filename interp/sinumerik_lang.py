@@ -52,9 +52,9 @@ MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR
                     "DYNFINISH", "FGREF", "OFFN",
                     # acceleration, feed-forward and feed-reference modes (one warning each, machine side)
                     "SOFT", "BRISK", "SOFTA", "BRISKA", "FFWON", "FFWOF", "CFC", "CFTCP", "CFIN",
-                    # approach of radius compensation: NORM straight (the simulator's way, accepted);
-                    # KONT/KONTC/KONTT go round the contour point (not simulated: an error)
-                    "NORM", "KONT", "KONTC", "KONTT",
+                    # the straight approach of radius compensation (the simulator's way, accepted). KONT
+                    # & co. stay names: contours are called KONT (CYCLE72("KONT") finds KONT.spf)
+                    "NORM",
                     # motion types the simulator does not interpolate: never read as G1 (an error)
                     "ASPLINE", "BSPLINE", "CSPLINE", "POLY", "CIP", "CT", "COMPSURF"}
 # NAME=value / NAME[n]=value settings without effect on the tool path (spindle positioning and

@@ -355,10 +355,11 @@ def test_spindle_speed_modes():
 
 def test_norm_is_the_straight_approach_kont_is_refused():
     """G41 NORM (the straight approach, the simulator's only one) runs as G41 alone with one warning
-    (it was read as a subprogram call); KONT (round the contour point) is an error at its column."""
+    (it was read as a subprogram call); KONT (round the contour point) is no command the simulator
+    knows: an error at its column (a subprogram KONT, as contours are often named, is not there)."""
     body = "G0 X0 Y-10\nG1 G41 {} X10 Y0 F100\nG1 X20\nG40 G1 X30 Y-10\nM30\n"
     _, p = run(HEAD + body.format("NORM"))
     assert [r.end for r in p.moves] == [r.end for r in run(HEAD + body.format(""))[1].moves]
     assert sum(w.startswith("NORM (") for w in warnings(p)) == 1
     e = err(HEAD + body.format("KONT"))
-    assert (e.line, e.col) == (4, 8) and "KONT is not supported" in e.message
+    assert (e.line, e.col) == (4, 8) and "KONT is not defined" in e.message
