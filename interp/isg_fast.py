@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import re
 
+from .core import Step
 from .isg_scan import LIMITS, IsgBlock
 from .lexer import Word
 
@@ -57,3 +58,40 @@ def read_plain(program: str, lineno: int, text: str) -> IsgBlock | None:
         items.append(("w", w))
         col += 1 + len(raw) + len(gap)
     return IsgBlock(lineno, 1, "" if number is None else "N" + number, words, [], items=items)
+
+
+# -- running a plain block -------------------------------------------------------------------------
+_MOVE_LETTERS = frozenset("XYZ")
+
+
+def plain_block(m, b: IsgBlock, src, fr) -> bool:
+    """Run the common block (only a G00/G01, X, Y, Z and F words, nothing else: no expression, call,
+    command, offset, jump; G00/G01 active or programmed; F > 0; tool radius compensation off) the
+    short way: what ``core.Interpreter.execute`` does to it is to make the motion and F modal and
+    to hand the axis words to ``convert_motion``, which is called here the same way. False (nothing
+    done) for any other block, which then goes the long way (and raises its errors there).
+
+    ``m`` is the Isg interpreter, ``src`` and ``fr`` what Isg.block hands to ``execute``."""
+    if (m.comp_buf is not None or len(b.items) != len(b.words) or b.call is not None or b.gcall is not None
+            or b.offsets or b.commands or b.args or b.gvalues or b.goto is not None or b.deferred):
+        return False
+    motion = feed = None
+    words = {}
+    for w in b.words:
+        letter = w[0]
+        if letter in _MOVE_LETTERS:
+            words[letter] = w
+        elif letter == "F":
+            feed = w
+        elif letter == "G" and motion is None and (w[1] == 0.0 or w[1] == 1.0):
+            motion = int(w[1])
+        else:
+            return False
+    mode = m.motion if motion is None else motion
+    if mode > 1 or (feed is not None and feed[1] <= 0):  # G02/G03/G33 active; F <= 0: the long way's error
+        return False
+    m.motion = mode
+    if feed is not None:
+        m.feed = feed[1]
+    m.convert_motion(Step(b, src, words, motion, context=fr))
+    return True

@@ -184,3 +184,101 @@ def test_sinumerik_both_ways_of_building_words(monkeypatch):
     built = [sinumerik_fast.read_plain("p.mpf", 7, line) for line in lines]
     assert direct == built and len(lines) > 200
     assert [hash(s) for ln in direct for s in ln.stmts] == [hash(s) for ln in built for s in ln.stmts]
+
+
+# -- the ISG plain block (isg_fast.plain_block): whole programs run alike with and without it -------
+from cutsim.interp import canon, isg  # noqa: E402
+from cutsim.interp.modal import InterpConfig  # noqa: E402
+
+ISG_CFGS = {
+    "lathe": InterpConfig("isg", "lathe", True, (40.0, 0.0, 5.0), parameters={1: 2.5}, max_blocks=3000,
+                          work_offsets={"G54": (1.0, 0.0, -2.0)}),
+    "mill": InterpConfig("isg", "mill", False, (0.0, 0.0, 20.0), max_blocks=3000, tool_radii={1: 3.0, 2: 1.0},
+                         axes={"A": "rotary", "U": "linear"}, work_offsets={"G55": (10.0, -5.0, 0.5)}),
+}
+
+
+def isg_outcome(name: str, text: str, cfg: InterpConfig, short: bool):
+    """Run the program with the plain-block path (``short``: every block offered to
+    isg_fast.plain_block first, as the hook in Isg.block does) or without it."""
+    mp = pytest.MonkeyPatch()
+    original = isg.Isg.block
+    if short:
+        def block(self, b, fr):
+            src = canon.Src(self.name, b.line, 1, b.label, fr.calls)
+            if isg_fast.plain_block(self, b, src, fr):
+                return False
+            return original(self, b, fr)
+        mp.setattr(isg.Isg, "block", block)
+    else:
+        mp.setattr(isg_fast, "plain_block", lambda *a: False)  # the hook, once in place, calls it by module
+    try:
+        p = isg.interpret(name, text, cfg)
+    except CutsimError as e:
+        return "error", str(e)
+    finally:
+        mp.undo()
+    return canon.transcript(p), p.warnings, p.blocks, p.final_position
+
+
+def isg_programs() -> list[Path]:
+    out = []
+    for d in DIRS:
+        if d.is_dir():
+            out += [p for p in sorted(d.rglob("*.nc")) if "isg" in str(p.relative_to(d)).lower()]
+    return out
+
+
+def test_there_are_isg_programs():
+    assert len(isg_programs()) >= 30
+
+
+@pytest.mark.parametrize("kind", ["lathe", "mill"])
+@pytest.mark.parametrize("path", isg_programs(), ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_isg_programs_run_alike(path, kind):
+    text = path.read_text(encoding="utf-8", errors="replace")
+    cfg = ISG_CFGS[kind]
+    assert isg_outcome(str(path), text, cfg, True) == isg_outcome(str(path), text, cfg, False)
+
+
+ISG_WORDS = ["G0", "G00", "G1", "G01", "G1.0", "G2", "G03", "G33", "G90", "G91", "G54", "G55", "G53", "G92", "G51",
+             "G52", "G41", "G42", "G40", "G17", "G18", "G4", "G95", "X10", "X-5.5", "X20.", "Z-3", "Z.5", "Y2", "I5",
+             "K-2", "K1.5", "F0.1", "F100", "F0", "F-1", "S500", "M3", "M5", "T1", "D1", "D0", "A90", "U1", "B5",
+             "R5", "X99999.9999", "X100000", "Z-99999", "M30", "M17", "H2", "P1=3", "X=P1", "#MCS ON", "#MCS OFF",
+             "#CS ON[1,2,3,0,0,0]", "#CS OFF", "N5", "(c)", "; c"]
+
+
+# mostly words a plain block may hold or nearly (so that most programs run far), the rest seldom
+ISG_MIX = ISG_WORDS + ["G1", "G0", "G01", "X1", "X12.5", "Z-1", "Z-4", "Y-2.25", "F50", "F0.2", "S300", "M3", "T1",
+                       "A10", "I1", "K-1", "G90", "G91"] * 8
+
+
+@settings(max_examples=800, deadline=None, derandomize=True)
+@given(st.lists(st.lists(st.sampled_from(ISG_MIX), max_size=5), max_size=14), st.sampled_from(["lathe", "mill"]),
+       st.booleans())
+def test_random_isg_programs_run_alike(lines, kind, header):
+    body = "\n".join(f"N{k + 1} " + " ".join(ws) for k, ws in enumerate(lines))
+    text = ("%p\n" if header else "") + body + "\nM30\n"
+    cfg = ISG_CFGS[kind]
+    assert isg_outcome("p.nc", text, cfg, True) == isg_outcome("p.nc", text, cfg, False)
+
+
+def test_plain_blocks_take_the_short_way(monkeypatch):
+    """The benchmark's blocks are run by plain_block (else the speed-up measures nothing)."""
+    sys.path.insert(0, str(ROOT / "bench"))
+    try:
+        import bench_interp
+    finally:
+        sys.path.pop(0)
+    taken = []
+    real = isg_fast.plain_block
+    monkeypatch.setattr(isg_fast, "plain_block", lambda *a: taken.append(real(*a)) or taken[-1])
+    text = bench_interp.program("isg-mill", 50)
+    original = isg.Isg.block
+
+    def block(self, b, fr):
+        src = canon.Src(self.name, b.line, 1, b.label, fr.calls)
+        return False if isg_fast.plain_block(self, b, src, fr) else original(self, b, fr)
+    monkeypatch.setattr(isg.Isg, "block", block)
+    isg.interpret("p.nc", text, ISG_CFGS["mill"])
+    assert taken.count(True) == 50 and taken.count(False) == 1  # the blocks; M30 goes the long way
