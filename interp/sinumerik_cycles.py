@@ -1033,11 +1033,12 @@ def contour_records(m, unit, lines, cy: Cycle) -> list:
                 # would be run straight through (both branches of an IF), so they are errors
                 if isinstance(st, (Call, SubCall, Goto, Repeat, Branch, Case)) or (
                         isinstance(st, Word) and st.address == "G" and isinstance(st.value, Num)
-                        and st.value.value in (41, 42)):
+                        and st.value.value in (41, 42, 73, 74, *range(81, 90))):
                     what = st.kind if isinstance(st, (Branch, Goto)) else "CASE" if isinstance(st, Case) else \
-                        "REPEAT" if isinstance(st, Repeat) else "G41/G42" if isinstance(st, Word) else "a call"
+                        "REPEAT" if isinstance(st, Repeat) else f"G{st.value.value:g}" if isinstance(st, Word) \
+                        else "a call"
                     raise m.error(ln.line, st.col, f"a contour for {cy.name} holds only G blocks: {what} is not allowed "
-                                  "there (no jumps, control structures IF/WHILE/FOR/CASE, calls or G41/G42)")
+                                  "there (no jumps, control structures IF/WHILE/FOR/CASE, calls, G41/G42 or drilling cycles)")
             m.block(ln, fr, [fr])
             if m.plane != "XY":
                 raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in G17 (XY)")

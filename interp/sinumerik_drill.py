@@ -554,12 +554,14 @@ ISO_G = set(ISO_CYCLES) | {80, 87} | ISO_MODES
 @dataclass
 class IsoCycle:
     code: int  # 73, 74, 81 ... 89
-    col: int  # the column of its G word (errors of the holes point there)
+    col: int  # the column of its G word (errors of a hole in its own block point there)
     initial: float  # the initial level: the tool's Z in the workpiece coordinates when the mode began
     r: float | None = None  # the R plane (absolute)
     z: float | None = None  # the hole's depth (absolute)
     q: float | None = None  # G73/G83: the peck depth
     p: float = 0.0  # G82/G88/G89: the dwell at the bottom (ms; no geometric effect)
+    where: tuple = ()  # (program, line) of the G word
+    here: int = 1  # the column errors of the block being run point at
 
 
 def iso_codes(m, blk, src: Src) -> bool:
@@ -601,7 +603,7 @@ def iso_codes(m, blk, src: Src) -> bool:
                 raise m.error(line, col, f"G{c} while the modal call MCALL {m.mcall[0]} is active: end it with MCALL first")
             initial = iso.initial if iso is not None else wcs_z(m)
             old = iso
-            m.iso = iso = IsoCycle(c, col, initial)
+            m.iso = iso = IsoCycle(c, col, initial, where=(src.program, line))
             if old is not None:  # the hole data stay until G80 (a new cycle code keeps R, Z, Q, P)
                 iso.r, iso.z, iso.q, iso.p = old.r, old.z, old.q, old.p
     words = blk.words
@@ -613,12 +615,19 @@ def iso_codes(m, blk, src: Src) -> bool:
                               f"G89){'; an R parameter is assigned with R<n>=<value>' if a == 'R' else ''}")
         return False
     drills = any(a in words for a in ("X", "Y", "Z", "R"))
+    if not drills:
+        return False  # F, S, M, a call (L100 alone is a subprogram call): the cycle waits
+    # errors of this block's hole: at the cycle's G word in its own block, else at the first position word
+    iso.here = iso.col if iso.where == (src.program, line) else min(words[a].col for a in "XYZR" if a in words)
+    if getattr(m, "mcall", None) is not None:
+        raise m.error(line, iso.here, f"the ISO cycle G{iso.code} and the modal call MCALL {m.mcall[0]} are both "
+                      "active: end one of them (G80 or MCALL alone) first")
     for a in ("K", "L"):
         if a in words:
             raise m.error(line, words[a].col, f"{a}: a repeat count of the drilling cycle G{iso.code} is not simulated: "
                           "program each hole position")
     if not m.absolute or any(words[a].mode == "IC" for a in ("Z", "R") if a in words):
-        raise m.error(line, iso.col, f"G{iso.code} with G91 (incremental R and Z) is not simulated: program the "
+        raise m.error(line, iso.here, f"G{iso.code} with G91 (incremental R and Z) is not simulated: program the "
                       "cycle under G90")
     if "R" in words:
         iso.r = words.pop("R").value
@@ -643,11 +652,11 @@ def iso_drill(m, src: Src) -> None:
     c = m.iso
     code = f"G{c.code}"
     if c.z is None:
-        raise m.error(src.line, c.col, f"{code} needs the depth of the hole: Z")
+        raise m.error(src.line, c.here, f"{code} needs the depth of the hole: Z")
     if c.r is None:
-        raise m.error(src.line, c.col, f"{code} needs the R plane: R (the level the feed starts from)")
+        raise m.error(src.line, c.here, f"{code} needs the R plane: R (the level the feed starts from)")
     if c.code in (73, 83) and not c.q:
-        raise m.error(src.line, c.col, f"{code} needs the peck depth Q (positive)")
+        raise m.error(src.line, c.here, f"{code} needs the peck depth Q (positive)")
     name = ISO_CYCLES[c.code]
     rtp = c.initial if getattr(m, "iso_return", 98) == 98 else c.r
     vals = {"RTP": rtp, "RFP": c.r, "SDIS": 0.0, "DP": c.z}
@@ -659,8 +668,9 @@ def iso_drill(m, src: Src) -> None:
         vals.update(SDIR=3.0 if m.spindle_dir >= 0 else 4.0)
     if c.code in (82, 88, 89):
         vals.update(DTB=c.p / 1000.0)
-    args = [(vals.get(n), c.col) for n in NAMES[name].split()]
-    in_wcs(m, lambda: run_cycle(m, name, args, src, c.col, label=f"{code} (as {name}: RFP = R, DP = Z, RTP = the return level)"), code, src.line, c.col)
+    args = [(vals.get(n), c.here) for n in NAMES[name].split()]
+    label = f"{code} (as {name}: RFP = R, DP = Z, RTP = the return level)"
+    in_wcs(m, lambda: run_cycle(m, name, args, src, c.here, label=label), code, src.line, c.here)
 
 
 def register(specs: dict, runners: dict, cycles: set, angles: set, spec, drilling: set) -> None:

@@ -490,6 +490,23 @@ def test_iso_cycle_is_modal_until_g80_or_a_motion_code():
     assert mv[-2].end == (40, 20, 1)  # G99: back to R
 
 
+def test_iso_cycle_waits_through_a_subprogram_call(tmp_path):
+    """L100 alone in cycle mode is the subprogram call it is in Siemens mode (no repeat count); the
+    subprogram's X moves drill, as the modal cycle is still on."""
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0), tool_radii={1: R})
+    (tmp_path / "L100.spf").write_text("X30\nM17\n")
+    prog = interpret(str(tmp_path / "p.mpf"), HEAD + "G0 X10 Y10 Z20\nG81 Z-4 R2\nL100\nG80\nM30\n", cfg)
+    holes = [(m.end[0], m.end[1]) for m in prog.moves if isinstance(m, canon.Feed) and m.end[2] == -4]
+    assert holes == [(10, 10), (30, 10)]
+
+
+def test_cycle72_contour_with_an_iso_cycle_is_refused():
+    with pytest.raises(CutsimError) as e:
+        moves("F100\nCYCLE72(\"KK\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 42, 1, 5, 0, 1, 5)\nM30\n"
+              "PROC KK\nG0 X0 Y0\nG81 X10 Z-4 R2\nRET", head="G17 G90\nT2 D1 M6\n")
+    assert e.value.line == 8 and "G81 is not allowed there" in e.value.message
+
+
 def test_iso_g98_returns_to_the_initial_level_of_the_mode():
     """The initial level is where the tool stood when the mode began (Z30), not where a later hole
     started from; a new cycle code keeps it and the hole data (R, Z)."""
@@ -512,6 +529,9 @@ def test_iso_g98_returns_to_the_initial_level_of_the_mode():
     ("G0 Z1\nG98 G81 X1 Z-5 R2", 5, 5, "the retraction plane RTP 1 lies below the reference plane RFP 2"),
     ("MCALL CYCLE81(10, 0, 2, -5)\nG81 X1 Z-5 R2", 5, 1, "while the modal call MCALL CYCLE81 is active"),
     ("G0 Z10\nG82 X1 Z-5 R2 P500\nG80 X3 P2", 6, 8, "P (repeat count) only goes with a subprogram call"),
+    ("G0 Z10\nG81 X1 Z-5 R2\nMCALL CYCLE81(10, 0, 2, -3)\nF100\nY3", 8, 1, "are both active"),
+    ("G0 Z10\nG81 X1 Z-5 R2\nX2 Y3 Z4", 6, 1, "the final drilling depth 4 (DP)"),  # the hole's own block
+    ("G0 Z10\nG81 X1 Z-5 R2\nX5 L3", 6, 4, "a repeat count of the drilling cycle G81"),
 ])
 def test_iso_errors(body, line, col, text):
     with pytest.raises(CutsimError) as e:
