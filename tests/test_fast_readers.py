@@ -282,3 +282,85 @@ def test_plain_blocks_take_the_short_way(monkeypatch):
     monkeypatch.setattr(isg.Isg, "block", block)
     isg.interpret("p.nc", text, ISG_CFGS["mill"])
     assert taken.count(True) == 50 and taken.count(False) == 1  # the blocks; M30 goes the long way
+
+
+# -- the Sinumerik plain block (sinumerik_fast.plain_evaluate): programs run alike with and without it
+from cutsim.interp import sinumerik  # noqa: E402
+
+SIN_CFGS = {
+    "mill": InterpConfig("sinumerik", "mill", False, (0.0, 0.0, 50.0), parameters={1: 2.5}, max_blocks=3000,
+                         tool_radii={1: 3.0, 2: 1.0}, axes={"A": "rotary"}, work_offsets={"G54": (10.0, 5.0, 0.0)}),
+    "lathe": InterpConfig("sinumerik", "lathe", True, (40.0, 0.0, 5.0), max_blocks=3000),
+}
+
+
+def sin_outcome(name: str, text: str, cfg: InterpConfig, short: bool):
+    """Run with every block offered to plain_evaluate first (``short``, as the hook in
+    Sinumerik.evaluate does) or without it."""
+    mp = pytest.MonkeyPatch()
+    original = sinumerik.Sinumerik.evaluate
+    if short:
+        def evaluate(self, ln):
+            blk = sinumerik_fast.plain_evaluate(self, ln)
+            return original(self, ln) if blk is None else blk
+        mp.setattr(sinumerik.Sinumerik, "evaluate", evaluate)
+    else:
+        mp.setattr(sinumerik_fast, "plain_evaluate", lambda *a: None)  # the hook calls it by module
+    try:
+        p = sinumerik.interpret(name, text, cfg)
+    except CutsimError as e:
+        return "error", str(e)
+    finally:
+        mp.undo()
+    return canon.transcript(p), p.warnings, p.blocks, p.final_position
+
+
+def sin_programs() -> list[Path]:
+    out = []
+    for d in DIRS:
+        if d.is_dir():
+            out += sorted(p for p in d.rglob("*") if p.suffix.lower() == ".mpf")
+    return out
+
+
+def test_there_are_sinumerik_programs():
+    assert len(sin_programs()) >= 50
+
+
+@pytest.mark.parametrize("kind", ["mill", "lathe"])
+@pytest.mark.parametrize("path", sin_programs(), ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_sinumerik_programs_run_alike(path, kind):
+    text = path.read_text(encoding="utf-8", errors="replace")
+    cfg = SIN_CFGS[kind]
+    assert sin_outcome(str(path), text, cfg, True) == sin_outcome(str(path), text, cfg, False)
+
+
+SIN_WORDS = ["G0", "G1", "G01", "G1.0", "G2", "G3", "G4", "G90", "G91", "G54", "G500", "G53", "G70", "G71", "G700",
+             "G17", "G18", "G41", "G40", "G64", "G95", "X10", "X-5.5", "Z-3", "Z.5", "Y2", "I5", "K-2", "F0.1", "F100",
+             "F0", "F-1", "S500", "M3", "M5", "M6", "T1", "T0", "D1", "A90", "B5", "U1", "X99999.9999", "X100000",
+             "M30", "M17", "R1=3", "X=R1", "X=IC(2)", "X1 X2", "TRANS X5", "ROT Z30", "SCALE X2", "MIRROR X0",
+             "TRANS", "AROT Z10", "SUPA", "CR=5", "DEF REAL X", "N5", "; c", "MCALL CYCLE81(10,0,2,-5)", "MCALL"]
+SIN_MIX = SIN_WORDS + ["G1", "G0", "X1", "X12.5", "Z-1", "Z-4", "Y-2.25", "F50", "F0.2", "S300", "M3", "T1", "A10",
+                       "G90", "G91"] * 8
+
+
+@settings(max_examples=800, deadline=None, derandomize=True)
+@given(st.lists(st.lists(st.sampled_from(SIN_MIX), max_size=5), max_size=14), st.sampled_from(["mill", "lathe"]))
+def test_random_sinumerik_programs_run_alike(lines, kind):
+    text = "\n".join(f"N{k + 1} " + " ".join(ws) for k, ws in enumerate(lines)) + "\nM30\n"
+    cfg = SIN_CFGS[kind]
+    assert sin_outcome("p.mpf", text, cfg, True) == sin_outcome("p.mpf", text, cfg, False)
+
+
+def test_sinumerik_plain_blocks_take_the_short_way(monkeypatch):
+    sys.path.insert(0, str(ROOT / "bench"))
+    try:
+        import bench_interp
+    finally:
+        sys.path.pop(0)
+    taken = []
+    real = sinumerik_fast.plain_evaluate
+    monkeypatch.setattr(sinumerik_fast, "plain_evaluate", lambda *a: taken.append(real(*a) is not None) or None)
+    text = bench_interp.program("sinumerik-mill", 50)
+    sin_outcome("p.mpf", text, SIN_CFGS["mill"], True)
+    assert taken.count(True) == 50 and taken.count(False) == 1  # the blocks; M30 goes the long way
