@@ -96,7 +96,13 @@ _VAR_NAME = re.compile(rf"\${_IDENT}(?:{_INDEX})*|V\.[A-Z]+(?:\.{_IDENT}(?:{_IND
 
 
 def _number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    """A TOML number that is a finite float: not a bool, not nan/inf, not an integer too big for a float."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return False
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:  # a 400-digit integer
+        return False
 
 
 def _coord(v) -> bool:
@@ -129,7 +135,7 @@ class _Reader:
             return default
         v = self.table[key]
         if kind is float:
-            ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            ok = _number(v)
             v = float(v) if ok else v
         elif kind is int:
             ok = isinstance(v, int) and not isinstance(v, bool)
@@ -138,9 +144,9 @@ class _Reader:
         if not ok:
             tname = {float: "a number", int: "a whole number", bool: "true or false", str: "a string",
                      list: "a list", dict: "a table"}[kind]
-            raise self.fail(key, f"must be {tname}, not {v!r}")
+            raise self.fail(key, f"must be {tname}, not {_show(v)}")
         if check is not None and not check(v):
-            raise self.fail(key, f"{why} (got {v!r})")
+            raise self.fail(key, f"{why} (got {_show(v)})")
         return v
 
     def pair(self, key: str, default=..., increasing: bool = True):
@@ -148,11 +154,11 @@ class _Reader:
         if v is default:
             return v
         if len(v) != 2 or not all(_number(c) for c in v):
-            raise self.fail(key, f"must be two finite numbers [low, high], not {v!r}")
+            raise self.fail(key, f"must be two finite numbers [low, high], not {_show(v)}")
         if not all(_coord(c) for c in v):
-            raise self.fail(key, f"must lie within -{COORD_MAX:g} to {COORD_MAX:g} mm, not {v!r}")
+            raise self.fail(key, f"must lie within -{COORD_MAX:g} to {COORD_MAX:g} mm, not {_show(v)}")
         if increasing and not v[0] < v[1]:
-            raise self.fail(key, f"must be [low, high] with low < high, not {v!r}")
+            raise self.fail(key, f"must be [low, high] with low < high, not {_show(v)}")
         return (float(v[0]), float(v[1]))
 
     def points(self, key: str, minimum: int = 3, maximum: int = 100_000):
@@ -490,8 +496,8 @@ class _Loader:
             v = c.get(key, list, default)
             if v is default:
                 return v
-            if len(v) != 2 or not all(isinstance(q, (int, float)) and not isinstance(q, bool) and math.isfinite(q) for q in v):
-                raise c.fail(key, f"must be two numbers [x, y], not {v!r}")
+            if len(v) != 2 or not all(_number(q) for q in v):
+                raise c.fail(key, f"must be two numbers [x, y], not {_show(v)}")
             return (float(v[0]), float(v[1]))
 
         if kind == "diameter":
@@ -511,8 +517,8 @@ class _Loader:
             spec["angles"] = c.get("angles", int, 36, check=lambda v: 8 <= v <= 720, why="must be 8 to 720")
             phase = c.get("phase", list, None)
             if phase is not None:
-                if not all(isinstance(q, (int, float)) and not isinstance(q, bool) and math.isfinite(q) for q in phase):
-                    raise c.fail("phase", f"must be a list of angles in degrees, not {phase!r}")
+                if not all(_number(q) for q in phase):
+                    raise c.fail("phase", f"must be a list of angles in degrees, not {_show(phase)}")
                 if len(phase) != spec["starts"]:
                     raise c.fail("phase", f"needs one angle per start ({spec['starts']}), got {len(phase)}")
                 spec["phase"] = [float(q) for q in phase]

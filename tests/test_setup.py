@@ -235,3 +235,15 @@ def test_toml_error_at_the_end_of_the_file(tmp_path):
     assert (e.line, e.col) == (1, 7) and "not valid TOML" in e.message
     e = error(tmp_path, '[machine]\nkind = "lathe"\nx = [1,\n')
     assert (e.line, e.col) == (4, 1)
+
+
+@pytest.mark.parametrize("where,text", [
+    ("[stock] diameter", BASE.replace("diameter = 30.0", "diameter = " + "9" * 400)),
+    ("[stock] z", BASE.replace("z = [-40.0, 0.0]", "z = [-" + "9" * 400 + ", 0.0]")),
+    ("[[tool]] #1 tip_radius", BASE + "tip_radius = " + "1" * 320 + "\n"),
+], ids=["scalar", "pair", "tool"])
+def test_an_integer_too_big_for_a_float_is_an_error_at_its_key(tmp_path, where, text):
+    """TOML integers have no size limit; one past the float range (1.8e308) is a bad number at its
+    key, not an OverflowError (fuzz case 20261124/1517 exited 3), and the message stays short."""
+    e = error(tmp_path, text)
+    assert where in e.message and len(e.message) < 200
