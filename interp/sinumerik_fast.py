@@ -17,6 +17,7 @@ import dataclasses
 import re
 
 from .sinumerik_lang import MAX_BLOCK_CHARS, RANGES, Line, Num, Word
+from .sinumerik_machine import MACHINE_G
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"
 _CLASS = _LETTERS + _LETTERS.lower()
@@ -84,26 +85,16 @@ def read_plain(program: str, lineno: int, text: str) -> Line | None:
 
 # -- evaluating a plain block ----------------------------------------------------------------------
 _PLAIN_ADDRESSES = frozenset("XYZF")
-_Block = _Value = _MACHINE_G = None
 
 
-def _bind() -> None:
-    """The interpreter's Block and Value (imported here when first needed: sinumerik imports this
-    module) and the G codes the machine side takes (sinumerik_machine.MACHINE_G)."""
-    global _Block, _Value, _MACHINE_G
-    from . import sinumerik, sinumerik_machine
-
-    _Block, _Value, _MACHINE_G = sinumerik.Block, sinumerik.Value, sinumerik_machine.MACHINE_G
-
-
-def plain_evaluate(m, ln: Line):
+def plain_evaluate(m, ln: Line, block, value):
     """``Sinumerik.evaluate(ln)`` for a block of plain constant words only (G0/G1, X, Y, Z, F, each
     axis once, every value a finite constant within its address's range, no AC/IC, no extension,
     no address that is a variable of the running level or an extra axis of the setup): the same
     Block, built without the per-word hooks (which do nothing to these words). None (nothing done)
-    for any other block, which then goes the long way and raises its errors there."""
-    if _Block is None:
-        _bind()
+    for any other block, which then goes the long way and raises its errors there. ``block`` and
+    ``value`` are the interpreter's Block and Value classes (handed in: interp/sinumerik.py imports
+    this module)."""
     words = {}
     gs = []
     scope = m.vars
@@ -117,14 +108,14 @@ def plain_evaluate(m, ln: Line):
             return None
         v = node.value
         if a == "G":
-            if (v != 0.0 and v != 1.0) or v in _MACHINE_G:
+            if (v != 0.0 and v != 1.0) or v in MACHINE_G:
                 return None
             gs.append((int(v), st.col))
         elif a in _PLAIN_ADDRESSES and a not in words:
             lo, hi, _ = RANGES[a]
             if not lo <= v <= hi:  # NaN and inf too: the long way's error
                 return None
-            words[a] = _Value(v, None, st.col)
+            words[a] = value(v, None, st.col)
         else:
             return None
-    return _Block(words, gs)
+    return block(words, gs)

@@ -270,9 +270,14 @@ def test_plain_blocks_take_the_short_way(monkeypatch):
         import bench_interp
     finally:
         sys.path.pop(0)
-    taken = []
+    taken, missed = set(), set()
     real = isg_fast.plain_block
-    monkeypatch.setattr(isg_fast, "plain_block", lambda *a: taken.append(real(*a)) or taken[-1])
+
+    def spy(m, b, *a):
+        ok = real(m, b, *a)
+        (taken if ok else missed).add(b.line)
+        return ok
+    monkeypatch.setattr(isg_fast, "plain_block", spy)
     text = bench_interp.program("isg-mill", 50)
     original = isg.Isg.block
 
@@ -281,7 +286,7 @@ def test_plain_blocks_take_the_short_way(monkeypatch):
         return False if isg_fast.plain_block(self, b, src, fr) else original(self, b, fr)
     monkeypatch.setattr(isg.Isg, "block", block)
     isg.interpret("p.nc", text, ISG_CFGS["mill"])
-    assert taken.count(True) == 50 and False in taken  # the blocks; M30 goes the long way
+    assert taken == set(range(2, 52)) and missed == {52}  # the blocks (after %bench); M30 the long way
 
 
 # -- the Sinumerik plain block (sinumerik_fast.plain_evaluate): programs run alike with and without it
@@ -301,7 +306,7 @@ def sin_outcome(name: str, text: str, cfg: InterpConfig, short: bool):
     original = sinumerik.Sinumerik.evaluate
     if short:
         def evaluate(self, ln):
-            blk = sinumerik_fast.plain_evaluate(self, ln)
+            blk = sinumerik_fast.plain_evaluate(self, ln, sinumerik.Block, sinumerik.Value)
             return original(self, ln) if blk is None else blk
         mp.setattr(sinumerik.Sinumerik, "evaluate", evaluate)
     else:
@@ -358,9 +363,12 @@ def test_sinumerik_plain_blocks_take_the_short_way(monkeypatch):
         import bench_interp
     finally:
         sys.path.pop(0)
-    taken = []
+    taken, missed = set(), set()
     real = sinumerik_fast.plain_evaluate
-    monkeypatch.setattr(sinumerik_fast, "plain_evaluate", lambda *a: taken.append(real(*a) is not None) or None)
+
+    def spy(m, ln, *a):
+        (missed if real(m, ln, *a) is None else taken).add(ln.line)
+    monkeypatch.setattr(sinumerik_fast, "plain_evaluate", spy)
     text = bench_interp.program("sinumerik-mill", 50)
     sin_outcome("p.mpf", text, SIN_CFGS["mill"], True)
-    assert taken.count(True) == 50 and False in taken  # the blocks; M30 goes the long way
+    assert taken == set(range(1, 51)) and missed == {51}  # the blocks; M30 goes the long way
