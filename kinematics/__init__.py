@@ -80,6 +80,17 @@ class _Planner:
 
     # -- motions ---------------------------------------------------------------------------------
     def motion(self, rec) -> None:
+        t = type(rec)
+        if (t is canon.Rapid or t is canon.Feed) and not self.lathe:  # most moves: no numpy until the path
+            s, e = rec.start, rec.end
+            if rec.diameter:
+                s, e = (s[0] / 2.0, s[1], s[2]), (e[0] / 2.0, e[1], e[2])
+            dx, dy, dz = e[0] - s[0], e[1] - s[1], e[2] - s[2]
+            length = math.sqrt(dx * dx + dy * dy + dz * dz)  # the squares summed in order, as np.linalg.norm
+            rapid = t is canon.Rapid
+            self.out.cycle_time += 60.0 * length / (self.m.rapid if rapid else self.feed_rate(rec))
+            self.out.paths.append(SpatialPath(rec.src, self.tool, np.array((s, e), dtype=float), rapid))
+            return
         p0 = self.phys(rec.start, rec.diameter)
         p1 = self.phys(rec.end, rec.diameter)
         if self.lathe and not self._warned_y and (abs(p0[1]) > 1e-9 or abs(p1[1]) > 1e-9):
