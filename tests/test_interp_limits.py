@@ -251,3 +251,16 @@ def test_counts_too_big_to_print_are_given_as_powers_of_ten():
     assert (e.line, e.col) == (1001, 7)
     m = re.search(r"would execute about (\d\.\d\d)e\+(\d+) blocks", e.message)
     assert m and int(m.group(2)) >= 8000, e.message
+
+
+@pytest.mark.parametrize("fn", [cnc, isg], ids=["cnc8x6", "isg"])
+def test_a_huge_number_or_a_word_repeated_thousands_of_times_fails_at_once(fn):
+    """Lines the plain-line shortcut can't take must fall through in linear time: a 30,000-digit
+    X (fuzz 20261124/11152) and 100,000 repeated G01 words (fuzz 20261124/8529) hung the CNC8x6
+    reader's regular expression, which retried every split of the digits. Both are errors at the
+    offending word: the X value past the range at column 5, the second G01 (column 5) conflicting
+    with the first."""
+    e = fails(fn, "G00 X5" + "1" * 30_000 + ". Z1\n")
+    assert (e.line, e.col) == (1, 5) and "range" in e.message
+    e = fails(fn, "G01 " + "G01 " * 100_000 + "X1 Z1 F0.1\n")
+    assert (e.line, e.col) == (1, 5) and "G01 conflicts with G01" in e.message
