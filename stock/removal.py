@@ -27,7 +27,7 @@ from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from cutsim.base.specs import StockSpec, ToolSpec
 from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, planar_region, screw_sweep,
                      screw_twist, spatial_hulls)
-from .tools import check_tool, lathe_body, lathe_profile, mill_body
+from .tools import check_tool, lathe_body, lathe_profile, mill_body, tool_error
 
 # A collision smaller than this is numerical noise between two discretisations of one surface.
 MIN_COLLISION_VOLUME = 1e-3  # mm^3
@@ -118,6 +118,19 @@ def _frame(stock: m3d.Manifold, spec: StockSpec, tol: float) -> _Frame:
 def is_mill_move(path) -> bool:
     """A move of a milling tool (the lathe's moves with the spindle stopped are spatial too)."""
     return isinstance(path, SpatialPath) and not path.tool.is_lathe_tool
+
+
+def check_resolved(tool: ToolSpec, tol: float) -> None:
+    """A milling tool narrower than the chordal tolerance (radius below it) cannot be swept at that
+    tolerance: its circle's chords would cross its axis, and the passes a cycle lays side by side
+    at such a tool's stepover pile up into tens of thousands of overlapping sweeps (fuzz: a 1 um
+    end mill in POCKET2, a 2 um ball-end mill in CYCLE71 at 0.05 mm ran for minutes). An error
+    at the tool's table naming the tolerance that would resolve it."""
+    r = tool.diameter / 2.0
+    if r < tol:
+        raise tool_error(tool, f"the tool's radius {r:g} mm is below the chordal tolerance {tol:g} mm, so its cut "
+                               f"cannot be resolved: simulate with a tolerance of at most {r:g} mm "
+                               f"([simulation] tolerance or --tolerance)")
 
 
 def sweep_kind(path) -> str:
@@ -283,6 +296,8 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
 
     for tool in {id(p.tool): p.tool for p in paths if getattr(p, "tool", None) is not None}.values():
         check_tool(tool)  # tools built in Python, not through the setup loader, meet the same ranges
+    for tool in {id(p.tool): p.tool for p in paths if is_mill_move(p)}.values():
+        check_resolved(tool, tol)
     paths = drop_repeats(paths)
     kinds = [sweep_kind(p) for p in paths]
     work = Work(max_triangles, stock.num_tri())

@@ -500,3 +500,19 @@ def test_grouped_thread_estimate_matches_the_grouped_sweep():
     assert abs(sum(est) - sum(built)) <= 0.01 * sum(built)
     _, single = _thread_counts(False, setup, prog)
     assert len(single) > len(built) and sum(built) < sum(single)
+
+
+def test_mill_narrower_than_the_tolerance_is_refused_at_its_table(tmp_path):
+    """A 2 um ball-end mill (radius 0.001 mm) at tolerance 0.05 mm: the chords of its circle would
+    cross its axis, so it is an error at its [[tool]] table (line 10 of this setup) naming the
+    tolerance that resolves it (the radius); at that tolerance the same move runs."""
+    setup = tmp_path / "s.toml"
+    setup.write_text(MILL_SETUP.format(tol=0.05, limit=3_000_000).replace("diameter = 4.0", "diameter = 0.002")
+                     .replace("length = 12.0", "length = 1.0"))
+    assert setup.read_text().splitlines()[9] == "[[tool]]"
+    prog = tmp_path / "p.nc"
+    prog.write_text("N10 G00 G17 G90 T1 S1000 M03\nN20 G00 X12. Y11. Z1.\nN30 G01 Z-0.5 F100\nN40 X13.\nN50 G00 Z5.\n")
+    with pytest.raises(CutsimError) as e:
+        cutsim.simulate(str(prog), str(setup))
+    assert e.value.line == 10 and "tolerance of at most 0.001 mm" in str(e.value)
+    cutsim.simulate(str(prog), str(setup), tolerance=0.001)
