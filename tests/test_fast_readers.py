@@ -186,6 +186,26 @@ def test_sinumerik_both_ways_of_building_words(monkeypatch):
     assert [hash(s) for ln in direct for s in ln.stmts] == [hash(s) for ln in built for s in ln.stmts]
 
 
+def test_sinumerik_fast_words_take_no_more_memory(monkeypatch):
+    """Words built the fast way keep the compact instance layout of the constructed ones (filling
+    their __dict__ directly would double their size)."""
+    import tracemalloc
+
+    line = "N10 G1 X12.5 Y-3 Z-1.25 F100"
+
+    def size() -> int:
+        tracemalloc.start()
+        keep = [sinumerik_fast.read_plain("p.mpf", 1, line) for _ in range(2000)]
+        used = tracemalloc.get_traced_memory()[0]
+        tracemalloc.stop()
+        assert len(keep) == 2000
+        return used
+    fast = size()
+    monkeypatch.setattr(sinumerik_fast, "_FAST", False)
+    built = size()
+    assert fast <= built * 1.02
+
+
 # -- the ISG plain block (isg_fast.plain_block): whole programs run alike with and without it -------
 from cutsim.interp import canon, isg  # noqa: E402
 from cutsim.interp.modal import InterpConfig  # noqa: E402
