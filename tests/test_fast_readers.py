@@ -392,3 +392,12 @@ def test_sinumerik_plain_blocks_take_the_short_way(monkeypatch):
     text = bench_interp.program("sinumerik-mill", 50)
     sin_outcome("p.mpf", text, SIN_CFGS["mill"], True)
     assert taken == set(range(1, 51)) and missed == {51}  # the blocks; M30 goes the long way
+
+
+@pytest.mark.parametrize("line", ["G01" * 100000 + "@", "G01 " * 100000 + "@", "X" + "1" * 30000, "N" + "1" * 30000,
+                                  "X1" + ".5" * 30000, " " * 100000 + "@", "X1.1" * 50000 + "."])
+def test_long_lines_that_are_not_plain(line):
+    """Lines the shortcut can't take fail in linear time (the regular expressions do not backtrack
+    over their words: each number must end where its digits end); here they just give None."""
+    assert isg_fast.read_plain("p.nc", 1, line) is None
+    assert sinumerik_fast.read_plain("p.mpf", 1, line) is None
