@@ -221,14 +221,14 @@ def unary(cur: Cursor):
     if cur.depth > MAX_DEPTH:
         raise cur.error(f"expression nested more than {MAX_DEPTH} deep")
     try:
-        if c in "+-\u2212":
+        if c and c in "+-\u2212":  # "" (the end of the line) is in every string
             col = cur.i + 1
             cur.i += 1
             f = unary(cur)
             if c == "+":
                 return f
             return lambda env: -_num(f(env), cur, col, "sign")
-        if c == "!" or (c in "Nn" and cur.at_word("NOT")):
+        if c == "!" or (c and c in "Nn" and cur.at_word("NOT")):
             col = cur.i + 1
             cur.i += 1 if c == "!" else 3
             f = unary(cur)
@@ -275,7 +275,7 @@ def primary(cur: Cursor):
         cur.i = m.end()
         return lambda env: v
     foreign_digit(cur.prog, cur.line, t, i)
-    if c == "@" and cur.peek(1) in "Pp":
+    if c == "@" and cur.peek(1) in ("P", "p"):
         return param(cur)
     m = IDENT.match(t, i)
     if not m:

@@ -187,7 +187,7 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
     seen[letter] = col
     cur.skip()
     c = cur.peek()
-    if (letter in "GMH" and c not in "@[Pp") or (c and (c.isdigit() or c in ".+-\u2212")):
+    if (letter in "GMH" and c and c not in "@[Pp") or (c and (c.isdigit() or c in ".+-\u2212")):
         value, raw, cur.i = parse_number(prog, lineno, text, cur.i, letter, *LIMITS[letter], col=col)
         w = Word(letter, value, raw, col)
         block.words.append(w)
@@ -212,7 +212,7 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
             return
         raise CutsimError(prog, lineno, col, f"{letter}[{m.group(1)} ...]: an axis-specific command "
                           "is not modelled by the simulator")
-    elif c in "[@" or c.isalpha():
+    elif c in ("[", "@") or c.isalpha():
         f = primary(cur)
     else:
         raise cur.error(f"malformed number after {letter}")
@@ -299,7 +299,7 @@ def call(cur: Cursor, block: IsgBlock, col: int) -> None:
     text, prog, lineno = cur.text, cur.prog, cur.line
     if block.call is not None or block.gcall is not None:
         raise CutsimError(prog, lineno, col, "two subprogram calls in one block")
-    if cur.peek() in "lL":
+    if cur.peek() in ("l", "L"):
         cur.i += 1
         cur.skip()
         m = NAME.match(text, cur.i)
@@ -340,7 +340,7 @@ def cycle_params(cur: Cursor) -> dict:
         if c == ",":
             cur.i += 1
             continue
-        if c == "@" and cur.peek(1) in "Pp":
+        if c == "@" and cur.peek(1) in ("P", "p"):
             m = re.compile(r"@[Pp]([0-9]+)\s*=").match(cur.text, cur.i)
             if not m:
                 raise cur.error("a call parameter is written @P<n> = value")
@@ -374,7 +374,7 @@ def assignment(cur: Cursor, block: IsgBlock) -> None:
         at = c == "@"
         if at:
             cur.i += 1
-            if cur.peek() not in "Pp":
+            if cur.peek() not in ("P", "p"):
                 raise cur.error("'@' must be followed by P and a number (@P1)")
         cur.i += 1
         if cur.peek() == "[":
@@ -467,7 +467,7 @@ def for_head(cur: Cursor, st: Ctrl) -> None:
     if c in "Vv" and cur.peek(1) == ".":
         scope, keyf, _ = var_ref(cur)
         st.var = ("V", scope, keyf, col)
-    elif c in "Pp" or c == "@":
+    elif c in ("P", "p", "@"):
         f = param(cur)  # only to move past it; the key is read from the text
         key = cur.text[col - 1:cur.i].upper().replace(" ", "")
         if "[" in key:
@@ -498,7 +498,7 @@ def goto(cur: Cursor, block: IsgBlock, col: int) -> None:
             raise cur.error("$GOTO [NAME] names a label in '[ ]'")
         block.goto = ("S", f"[{m.group(1).upper()}]", col)
         cur.i = m.end()
-    elif c in "Nn":
+    elif c in ("N", "n"):
         cur.i += 1
         cur.skip()
         f = primary(cur)
