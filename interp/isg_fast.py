@@ -9,6 +9,10 @@ number, no ``( )`` comment, no ``/``, ``#``, ``$``, ``"``, ``[``, ``=``, ``@``, 
 L (calls), H (machine functions), V and P (variables) and N after the first word are left to the
 long way, as is a repeated address other than G and M and any number the long way would refuse
 (out of range, glued to a point or a digit, more digits than the regular expression allows).
+
+``plain_block`` runs such a block (G00/G01, X, Y, Z, F) without core.Interpreter.execute's
+pipeline, with the same effect (tests/test_fast_readers.py runs every ISG program both ways).
+Hooks: isg_scan.parse(..., fast=read_plain) and the first lines of Isg.block (issue 13).
 """
 from __future__ import annotations
 

@@ -10,6 +10,10 @@ number, nothing but the ASCII letters of plain addresses (G M X Y Z I J K F S T 
 R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``, ``:``, ``/``,
 ``%``, no exponent; at most 12 digits on either side of the point (the long way's digit limit is
 20); the block (its comment not counted) no longer than the long way's limit.
+
+``plain_evaluate`` is Sinumerik.evaluate for a block of constant G0/G1 X Y Z F words, without the
+per-word hooks (tests/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
+sinumerik_lang.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
 """
 from __future__ import annotations
 
