@@ -19,6 +19,7 @@ from .canon import Src
 from .core import Code, Interpreter, Step
 from .errors import CutsimError
 from .isg_commands import command
+from . import isg_fast
 from .isg_lang import SCOPES, truth
 from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
 from .lexer import COORD_LIMIT, Word, check_range, fmt_count
@@ -120,6 +121,9 @@ def _folds(name: str) -> set[str]:
     return {n.casefold(), digraph, stripped}
 
 
+_NOT_EXTRA = frozenset("DEFGHIJKLMNOPQRSTXYZ")  # letters Isg.extra_axes leaves alone
+
+
 class Frame:
     """One running program level: its file, local subprograms, V.L. variables, call parameters."""
 
@@ -176,7 +180,7 @@ class Isg(Interpreter):
     # -- program structure -----------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
         self.macros: dict[str, str] = {}
-        main, local = parse(self.name, text, self.cfg.max_blocks, self.macros)
+        main, local = parse(self.name, text, self.cfg.max_blocks, self.macros, isg_fast.read_plain)
         self.check_count(main, local)
         self.frame = Frame(self.name, local, {}, (), ())
         self.declare(main, top=True)
@@ -451,6 +455,8 @@ class Isg(Interpreter):
     def block(self, b: IsgBlock, fr: Frame) -> bool:
         """Execute one block; True when it returns from a subprogram."""
         src = Src(self.name, b.line, 1, b.label, fr.calls)
+        if isg_fast.plain_block(self, b, src, fr):  # the common G00/G01 block the short way (interp/isg_fast.py)
+            return False
         return bool(self.execute(b, src, fr).result)
 
     def read_words(self, b: IsgBlock) -> list[Word]:
@@ -625,6 +631,9 @@ class Isg(Interpreter):
     def shift(self) -> tuple[float, float, float]:
         if self.mcs:
             return (0.0, 0.0, 0.0)
+        if not self.cs:  # the usual case, without a generator per axis (+ 0.0: what sum() of nothing adds)
+            z, g = self.zero, self.g92
+            return (z[0] + g[0] + 0.0, z[1] + g[1] + 0.0, z[2] + g[2] + 0.0)
         return tuple(self.zero[i] + self.g92[i] + sum(c[i] for c in self.cs) for i in range(3))
 
     def target(self, values: dict[int, float], absolute=None):
@@ -637,6 +646,8 @@ class Isg(Interpreter):
         return (end[0], end[1], end[2])
 
     def extra_axes(self, st: Step) -> None:
+        if st.words.keys() <= _NOT_EXTRA:  # no A B C U V W nor a named axis: nothing to do
+            return
         for a in sorted(k for k in st.words if k in "ABCUVW" or len(k) > 1):
             w = st.words.pop(a)
             if a not in self.cfg.axes:
@@ -838,7 +849,7 @@ class Isg(Interpreter):
     def run_file(self, b: IsgBlock, fr: Frame, path: str, fname: str, col: int, params: dict) -> None:
         if path not in self.files:
             text = self.read_file(path, fname, b.line, col)
-            self.files[path] = parse(path, text, self.cfg.max_blocks, self.macros)
+            self.files[path] = parse(path, text, self.cfg.max_blocks, self.macros, isg_fast.read_plain)
         main, local = self.files[path]
         label = os.path.basename(path)
         self.enter(b, col, label, fr)

@@ -642,10 +642,11 @@ def _directive(stripped: str) -> str:
     return (m.group(1) + (" " + m.group(2) if m.group(2) else "")).upper()
 
 
-def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | None = None):
+def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | None = None, fast=None):
     """The file -> (main program, local subprograms by name). ``macros``: the program-global macro
     table (``"NAME" = "text"``), shared by every file of a run; a line using a macro no file has
-    defined yet is expanded when it runs (a subprogram called before may define it)."""
+    defined yet is expanded when it runs (a subprogram called before may define it). ``fast``: a
+    plain-line reader (isg_fast.read_plain) tried before ``scan``: the same IsgBlock or None."""
     if max_blocks is not None:
         check_length(name, text, max_blocks, BLOCK_LINES)
     loose = Section("main", "", 1, 1)
@@ -699,7 +700,9 @@ def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | No
             macros[md.group(1)] = md.group(2).replace('\\"', '"')
             continue
         try:
-            b = scan(name, lineno, expand_macros(name, lineno, line, macros))
+            b = fast(name, lineno, line) if fast is not None else None
+            if b is None:
+                b = scan(name, lineno, expand_macros(name, lineno, line, macros))
         except MacroMissing:
             b = IsgBlock(line=lineno, col=1, deferred=line)
         if b is None:

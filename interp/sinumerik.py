@@ -30,6 +30,7 @@ from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
 from . import sinumerik_drill as drill
+from . import sinumerik_fast
 from .sinumerik_cycles import ANGLES, CYCLES, DRILLING, RUNNERS, SPECS, _spec, compensate_records, run_cycle
 from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
 from .sinumerik_lang import STRING_FUNCS
@@ -237,6 +238,8 @@ class Sinumerik(ModalMachine):
     def ev(self, node, line: int, col: int):
         """The value of an expression: a string or a finite float (an overflow is an error at the
         expression's column)."""
+        if node.__class__ is Num and -math.inf < node.value < math.inf:  # a constant (most words)
+            return node.value
         v = self._ev(node, line, col)
         if not isinstance(v, str) and not math.isfinite(v):
             raise self.error(line, col, "the expression overflows: its value is not a finite number")
@@ -459,7 +462,7 @@ class Sinumerik(ModalMachine):
 
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
-        self.main, self.subs = split_units(self.name, text)
+        self.main, self.subs = split_units(self.name, text, sinumerik_fast.read_plain)
         if not any(ln.stmts for ln in self.main.lines) and self.subs:
             self.main = next(iter(self.subs.values()))  # the program is its first PROC (PROC MAIN ... M30)
             self.vars = self.bind(self.main, (), 1, 1)  # its parameters take their defaults (or 0)
@@ -571,7 +574,7 @@ class Sinumerik(ModalMachine):
             raise SubprogramMissing(self.unit_program, line, col, f"subprogram {name} is not defined (PROC {name} in "
                                     f"this file, {name}.spf beside it or in [machine] subprogram_path)")
         text = self.read_sub(path, name, line, col)
-        unit, more = split_units(path, text)
+        unit, more = split_units(path, text, sinumerik_fast.read_plain)
         if not any(ln.stmts for ln in unit.lines) and more:
             unit = more.get(name) or next(iter(more.values()))  # the file is its PROC
         unit.name = name
@@ -657,6 +660,9 @@ class Sinumerik(ModalMachine):
     def evaluate(self, ln: Line) -> Block:
         """Assignments and DEFs take effect in order; words are evaluated and range-checked;
         commands are warned about or handed on (Block.commands); G4 takes its F/S as the dwell."""
+        blk = sinumerik_fast.plain_evaluate(self, ln, Block, Value)  # constant G0/G1 X Y Z F (sinumerik_fast.py)
+        if blk is not None:
+            return blk
         line = ln.line
         blk = Block()
         for st in ln.stmts:

@@ -1105,10 +1105,11 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
     return ln
 
 
-def split_units(prog: str, text: str) -> tuple[Unit, dict[str, Unit]]:
+def split_units(prog: str, text: str, fast=None) -> tuple[Unit, dict[str, Unit]]:
     """The main program and the subprograms (%_N_NAME_SPF headers, PROC NAME) of one file; their
-    structured control flow lowered to jumps (``lower``)."""
-    lines = [scan_line(prog, k, raw) for k, raw in enumerate(split_lines(text), start=1)]
+    structured control flow lowered to jumps (``lower``). ``fast``: a plain-line reader
+    (sinumerik_fast.read_plain) tried before ``scan_line``: the same Line or None."""
+    lines = [(fast and fast(prog, k, raw)) or scan_line(prog, k, raw) for k, raw in enumerate(split_lines(text), start=1)]
     main = Unit("MAIN", [], program=prog)
     subs: dict[str, Unit] = {}
     cur = main

@@ -649,9 +649,10 @@ def move(m, src, words: dict, run_cycle) -> None:
     while ms.deferred:
         name, vals, csrc, col = ms.deferred.pop(0)
         in_wcs(m, lambda: run_cycle(m, name, vals, csrc, col), name, line, col)
-    extra_axes(m, ms, src, words)
+    if m.cfg.axes:  # only axes the setup declares are taken from the words
+        extra_axes(m, ms, src, words)
     arc = m.motion in (2, 3)
-    cutting = m.motion in (1, 2, 3) and (any(a in words for a in AXES) or arc and
+    cutting = ms.no_tool and m.motion in (1, 2, 3) and (any(a in words for a in AXES) or arc and
                                           any(k in words for k in ("I", "J", "K", "CR")))
     if cutting and ms.no_tool:
         col = min(w.col for k, w in words.items() if k in AXES or k in ("I", "J", "K", "CR"))
