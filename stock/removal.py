@@ -437,13 +437,17 @@ def _iter_screw_pieces(path: ScrewPath, profile: np.ndarray, outline, r_clip: fl
         s0 = s1
 
 
+@functools.lru_cache(maxsize=None)
+def _key_fields(cls) -> tuple[str, ...]:
+    """The fields of a path type that decide what it sweeps (all but its source line)."""
+    return tuple(f.name for f in fields(cls) if f.name != "src")
+
+
 def _path_key(path) -> tuple:
     """Everything that decides what ``path`` sweeps (not its source line), hashable."""
     key = [type(path).__name__]
-    for f in fields(path):
-        if f.name == "src":
-            continue
-        v = getattr(path, f.name)
+    for name in _key_fields(type(path)):
+        v = getattr(path, name)
         key.append((v.shape, v.tobytes()) if isinstance(v, np.ndarray) else v)
     return tuple(key)
 
@@ -587,11 +591,15 @@ class Work:
         prof = self.profile(path.tool)
         _check_axis(path, prof)
         f = self.frame
+        # a groupable path whose profile is wider than its lead is folded onto one turn with its
+        # group (threads.fold): each turn adds one lead-shifted copy of its profile to one turn's
+        # sweep instead of a sweep overlapping the others (the group is counted in screws_done)
+        fold = threads.motion(path) is not None
         pieces, parts, tris = [], [], 0
         for piece in _iter_screw_pieces(path, prof, f.outline, f.r_clip, f.margin):
             pieces.append(piece)
             parts.append((piece[0], piece[1], clipped_profile(prof, piece[2])))
-            tris += _screw_triangles(path, parts[-1][2], piece[0], piece[1], self.tol)
+            tris += _screw_triangles(path, parts[-1][2], piece[0], piece[1], self.tol, overlap=not fold)
             if self.held + tris > self.limit:  # stop a huge one early: extrapolate its total
                 self.add(round(tris / max(piece[1], 1e-9)), path.src, "this thread cut")
         self.screw_pieces[i] = pieces
@@ -741,9 +749,12 @@ def _prism_triangles(region: m3d.CrossSection) -> int:
     return 4 * region.num_vert()
 
 
-def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: float, tol: float) -> int:
+def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: float, tol: float,
+                     overlap: bool = True) -> int:
     """Triangles of ``sweeps.screw_sweep(path, prof, tol, s0, s1)`` without building it: the same
-    stations and chunks, the profile's vertices after ``subdivide`` (its length and twist rules)."""
+    stations and chunks, the profile's vertices after ``subdivide`` (its length and twist rules);
+    with ``overlap`` the work of subtracting a profile wider than the lead, whose turns overlap
+    (not for a path folded with its group, threads.fold: its turns lie side by side in one turn)."""
     if prof.is_empty():
         return 0
     bounds = prof.bounds()
@@ -763,7 +774,7 @@ def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: flo
         k = max(1, math.ceil(span / limit)) if span > 0 else 1
         n = max(1, math.ceil(span / k / step)) if span > 0 else 1
         tris += k * (2 * nv * n + 2 * nv)
-    if width >= 0.999 * lead:
+    if overlap and width >= 0.999 * lead:
         # A profile wider than the lead: every point of the groove lies in width / lead turns, and
         # the subtract intersects each turn with all of them. Measured (G33 lead 0.025 over 22 mm,
         # 11 turns deep: 1.0M triangles built, 4.2 GB and 940 s): the work grows with that count.
