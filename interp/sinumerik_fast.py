@@ -14,14 +14,18 @@ R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``
 ``plain_evaluate`` is Sinumerik.evaluate for a block of constant G0/G1 X Y Z F words, without the
 per-word hooks (tests/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
 sinumerik_lang.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
+
+``plain_block`` runs such a block without Sinumerik.block's chain of hooks (ISO cycles, machine
+settings and move, MCALL, compensation) when it can tell that none of them applies; hook: the
+first lines of Sinumerik.block (issue 13). Same test, with it on and off.
 """
 from __future__ import annotations
 
 import dataclasses
 import re
 
-from .sinumerik_lang import MAX_BLOCK_CHARS, RANGES, Line, Num, Word
-from .sinumerik_machine import MACHINE_G
+from .sinumerik_lang import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
+from .sinumerik_machine import MACHINE_G, ZERO
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"
 _CLASS = _LETTERS + _LETTERS.lower()
@@ -122,3 +126,60 @@ def plain_evaluate(m, ln: Line, block, value):
         else:
             return None
     return block(words, gs)
+
+
+# -- running a plain block -------------------------------------------------------------------------
+def plain_block(m, ln: Line, src, block, value) -> bool:
+    """``Sinumerik.block(ln, ...)`` for a block of plain constant G0/G1 X Y Z F words (as
+    ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.iso), no
+    modal call (MCALL), radius compensation off, the machine state (interp/sinumerik_machine.py)
+    without inch units, programmable frame, work offset, pending warnings or deferred cycles, a
+    tool in the spindle; one motion code (or none) and G0/G1 active; F > 0; the end point within
+    COORD_LIMIT. Then each hook of the long way does nothing but what is done here: clear the
+    block's G53 suppression and arc flip, make F and the motion modal, emit the Rapid or Feed
+    (through m.rapid / m.linear). False (nothing done) otherwise: the block goes the long way,
+    which raises its errors there. ``block`` and ``value`` as for ``plain_evaluate``."""
+    if m.comp_buf is not None or getattr(m, "iso", None) is not None or getattr(m, "mcall", None) is not None:
+        return False
+    ms = m.__dict__.get("_machine")
+    if ms is None or ms.pending or ms.deferred or ms.no_tool:
+        return False
+    modal = m.machine_modal
+    if modal.inch or modal.inch_feed or modal.offset != ZERO or not modal.frame.identity():
+        return False
+    blk = plain_evaluate(m, ln, block, value)
+    if blk is None:
+        return False
+    motion = None
+    for code, _ in blk.gs:
+        if motion is not None and code != motion:
+            return False  # G0 G1 in one block: the long way's error
+        motion = code
+    mode = m.motion if motion is None else motion
+    if mode != 0 and mode != 1:
+        return False  # G2/G3 or another motion active
+    words = blk.words
+    feed = words.get("F")
+    if feed is not None and feed.value <= 0:
+        return False  # the long way's "feed F must be positive"
+    end = None
+    if "X" in words or "Y" in words or "Z" in words:
+        pos = m.pos
+        absolute = m.absolute
+        end = [pos[0], pos[1], pos[2]]
+        for i, a in enumerate("XYZ"):
+            w = words.get(a)
+            if w is not None:
+                v = w.value if absolute else pos[i] + w.value
+                if not -COORD_LIMIT <= v <= COORD_LIMIT:
+                    return False  # the long way's range error
+                end[i] = v
+    ms.suppress = False
+    ms.arc_flip = False
+    if feed is not None:
+        m.feed = feed.value
+    if motion is not None:
+        m.motion = motion
+    if end is not None:
+        (m.rapid if mode == 0 else m.linear)(src, (end[0], end[1], end[2]))
+    return True

@@ -309,7 +309,7 @@ def test_plain_blocks_take_the_short_way(monkeypatch):
     assert taken == set(range(2, 52)) and missed == {52}  # the blocks (after %bench); M30 the long way
 
 
-# -- the Sinumerik plain block (sinumerik_fast.plain_evaluate): programs run alike with and without it
+# -- the Sinumerik plain block (sinumerik_fast.plain_evaluate, plain_block): programs run alike -----
 from cutsim.interp import sinumerik  # noqa: E402
 
 SIN_CFGS = {
@@ -317,20 +317,19 @@ SIN_CFGS = {
                          tool_radii={1: 3.0, 2: 1.0}, axes={"A": "rotary"}, work_offsets={"G54": (10.0, 5.0, 0.0)}),
     "lathe": InterpConfig("sinumerik", "lathe", True, (40.0, 0.0, 5.0), max_blocks=3000),
 }
+# which shortcuts are on: both (as shipped), plain_evaluate alone (Sinumerik.block's hook off), none
+SIN_MODES = ("both", "evaluate", "none")
 
 
-def sin_outcome(name: str, text: str, cfg: InterpConfig, short: bool):
-    """Run with every block offered to plain_evaluate first (``short``, as the hook in
-    Sinumerik.evaluate does) or without it."""
+def sin_outcome(name: str, text: str, cfg: InterpConfig, mode: str):
+    """Run with the hooks in Sinumerik.block (plain_block) and Sinumerik.evaluate (plain_evaluate)
+    as shipped (``both``), with plain_block off (``evaluate``) or with both off (``none``); the
+    hooks call them through the module, so switching them off here takes the long way."""
     mp = pytest.MonkeyPatch()
-    original = sinumerik.Sinumerik.evaluate
-    if short:
-        def evaluate(self, ln):
-            blk = sinumerik_fast.plain_evaluate(self, ln, sinumerik.Block, sinumerik.Value)
-            return original(self, ln) if blk is None else blk
-        mp.setattr(sinumerik.Sinumerik, "evaluate", evaluate)
-    else:
-        mp.setattr(sinumerik_fast, "plain_evaluate", lambda *a: None)  # the hook calls it by module
+    if mode != "both":
+        mp.setattr(sinumerik_fast, "plain_block", lambda *a: False)
+    if mode == "none":
+        mp.setattr(sinumerik_fast, "plain_evaluate", lambda *a: None)
     try:
         p = sinumerik.interpret(name, text, cfg)
     except CutsimError as e:
@@ -338,6 +337,12 @@ def sin_outcome(name: str, text: str, cfg: InterpConfig, short: bool):
     finally:
         mp.undo()
     return canon.transcript(p), p.warnings, p.blocks, p.final_position
+
+
+def sin_alike(name: str, text: str, cfg: InterpConfig) -> None:
+    both, evaluate, none = (sin_outcome(name, text, cfg, mode) for mode in SIN_MODES)
+    assert both == none
+    assert evaluate == none
 
 
 def sin_programs() -> list[Path]:
@@ -356,15 +361,15 @@ def test_there_are_sinumerik_programs():
 @pytest.mark.parametrize("path", sin_programs(), ids=lambda p: f"{p.parent.name}/{p.name}")
 def test_sinumerik_programs_run_alike(path, kind):
     text = path.read_text(encoding="utf-8", errors="replace")
-    cfg = SIN_CFGS[kind]
-    assert sin_outcome(str(path), text, cfg, True) == sin_outcome(str(path), text, cfg, False)
+    sin_alike(str(path), text, SIN_CFGS[kind])
 
 
 SIN_WORDS = ["G0", "G1", "G01", "G1.0", "G2", "G3", "G4", "G90", "G91", "G54", "G500", "G53", "G70", "G71", "G700",
              "G17", "G18", "G41", "G40", "G64", "G95", "X10", "X-5.5", "Z-3", "Z.5", "Y2", "I5", "K-2", "F0.1", "F100",
              "F0", "F-1", "S500", "M3", "M5", "M6", "T1", "T0", "D1", "A90", "B5", "U1", "X99999.9999", "X100000",
              "M30", "M17", "R1=3", "X=R1", "X=IC(2)", "X1 X2", "TRANS X5", "ROT Z30", "SCALE X2", "MIRROR X0",
-             "TRANS", "AROT Z10", "SUPA", "CR=5", "DEF REAL X", "N5", "; c", "MCALL CYCLE81(10,0,2,-5)", "MCALL"]
+             "TRANS", "AROT Z10", "SUPA", "CR=5", "DEF REAL X", "N5", "; c", "MCALL CYCLE81(10,0,2,-5)", "MCALL",
+             "G81", "G83", "G80", "R2", "Q1", "G0 G1", "G42", "G2", "X-99999.9999", "G53 X0", "G291", "G64"]
 SIN_MIX = SIN_WORDS + ["G1", "G0", "X1", "X12.5", "Z-1", "Z-4", "Y-2.25", "F50", "F0.2", "S300", "M3", "T1", "A10",
                        "G90", "G91"] * 8
 
@@ -373,25 +378,73 @@ SIN_MIX = SIN_WORDS + ["G1", "G0", "X1", "X12.5", "Z-1", "Z-4", "Y-2.25", "F50",
 @given(st.lists(st.lists(st.sampled_from(SIN_MIX), max_size=5), max_size=14), st.sampled_from(["mill", "lathe"]))
 def test_random_sinumerik_programs_run_alike(lines, kind):
     text = "\n".join(f"N{k + 1} " + " ".join(ws) for k, ws in enumerate(lines)) + "\nM30\n"
-    cfg = SIN_CFGS[kind]
-    assert sin_outcome("p.mpf", text, cfg, True) == sin_outcome("p.mpf", text, cfg, False)
+    sin_alike("p.mpf", text, SIN_CFGS[kind])
 
 
-def test_sinumerik_plain_blocks_take_the_short_way(monkeypatch):
+def bench_program(case: str, n: int) -> str:
     sys.path.insert(0, str(ROOT / "bench"))
     try:
         import bench_interp
     finally:
         sys.path.pop(0)
+    return bench_interp.program(case, n)
+
+
+def test_sinumerik_plain_blocks_take_the_short_way(monkeypatch):
+    """The benchmark's blocks are evaluated by plain_evaluate (with plain_block off: else it would
+    take them first) ..."""
     taken, missed = set(), set()
     real = sinumerik_fast.plain_evaluate
 
     def spy(m, ln, *a):
         (missed if real(m, ln, *a) is None else taken).add(ln.line)
     monkeypatch.setattr(sinumerik_fast, "plain_evaluate", spy)
-    text = bench_interp.program("sinumerik-mill", 50)
-    sin_outcome("p.mpf", text, SIN_CFGS["mill"], True)
+    sin_outcome("p.mpf", bench_program("sinumerik-mill", 50), SIN_CFGS["mill"], "evaluate")
     assert taken == set(range(1, 51)) and missed == {51}  # the blocks; M30 goes the long way
+
+
+@pytest.mark.parametrize("case,kind", [("sinumerik-mill", "mill"), ("sinumerik-lathe", "lathe")])
+def test_sinumerik_plain_blocks_run_the_short_way(monkeypatch, case, kind):
+    """... and run by plain_block, through its hook in Sinumerik.block (else the speed-up measures
+    nothing); M30 goes the long way."""
+    taken, missed = set(), set()
+    real = sinumerik_fast.plain_block
+
+    def spy(m, ln, *a):
+        ok = real(m, ln, *a)
+        (taken if ok else missed).add(ln.line)
+        return ok
+    monkeypatch.setattr(sinumerik_fast, "plain_block", spy)
+    out = sin_outcome("p.mpf", bench_program(case, 50), SIN_CFGS[kind], "both")
+    assert out[0] != "error" and out[2] == 51
+    assert taken == set(range(1, 51)) and missed == {51}
+
+
+def test_plain_block_declines_what_it_cannot_prove():
+    """With an ISO cycle, a modal call, a frame, an offset, inch units, compensation, no tool or an
+    arc mode active, the last block (X1 ..) goes the long way (each program also runs alike: the
+    tests above)."""
+    ok = "G1 X1 F10"
+    cases = [ok, "G0 X1", "G81 Z-2 R1\nX1", "MCALL CYCLE81(10,0,2,-5)\n" + ok, "TRANS X5\n" + ok, "G54\n" + ok,
+             "G70\n" + ok, "T1 D1 M6\nG41 G1 X0 Y0 F10\n" + ok, "G2 X0 Y0 I1 F10\nX1", "T0 M6\n" + ok,
+             "G0 G1 X1 F10", "G1 X1 F0", "G1 X1 A5 F10", "G1 X1 I2 F10", "G1 X=IC(1) F10", "G91 G1 X99999 F1\nX1"]
+    real = sinumerik_fast.plain_block
+    for k, text in enumerate(cases):
+        last = text.count("\n") + 1
+        seen = []
+
+        def spy(m, ln, *a):
+            took = real(m, ln, *a)
+            if ln.line == last:
+                seen.append(took)
+            return took
+        mp = pytest.MonkeyPatch()
+        mp.setattr(sinumerik_fast, "plain_block", spy)
+        try:
+            sin_outcome("p.mpf", text + "\nM30\n", SIN_CFGS["mill"], "both")
+        finally:
+            mp.undo()
+        assert seen == ([True] if k < 2 else [False]), text
 
 
 @pytest.mark.parametrize("line", ["G01" * 100000 + "@", "G01 " * 100000 + "@", "X" + "1" * 30000, "N" + "1" * 30000,
