@@ -625,7 +625,7 @@ class Sinumerik(ModalMachine):
     def block(self, ln: Line, fr: Frame, stack: list[Frame]) -> bool:
         """Run one block; True when it ends the program (M2/M30 in the main program)."""
         src = Src(fr.unit.program, ln.line, 1, ln.nlabel or ln.label, fr.calls)
-        if sinumerik_fast.plain_block(self, ln, src, Block, Value):  # constant G0/G1 X Y Z F, nothing else active
+        if sinumerik_fast.plain_block(self, ln, src):  # constant G0/G1 X Y Z F, nothing else active
             return False
         line = ln.line
         blk = self.evaluate(ln)

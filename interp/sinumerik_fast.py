@@ -129,7 +129,7 @@ def plain_evaluate(m, ln: Line, block, value):
 
 
 # -- running a plain block -------------------------------------------------------------------------
-def plain_block(m, ln: Line, src, block, value) -> bool:
+def plain_block(m, ln: Line, src) -> bool:
     """``Sinumerik.block(ln, ...)`` for a block of plain constant G0/G1 X Y Z F words (as
     ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.iso), no
     modal call (MCALL), radius compensation off, the machine state (interp/sinumerik_machine.py)
@@ -138,7 +138,7 @@ def plain_block(m, ln: Line, src, block, value) -> bool:
     COORD_LIMIT. Then each hook of the long way does nothing but what is done here: clear the
     block's G53 suppression and arc flip, make F and the motion modal, emit the Rapid or Feed
     (through m.rapid / m.linear). False (nothing done) otherwise: the block goes the long way,
-    which raises its errors there. ``block`` and ``value`` as for ``plain_evaluate``."""
+    which raises its errors there."""
     if m.comp_buf is not None or getattr(m, "iso", None) is not None or getattr(m, "mcall", None) is not None:
         return False
     ms = m.__dict__.get("_machine")
@@ -147,37 +147,57 @@ def plain_block(m, ln: Line, src, block, value) -> bool:
     modal = m.machine_modal
     if modal.inch or modal.inch_feed or modal.offset != ZERO or not modal.frame.identity():
         return False
-    blk = plain_evaluate(m, ln, block, value)
-    if blk is None:
-        return False
+    # the words as plain_evaluate takes them, read in place (no Block and Value objects built)
+    scope = m.vars
+    axes = m.cfg.axes
     motion = None
-    for code, _ in blk.gs:
-        if motion is not None and code != motion:
-            return False  # G0 G1 in one block: the long way's error
-        motion = code
+    vals = {}
+    for st in ln.stmts:
+        if st.__class__ is not Word or st.mode is not None or st.ext is not None or st.axis is not None:
+            return False
+        node = st.value
+        a = st.address
+        if node.__class__ is not Num or a in scope or a in axes:
+            return False
+        v = node.value
+        if a == "G":
+            if (v != 0.0 and v != 1.0) or v in MACHINE_G:
+                return False
+            if motion is not None and v != motion:
+                return False  # G0 G1 in one block: the long way's error
+            motion = v
+        elif a in _PLAIN_ADDRESSES and a not in vals:
+            lo, hi, _ = RANGES[a]
+            if not lo <= v <= hi:  # NaN and inf too
+                return False
+            vals[a] = v
+        else:
+            return False
+    if motion is not None:
+        motion = int(motion)
     mode = m.motion if motion is None else motion
     if mode != 0 and mode != 1:
         return False  # G2/G3 or another motion active
-    words = blk.words
-    feed = words.get("F")
-    if feed is not None and feed.value <= 0:
+    feed = vals.get("F")
+    if feed is not None and feed <= 0:
         return False  # the long way's "feed F must be positive"
     end = None
-    if "X" in words or "Y" in words or "Z" in words:
+    if "X" in vals or "Y" in vals or "Z" in vals:
         pos = m.pos
         absolute = m.absolute
         end = [pos[0], pos[1], pos[2]]
         for i, a in enumerate("XYZ"):
-            w = words.get(a)
-            if w is not None:
-                v = w.value if absolute else pos[i] + w.value
+            v = vals.get(a)
+            if v is not None:
+                if not absolute:
+                    v = pos[i] + v
                 if not -COORD_LIMIT <= v <= COORD_LIMIT:
                     return False  # the long way's range error
                 end[i] = v
     ms.suppress = False
     ms.arc_flip = False
     if feed is not None:
-        m.feed = feed.value
+        m.feed = feed
     if motion is not None:
         m.motion = motion
     if end is not None:
