@@ -247,3 +247,12 @@ def test_an_integer_too_big_for_a_float_is_an_error_at_its_key(tmp_path, where, 
     key, not an OverflowError (fuzz case 20261124/1517 exited 3), and the message stays short."""
     e = error(tmp_path, text)
     assert where in e.message and len(e.message) < 200
+
+
+def test_max_blocks_ceiling_is_ten_million(tmp_path):
+    """docs/setup.md: max_blocks is a whole number from 1 to 10,000,000 (every executed move is held
+    until the run ends, about 0.65 KB each); one more is an error at the key."""
+    s, _ = load(tmp_path, BASE + "\n[simulation]\nmax_blocks = 10000000\n")
+    assert s.max_blocks == 10_000_000
+    e = error(tmp_path, BASE + "\n[simulation]\nmax_blocks = 10000001\n")
+    assert "[simulation] max_blocks" in e.message and "10,000,000" in e.message
