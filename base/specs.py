@@ -43,7 +43,7 @@ class StockSpec:
 @dataclass(frozen=True)
 class ToolSpec:
     number: int
-    kind: str  # "thread" | "turning" | "profile" | "endmill" | "ballmill" | "bullnose" | "drill"
+    kind: str  # "thread" | "turning" | "profile" | "endmill" | "ballmill" | "drill"
     angle: float = 60.0  # thread/turning: included angle of the V, degrees
     tip_radius: float = 0.0  # thread/turning: nose radius
     height: float = 10.0  # lathe tools: how far the profile reaches out from the tip, mm

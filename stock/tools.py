@@ -91,7 +91,7 @@ def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
             return "length", (f"must be at least the height of the point ({h:g} mm for a {a:g} degree point of "
                               f"diameter {tool.diameter:g}) (got {tool.length!r})")
         return None
-    if tool.kind in MILL_KINDS or tool.kind == "bullnose":
+    if tool.kind in MILL_KINDS:
         for key in ("diameter", "length"):
             p = _size(tool, key)
             if p:
@@ -249,7 +249,7 @@ def checked_mill(tool: ToolSpec, tol: float) -> float:
     finite or too large, or the body is (nearly) empty. Cached: hull sweeps ask for every pose.
     (Not the lower ends of the ranges: the collision checks sweep the tool shrunk by a few
     tolerances, which may take a tool at the smallest size below it.)"""
-    if tool.kind not in MILL_KINDS and tool.kind not in ("bullnose", "drill"):
+    if tool.kind not in MILL_KINDS and tool.kind != "drill":
         raise tool_error(tool, f"a {tool.kind} tool is not a mill")
     if tool.kind == "drill":
         check_tool(tool)
