@@ -17,6 +17,7 @@ from . import canon
 from .canon import Src
 from .errors import CutsimError
 from .modal import PLANE_AXES
+from .compensation import Elem, OffsetError, _cross, _dot, _left, _norm, _sub, length, offset_chain, tangent
 from .sinumerik_lang import (COORD_LIMIT, Branch, Call, Case, Frame, Goto, Num, Repeat, Ret, SubCall,
                              SubprogramMissing, Word, range_message)
 
@@ -30,65 +31,8 @@ NUM_LIMIT = 1000  # SLOT1/SLOT2 NUM
 
 
 # ---------------------------------------------------------------------------------------------
-# 2D elements of a path in the working plane
-@dataclass(frozen=True)
-class Elem:
-    """A straight line (kind "L") or an arc (kind "A", with its centre and sense) from ``start``
-    to ``end``."""
-    kind: str
-    start: tuple[float, float]
-    end: tuple[float, float]
-    centre: tuple[float, float] | None = None
-    cw: bool = False
-
-
-def _sub(p, q):
-    return (p[0] - q[0], p[1] - q[1])
-
-
-def _norm(v):
-    return math.hypot(v[0], v[1])
-
-
-def _unit(v):
-    n = _norm(v)
-    return (v[0] / n, v[1] / n)
-
-
-def _left(v):
-    return (-v[1], v[0])
-
-
-def _cross(u, v):
-    return u[0] * v[1] - u[1] * v[0]
-
-
-def _dot(u, v):
-    return u[0] * v[0] + u[1] * v[1]
-
-
-def tangent(e, at_end: bool):
-    if e.kind == "L":
-        return _unit(_sub(e.end, e.start))
-    p = e.end if at_end else e.start
-    rv = _unit(_sub(p, e.centre))
-    return (rv[1], -rv[0]) if e.cw else (-rv[1], rv[0])
-
-
-def sweep(e) -> float:
-    """Angle an arc turns through, radians, in (0, 2 pi]."""
-    a0 = math.atan2(e.start[1] - e.centre[1], e.start[0] - e.centre[0])
-    a1 = math.atan2(e.end[1] - e.centre[1], e.end[0] - e.centre[0])
-    d = (a0 - a1) if e.cw else (a1 - a0)
-    d %= 2 * math.pi
-    return d if d > 1e-12 else 2 * math.pi
-
-
-def length(e) -> float:
-    if e.kind == "L":
-        return _norm(_sub(e.end, e.start))
-    return _norm(_sub(e.start, e.centre)) * sweep(e)
-
+# 2D elements of a path in the working plane and their offset: interp/compensation.py (shared
+# with ISG G41/G42); an arc as elements and a reversed chain are the cycles' own.
 
 def arc_elems(start, end, centre, cw: bool, full: bool) -> list:
     """An arc as elements: a full circle (start and end the same point) as its two halves, through
@@ -103,116 +47,6 @@ def reverse(elems):
     out = []
     for e in reversed(elems):
         out.append(Elem("L", e.end, e.start) if e.kind == "L" else Elem("A", e.end, e.start, e.centre, not e.cw))
-    return out
-
-
-class OffsetError(ValueError):
-    def __init__(self, index: int, message: str):
-        super().__init__(message)
-        self.index = index
-
-
-def _offset_elem(e, d, idx):
-    if e.kind == "L":
-        n = _left(tangent(e, False))
-        return Elem("L", (e.start[0] + d * n[0], e.start[1] + d * n[1]), (e.end[0] + d * n[0], e.end[1] + d * n[1]))
-    c = e.centre
-    r = _norm(_sub(e.start, c))
-    r2 = r + d if e.cw else r - d  # the left of a CCW arc is its centre
-    if r2 <= 1e-6:
-        raise OffsetError(idx, f"the tool radius {abs(d):g} does not fit the arc of radius {r:g} (concave side)")
-
-    def sc(p):
-        return (c[0] + (p[0] - c[0]) * r2 / r, c[1] + (p[1] - c[1]) * r2 / r)
-    return Elem("A", sc(e.start), sc(e.end), c, e.cw)
-
-
-def _intersections(e1, e2):
-    """Intersections of the carriers (infinite line / full circle) of two elements."""
-    if e1.kind == "L" and e2.kind == "L":
-        d1, d2 = _sub(e1.end, e1.start), _sub(e2.end, e2.start)
-        den = _cross(d1, d2)
-        if abs(den) < 1e-14:
-            return []
-        t = _cross(_sub(e2.start, e1.start), d2) / den
-        return [(e1.start[0] + t * d1[0], e1.start[1] + t * d1[1])]
-    if e1.kind == "A" and e2.kind == "L":
-        return _intersections(e2, e1)
-    if e1.kind == "L":
-        c, r = e2.centre, _norm(_sub(e2.start, e2.centre))
-        p, d = e1.start, _unit(_sub(e1.end, e1.start))
-        f = _sub(p, c)
-        b = _dot(f, d)
-        disc = b * b - (_dot(f, f) - r * r)
-        if disc < -1e-9:
-            return []
-        s = math.sqrt(max(disc, 0.0))
-        return [(p[0] + (-b + k * s) * d[0], p[1] + (-b + k * s) * d[1]) for k in (-1, 1)]
-    c1, r1 = e1.centre, _norm(_sub(e1.start, e1.centre))
-    c2, r2 = e2.centre, _norm(_sub(e2.start, e2.centre))
-    dd = _norm(_sub(c2, c1))
-    if dd < 1e-12 or dd > r1 + r2 + 1e-9 or dd < abs(r1 - r2) - 1e-9:
-        return []
-    a = (r1 * r1 - r2 * r2 + dd * dd) / (2 * dd)
-    h = math.sqrt(max(r1 * r1 - a * a, 0.0))
-    u = _unit(_sub(c2, c1))
-    m = (c1[0] + a * u[0], c1[1] + a * u[1])
-    return [(m[0] + k * h * -u[1], m[1] + k * h * u[0]) for k in (-1, 1)]
-
-
-def _with_end(e, p, at_end: bool):
-    if e.kind == "L":
-        return Elem("L", e.start, p) if at_end else Elem("L", p, e.end)
-    return Elem("A", e.start, p, e.centre, e.cw) if at_end else Elem("A", p, e.end, e.centre, e.cw)
-
-
-def _check_trim(orig, new, idx):
-    if orig.kind == "L":
-        if _dot(_sub(new.end, new.start), _sub(orig.end, orig.start)) <= 0:
-            raise OffsetError(idx, "the contour element is too short for the tool radius (bottleneck)")
-    elif sweep(new) > sweep(orig) + 1e-7 and sweep(orig) < 2 * math.pi - 1e-9:
-        raise OffsetError(idx, "the contour arc is too short for the tool radius (bottleneck)")
-
-
-def offset_chain(elems, d):
-    """Offset an open chain of elements by ``d`` (> 0 to the left of the travel, < 0 to the right):
-    offset every element, join neighbours by their intersection at concave corners and by an arc
-    about the corner at convex ones. Returns [(element, source index)]."""
-    if abs(d) < EPS:
-        return [(e, i) for i, e in enumerate(elems)]
-    offs = [_offset_elem(e, d, i) for i, e in enumerate(elems)]
-    out = []
-    for i in range(len(offs)):
-        if i + 1 < len(offs):
-            q1, q2 = offs[i].end, offs[i + 1].start
-            if _norm(_sub(q1, q2)) > 1e-7:
-                t1, t2 = tangent(elems[i], True), tangent(elems[i + 1], False)
-                turn = _cross(t1, t2)
-                if _norm(_sub(q1, q2)) < 0.01 and _dot(t1, t2) > 0.9999:
-                    # tangent within the rounding of the written coordinates: bridge the gap
-                    out.append((offs[i], i))
-                    out.append((Elem("L", q1, q2), i + 1))
-                    continue
-                convex = (turn < 0) if d > 0 else (turn > 0)
-                if abs(turn) < 1e-12:
-                    convex = _dot(t1, t2) < 0  # reversal: go round the end
-                if convex:
-                    v = elems[i].end
-                    offs_arc = Elem("A", q1, q2, v, d > 0)
-                    out.append((offs[i], i))
-                    out.append((offs_arc, i + 1))
-                    continue
-                pts = _intersections(offs[i], offs[i + 1])
-                if not pts:
-                    raise OffsetError(i + 1, "the offset contour has no corner here: the tool radius is too large")
-                mid = ((q1[0] + q2[0]) / 2, (q1[1] + q2[1]) / 2)
-                x = min(pts, key=lambda p: _norm(_sub(p, mid)))
-                a = _with_end(offs[i], x, True)
-                b = _with_end(offs[i + 1], x, False)
-                _check_trim(offs[i], a, i)
-                _check_trim(offs[i + 1], b, i + 1)
-                offs[i], offs[i + 1] = a, b
-        out.append((offs[i], i))
     return out
 
 
