@@ -42,6 +42,11 @@ class InterpConfig:
     work_offsets: dict[str, Vec3] = field(default_factory=dict)  # [work_offsets] "G54" = [x, y, z] (mm, machine frame)
     subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute dirs, searched after the program's
     tool_names: dict[str, int] = field(default_factory=dict)  # [[tool]] name -> number (T="DRILL 8.5")
+    # [machine] external_subprograms: subprograms / cycle files / implicit-call G codes the machine has but
+    # the simulator does not ("0_INICIO_PROG.NC", "G803", "L_VENDOR"): upper case, file names without
+    # their folder. A call to one is accepted with one warning naming it; its motion is not simulated
+    # and the position after the call is the position before it.
+    external_subprograms: frozenset[str] = frozenset()
 
 
 class ModalMachine:
