@@ -184,7 +184,8 @@ def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConf
                         h_functions=frozenset(setup.h_functions), variables=dict(setup.variables),
                         transformations=frozenset(setup.transformations),
                         work_offsets=dict(setup.work_offsets), subprogram_path=tuple(setup.subprogram_path),
-                        tool_names=dict(setup.tool_names))
+                        tool_names=dict(setup.tool_names),
+                        external_subprograms=frozenset(setup.external_subprograms))
 
 
 def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,

@@ -68,6 +68,7 @@ class Setup:
     h_functions: frozenset[int] = frozenset()  # [machine] h_functions
     transformations: frozenset[str] = frozenset()  # [machine] transformations: Cartesian ones ("TRAFO")
     subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute folders
+    external_subprograms: frozenset[str] = frozenset()  # [machine] external_subprograms: upper case, no folder
     variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: upper-case name -> value
     work_offsets: dict[str, tuple[float, float, float]] = field(default_factory=dict)  # [work_offsets]: "G54" -> xyz
     tool_names: dict[str, int] = field(default_factory=dict)  # [[tool]] name (as written) -> number
@@ -84,6 +85,9 @@ MAX_SETUP_BYTES = 16 * 1024 * 1024
 FUNCTION_MAX = 99_999  # [machine] m_functions / h_functions: numbers 0 to this
 STRING_MAX = 200  # characters of a string value in [variables] (a Sinumerik STRING holds at most 200)
 AXIS_KINDS = ("rotary", "linear")
+EXTERNAL_NAME_MAX = 64  # characters of an [machine] external_subprograms name (its folder removed)
+# a subprogram, cycle file or G code the machine has: letters, digits, _ . - (0_INICIO_PROG.NC, G803, L_VENDOR)
+_EXTERNAL_NAME = re.compile(r"[A-Z0-9_][A-Z0-9_.\-]*")
 TRANSFORMATIONS = ("TRAFO",)  # [machine] transformations the dialects know (ISG #TRAFO ON)
 # extra axis names: A B C U V W, optionally with a number (A1, C2), or two or three letters with a
 # number (SP1; Sinumerik channel axis names, written NAME=value in the program). X, Y, Z are the machine's own.
@@ -271,6 +275,7 @@ class _Loader:
         h_functions = self.functions(m, "h_functions", "H")
         transformations = self.transformations(m)
         subprogram_path = self.subprogram_path(m)
+        external_subprograms = self.external_subprograms(m)
         m.done()
         machine = MachineSpec(kind, dialect, diam, m03, start, rapid, feed)
 
@@ -329,7 +334,8 @@ class _Loader:
         return Setup(self.path, machine, stock, tools, params, constants, tol, fow, checks, max_blocks,
                      max_triangles, stock_where, axes=axes, m_functions=m_functions, h_functions=h_functions,
                      subprogram_path=subprogram_path, variables=variables, work_offsets=work_offsets,
-                     tool_names=tool_names, transformations=transformations)
+                     tool_names=tool_names, transformations=transformations,
+                     external_subprograms=external_subprograms)
 
     # -- what only the setup can say about the machine (docs/setup.md) -----------------------------
     def axes(self, m: _Reader) -> dict[str, str]:
@@ -386,6 +392,31 @@ class _Loader:
             if path not in out:
                 out.append(path)
         return tuple(out)
+
+    def external_subprograms(self, m: _Reader) -> frozenset[str]:
+        """[machine] external_subprograms = ["0_Inicio_Prog.nc", "G803", "L_VENDOR"]: subprograms,
+        cycle files and implicit-call G codes the machine has but the simulator does not (vendor
+        cycles whose source the user does not have). Each is kept as its file name (the part after
+        the last / or \\), upper-cased; a name given twice (in any case or folder) is an error."""
+        key = "external_subprograms"
+        v = m.get(key, list, [])
+        out: dict[str, int] = {}
+        for k, c in enumerate(v):
+            if not isinstance(c, str) or not c.strip():
+                raise m.fail_at(key, (k,), f"a subprogram is a non-empty string (its name or file name), not {_show(c)}")
+            name = re.split(r"[/\\]", c.strip())[-1].strip().upper()
+            if not name:
+                raise m.fail_at(key, (k,), f"{_show(c)} is a folder: name the subprogram's file")
+            if len(name) > EXTERNAL_NAME_MAX:
+                raise m.fail_at(key, (k,), f"a subprogram name has at most {EXTERNAL_NAME_MAX} characters "
+                                           f"(got {len(name)})")
+            if not _EXTERNAL_NAME.fullmatch(name):
+                raise m.fail_at(key, (k,), f"{_show(c)}: a subprogram name is letters, digits, _ . and - "
+                                           "(L_VENDOR, G803, 0_Inicio_Prog.nc), not starting with . or -")
+            if name in out:
+                raise m.fail_at(key, (k,), f"{name} is given twice (also element {out[name] + 1})")
+            out[name] = k
+        return frozenset(out)
 
     def variables(self, table: dict) -> dict[str, float | str]:
         """[variables]: values of system variables, PLC data, machine data and global user data the

@@ -1,5 +1,5 @@
 """What only the setup can say (docs/setup.md; issues 12 and 16): [machine] axes, m_functions,
-h_functions, subprogram_path; [variables]; [work_offsets]; [[tool]] name; drill tools.
+h_functions, subprogram_path, external_subprograms; [variables]; [work_offsets]; [[tool]] name; drill tools.
 
 Every key: a good value reaches the interpreter's InterpConfig (cutsim.load_setup + interp_config),
 and a bad one is exit 2 from the command line at the key's (or the array element's) SETUP:LINE:COL.
@@ -80,12 +80,14 @@ def test_defaults_are_empty(tmp_path):
     c = config(tmp_path, BASE)
     assert c.axes == {} and c.m_functions == frozenset() and c.h_functions == frozenset()
     assert c.variables == {} and c.work_offsets == {} and c.subprogram_path == () and c.tool_names == {}
+    assert c.external_subprograms == frozenset()
 
 
 def test_the_good_setup_runs(tmp_path):
     """All the new keys at once: the CLI interprets the program (exit 0)."""
     (tmp_path / "subs").mkdir()
-    text = with_machine('axes = { A = "rotary" }\nm_functions = [20]\nh_functions = [7]\nsubprogram_path = ["subs"]\n')
+    text = with_machine('axes = { A = "rotary" }\nm_functions = [20]\nh_functions = [7]\nsubprogram_path = ["subs"]\n'
+                        'external_subprograms = ["L_VENDOR"]\n')
     text += '\n[variables]\n"$P_TOOLNO" = 1\n\n[work_offsets]\nG54 = [0, 0, 0]\n'
     setup = tmp_path / "setup.toml"
     setup.write_text(text.replace('diameter = 6\n', 'diameter = 6\nname = "MILL 6"\n'))
@@ -160,6 +162,42 @@ def test_subprogram_path_is_absolute_from_the_setup_folder(tmp_path):
 def test_bad_subprogram_path(tmp_path, line, needle, fragments):
     (tmp_path / "subs").mkdir()
     cli_error(tmp_path, with_machine(line + "\n"), needle, fragments)
+
+
+# -- [machine] external_subprograms -----------------------------------------------------------------
+def test_external_subprograms_reach_the_interpreter(tmp_path):
+    """Upper-cased file names, the folder (after the last / or \\) removed, the extension kept."""
+    c = config(tmp_path, with_machine('external_subprograms = ["0_Inicio_Prog.nc", "G803", "L_VENDOR", "CYCLE_ABC", '
+                                      '"subs\\\\vendor\\\\my-cycle.spf", "/_N_CMA_DIR/_n_cyc_x_spf", " l100 "]\n'))
+    assert c.external_subprograms == frozenset({"0_INICIO_PROG.NC", "G803", "L_VENDOR", "CYCLE_ABC", "MY-CYCLE.SPF",
+                                                "_N_CYC_X_SPF", "L100"})
+    assert config(tmp_path, with_machine("external_subprograms = []\n")).external_subprograms == frozenset()
+
+
+@pytest.mark.parametrize("line,needle,fragments", [
+    ('external_subprograms = ["G803", "g803"]', '"g803"', ["[machine] external_subprograms", "G803 is given twice",
+                                                           "element 1"]),
+    ('external_subprograms = ["L_VENDOR", "subs/l_vendor"]', '"subs/l_vendor"', ["L_VENDOR is given twice"]),
+    ('external_subprograms = ["G803", ""]', '""]', ["a subprogram is a non-empty string"]),
+    ('external_subprograms = ["  "]', '"  "', ["a subprogram is a non-empty string"]),
+    ('external_subprograms = ["G803", 803]', "803]", ["a subprogram is a non-empty string", "not 803"]),
+    ('external_subprograms = ["subs/"]', '"subs/"', ["is a folder: name the subprogram's file"]),
+    ('external_subprograms = ["MY CYCLE"]', '"MY CYCLE"', ["letters, digits, _ . and -"]),
+    ('external_subprograms = ["L(1)"]', '"L(1)"', ["letters, digits, _ . and -"]),
+    ('external_subprograms = [".hidden"]', '".hidden"', ["not starting with . or -"]),
+    ('external_subprograms = ["CYCLÉ"]', '"CYCLÉ"', ["letters, digits"]),
+    (f'external_subprograms = ["{"A" * 65}"]', '"AAA', ["at most 64 characters (got 65)"]),
+    ('external_subprograms = "L_VENDOR"', "external_subprograms", ["[machine] external_subprograms",
+                                                                   "must be a list"]),
+    ('external_subprograms = [\n  "G803",\n  ["L_VENDOR"],\n]', '["L_VENDOR"]', ["non-empty string"]),
+])
+def test_bad_external_subprograms(tmp_path, line, needle, fragments):
+    cli_error(tmp_path, with_machine(line + "\n"), needle, fragments)
+
+
+def test_a_64_character_name_is_accepted(tmp_path):
+    c = config(tmp_path, with_machine(f'external_subprograms = ["{"b" * 64}"]\n'))
+    assert c.external_subprograms == frozenset({"B" * 64})
 
 
 # -- [variables] --------------------------------------------------------------------------------------
