@@ -88,7 +88,9 @@ G_NOT_MODELLED = {
     74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
     303: "circle in space", 150: "spline", 151: "spline",
 }
-IMPLICIT_CALLS = {80} | set(range(800, 820))  # implicit subroutine calls (configured files); G81..G89: modal cycles
+# implicit subroutine calls (manual: "Implicit subroutine calls (G80-G89/G800..)"): each runs the global
+# subprogram the machine maker configures for it once, at the end of its block ("no modal effect")
+IMPLICIT_CALLS = set(range(80, 90)) | set(range(800, 820))
 M_CODES = {
     0: Code("stop", "", "program stop"),
     1: Code("stop", "", "optional stop"),
@@ -502,12 +504,9 @@ class Isg(Interpreter):
                     for a in "XYZABCUVWF" + ("SK" if code == 4 else ""):
                         st.words.pop(a, None)
                 continue
-            if code == 80 and "G80" not in self.implicit_files and g.col not in st.block.args:
+            if code == 80 and self.g80_plain(g, st.block):
                 self.warn_once(("G", 80), st.src, "G80 (modal cycle off) does not change the tool path: accepted")
                 continue
-            if 81 <= code <= 89:
-                raise self.error(line, g.col, f"G{g.raw} (a modal cycle: an implicit subroutine call at every "
-                                 "following position) is not modelled by the simulator")
             if code in IMPLICIT_CALLS:
                 if st.result is not None:
                     raise self.error(line, g.col, "two implicit subroutine calls in one block")
@@ -817,6 +816,8 @@ class Isg(Interpreter):
     def call_local(self, b: IsgBlock, fr: Frame) -> None:
         target, col = b.call
         sec = fr.local.get(target)
+        if sec is None and self.external(b, target):
+            return
         if sec is None:
             msg = f"unknown subprogram '{target}'"
             near = [n for n in fr.local if _folds(n) & _folds(target)]
@@ -843,8 +844,27 @@ class Isg(Interpreter):
     def call_global(self, b: IsgBlock, fr: Frame) -> None:
         fname, col, pexprs = b.gcall
         params = {k: f(self) for k, f in pexprs.items()}
-        path = self.find_file(fname, b.line, col)
+        path = self.find_file(fname, b.line, col, missing_ok=True)
+        if path is None:
+            if self.external(b, fname):
+                return
+            self.find_file(fname, b.line, col)  # the error naming the folders and the setup keys
         self.run_file(b, fr, path, fname, col, params)
+
+    def external(self, b: IsgBlock, fname: str) -> bool:
+        """A subprogram, cycle file or implicit-call G code the setup declares the machine has
+        (``[machine] external_subprograms``) and the simulator does not: True (after one warning per
+        name) when ``fname`` is one of them; nothing runs and the tool stays where it is."""
+        base = fname.replace("\\", "/").rsplit("/", 1)[-1]
+        up = base.upper()
+        names = {up, up + ".NC", up[:-3] if up.endswith(".NC") else up}
+        ext = self.cfg.external_subprograms
+        if not names & ext:
+            return False
+        self.warn_once(("external", up[:-3] if up.endswith(".NC") else up), Src(self.name, b.line, 1, b.label, self.frame.calls),
+                       f"{base} is declared external in the setup ([machine] external_subprograms): its motion is not "
+                       "simulated, the tool is taken to stay where it was")
+        return True
 
     def run_file(self, b: IsgBlock, fr: Frame, path: str, fname: str, col: int, params: dict) -> None:
         if path not in self.files:
@@ -862,16 +882,25 @@ class Isg(Interpreter):
         argument list G805[a, b, c] as @P1, @P2, @P3 (assumption, docs/dialects/isg.md)."""
         args = [f(self) for f in b.args.get(g.col, [])]
         name = self.implicit_files.get(f"G{code}", f"G{code}")
-        try:
-            path = self.find_file(name, b.line, g.col)
-        except CutsimError:
+        path = self.find_file(name, b.line, g.col, missing_ok=True)
+        if path is None:
+            if self.external(b, name) or self.external(b, f"G{code}"):
+                return
             raise self.error(b.line, g.col, f"G{g.raw} is an implicit subroutine call: the machine maker's "
                              f"subprogram behind it ({name}) is not known to the simulator (put the file in the "
-                             "program's folder or in the setup's [machine] subprogram_path)") from None
+                             "program's folder or in the setup's [machine] subprogram_path, or declare it in the "
+                             f"setup: [machine] external_subprograms = [\"{name}\"])")
         params = {f"@P{k + 1}": v for k, v in enumerate(args)}
         self.run_file(b, fr, path, name, g.col, params)
 
-    def find_file(self, fname: str, line: int, col: int) -> str:
+    def g80_plain(self, g: Word, b: IsgBlock) -> bool:
+        """G80 without an argument list, with no file named for it (#FILE NAME, G80.nc on the search
+        path) and not declared external: the ISO "modal cycle off", which moves nothing."""
+        if "G80" in self.implicit_files or g.col in b.args or "G80" in self.cfg.external_subprograms:
+            return False
+        return self.find_file("G80", b.line, g.col, missing_ok=True) is None
+
+    def find_file(self, fname: str, line: int, col: int, missing_ok: bool = False) -> str | None:
         """A global subprogram: the program's folder, then [machine] subprogram_path. A path written
         for the controller (C:\\...\\name.nc) is looked up by its file name; names compare without
         case, with or without ``.nc``."""
@@ -886,10 +915,14 @@ class Isg(Interpreter):
             for n in names:
                 if n.upper() in wanted:
                     return os.path.join(d, n)
+        if missing_ok:
+            return None
         alt = "" if base.upper().endswith(".NC") else f" (or {base}.nc)"
         raise self.error(line, col, f"global subprogram '{fname}': no file {base}{alt} in "
-                         f"{' or '.join(dirs)} (give its folder in the setup: [machine] subprogram_path; a local "
-                         "subprogram of this file is defined as '%L name' and called with 'LL name')")
+                         f"{' or '.join(dirs)} (give its folder in the setup: [machine] subprogram_path, or, when the "
+                         f"machine has it and its motion need not be simulated: [machine] external_subprograms = "
+                         f"[\"{base}\"]; a local subprogram of this file is defined as '%L name' and called with "
+                         "'LL name')")
 
     def read_file(self, path: str, fname: str, line: int, col: int) -> str:
         what = f"subprogram {fname}: {path}"

@@ -232,11 +232,55 @@ def test_recursive_global_call_is_refused(tmp_path):
     assert "recursive subprogram call" in e.message and "a.nc -> b.nc -> a.nc" in e.message
 
 
-def test_g80_alone_is_cycle_off_and_g81_is_refused():
+def test_g80_alone_is_cycle_off_and_g81_is_an_implicit_call(tmp_path):
     prog = run("%P\nG71 G80 G90\nG01 X1 F100\nM30\n")
     assert ends(prog) == [(1.0, 0.0, 50.0)] and any("G80" in m for _, m in prog.warnings)
+    # G81..G89 are implicit calls like G800 (manual: called once, "no modal effect"): without a file, exit 2
     e = fails("%P\nG81 Z-5\nM30\n")
-    assert (e.line, e.col) == (2, 1) and "modal cycle" in e.message
+    assert (e.line, e.col) == (2, 1) and "implicit subroutine call" in e.message
+    assert "external_subprograms" in e.message
+    # with its file beside the program it runs once, at the end of its block, with its argument list
+    (tmp_path / "G81.nc").write_text("G91 G01 Z[-@P1] F100\nZ[@P1]\nG90\nM17\n")
+    prog = run("%P\nG00 X10 Y5 Z2\nG81[4]\nX20\nM30\n", name=str(tmp_path / "main.nc"))
+    assert ends(prog) == [(10.0, 5.0, 2.0), (10.0, 5.0, -2.0), (10.0, 5.0, 2.0), (20.0, 5.0, 2.0)]
+    # a G80.nc on the search path makes G80 a call too
+    (tmp_path / "G80.nc").write_text("G00 Z30\nM17\n")
+    prog = run("%P\nG80\nM30\n", name=str(tmp_path / "main.nc"))
+    assert ends(prog) == [(0.0, 0.0, 30.0)]
+
+
+EXTERNAL_MSG = "is declared external in the setup ([machine] external_subprograms)"
+
+
+def test_external_subprograms_are_accepted_without_motion(tmp_path):
+    # the setup declares what the machine has: a controller path, a cycle without .nc, an implicit G code,
+    # a local name; each call keeps the tool where it was, with one warning per name
+    ext = frozenset({"0_INICIO_PROG.NC", "SPIGOT", "G803", "VENDOR"})
+    text = ("%P\nG00 X5 Y6 Z7\nL C:\\Users\\Public\\Subprg\\0_Inicio_Prog.nc\nL 0_inicio_prog\n"
+            "L CYCLE [NAME = Spigot.nc @P1 = 2 @P2 = V.L.X]\nG803\nLL VENDOR\nG01 X8 F100\nM30\n")
+    e = fails(text, name=str(tmp_path / "main.nc"), external_subprograms=ext)
+    assert "V.L.X" in e.message and e.line == 5  # the call's parameters are still evaluated
+    text = text.replace(" @P2 = V.L.X", "")
+    prog = run(text, name=str(tmp_path / "main.nc"), external_subprograms=ext)
+    assert ends(prog) == [(5.0, 6.0, 7.0), (8.0, 6.0, 7.0)]
+    msgs = [(src.line, m) for src, m in prog.warnings if EXTERNAL_MSG in m]
+    assert [line for line, _ in msgs] == [3, 5, 6, 7]
+    assert msgs[0][1].startswith("0_Inicio_Prog.nc is declared external") and "stay where it was" in msgs[0][1]
+
+
+def test_external_declaration_only_covers_missing_files(tmp_path):
+    (tmp_path / "G803.nc").write_text("G00 Z40\nM17\n")
+    (tmp_path / "sub.nc").write_text("G01 X3 F100\nM17\n")
+    prog = run("%P\nG803\nL sub.nc\nM30\n", name=str(tmp_path / "main.nc"),
+               external_subprograms=frozenset({"G803", "SUB.NC"}))
+    assert ends(prog) == [(0.0, 0.0, 40.0), (3.0, 0.0, 40.0)]
+    assert not [m for _, m in prog.warnings if EXTERNAL_MSG in m]
+
+
+def test_undeclared_missing_file_names_the_setup_key(tmp_path):
+    e = fails("%P\nL C:\\cnc\\other.nc\nM30\n", name=str(tmp_path / "main.nc"),
+              external_subprograms=frozenset({"SUB.NC"}))
+    assert (e.line, e.col) == (2, 3) and "[machine] external_subprograms = [\"other.nc\"]" in e.message
 
 
 def test_dwell_forms_do_not_move_or_change_the_spindle():
