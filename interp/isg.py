@@ -129,11 +129,12 @@ _NOT_EXTRA = frozenset("DEFGHIJKLMNOPQRSTXYZ")  # letters Isg.extra_axes leaves 
 class Frame:
     """One running program level: its file, local subprograms, V.L. variables, call parameters."""
 
-    __slots__ = ("name", "local", "vl", "params", "stack", "calls")
+    __slots__ = ("name", "local", "vl", "params", "stack", "calls", "modal")
 
     def __init__(self, name, local, params, stack, calls):
         self.name, self.local, self.params, self.stack, self.calls = name, local, params, stack, calls
         self.vl: dict = {}
+        self.modal: tuple | None = None  # L CYCLE [.. MODAL_MOVE ..] of this level: (file name, column, params)
 
 
 class Isg(Interpreter):
@@ -271,6 +272,10 @@ class Isg(Interpreter):
                 raise
             if self.ended or ret:
                 return
+            if fr.modal is not None and _moves(b):
+                self.modal_cycle(b, fr)
+                if self.ended:
+                    return
             if b.goto is not None and (b.cond is None or truth(b.cond(self))):
                 pc = self.jump(sec, b)
                 continue
@@ -843,13 +848,50 @@ class Isg(Interpreter):
 
     def call_global(self, b: IsgBlock, fr: Frame) -> None:
         fname, col, pexprs = b.gcall
+        if b.modal and fr.modal is not None:
+            raise self.error(b.line, col, f"cycle call while the modal cycle {fr.modal[0]} (line {fr.modal[3]}) is "
+                             "active: deselect it first with #DISABLE MODAL CYCLE")
+        if b.modal == "MODAL_BLOCK":
+            raise self.error(b.line, col, "MODAL_BLOCK (the cycle called again after every block) is not modelled by "
+                             "the simulator; MODAL_MOVE (again after every block with a motion) is")
         params = {k: f(self) for k, f in pexprs.items()}
+        if b.modal == "MODAL_MOVE":
+            fr.modal = (fname, col, params, b.line)
+        self.global_file(b, fr, fname, col, params, cycle=bool(b.modal))
+
+    def modal_cycle(self, b: IsgBlock, fr: Frame) -> None:
+        """The modal cycle (L CYCLE [NAME = .. MODAL_MOVE ..]) again after block ``b`` of its program
+        level, which has a motion (manual: "Cycles as global or local subroutines")."""
+        fname, col, params, _ = fr.modal
+        self.global_file(b, fr, fname, col, dict(params), cycle=True)
+
+    def global_file(self, b: IsgBlock, fr: Frame, fname: str, col: int, params: dict, cycle: bool) -> None:
+        """Run the global subprogram file ``fname`` (a declared external one: nothing); a cycle restores
+        the caller's modal state when it ends."""
         path = self.find_file(fname, b.line, col, missing_ok=True)
         if path is None:
             if self.external(b, fname):
                 return
             self.find_file(fname, b.line, col)  # the error naming the folders and the setup keys
+        if not cycle:
+            self.run_file(b, fr, path, fname, col, params)
+            return
+        saved = self.cycle_state()
         self.run_file(b, fr, path, fname, col, params)
+        self.restore_cycle_state(saved)
+
+    _CYCLE_STATE = ("motion", "absolute", "per_rev", "feed", "plane", "circle_r", "centre_abs")
+
+    def cycle_state(self) -> tuple:
+        """The modal G functions, circle data and feed a cycle restores when it ends (manual: P-CHAN-00210
+        cycle_changes_modal, default 0)."""
+        return tuple(getattr(self, k) for k in self._CYCLE_STATE)
+
+    def restore_cycle_state(self, saved: tuple) -> None:
+        if self.ended:
+            return
+        for k, v in zip(self._CYCLE_STATE, saved):
+            setattr(self, k, v)
 
     def external(self, b: IsgBlock, fname: str) -> bool:
         """A subprogram, cycle file or implicit-call G code the setup declares the machine has
@@ -891,7 +933,10 @@ class Isg(Interpreter):
                              "program's folder or in the setup's [machine] subprogram_path, or declare it in the "
                              f"setup: [machine] external_subprograms = [\"{name}\"])")
         params = {f"@P{k + 1}": v for k, v in enumerate(args)}
+        saved = self.cycle_state()
         self.run_file(b, fr, path, name, g.col, params)
+        if g.col in b.args:  # with transfer parameters the call is a cycle call (manual): its changes end with it
+            self.restore_cycle_state(saved)
 
     def g80_plain(self, g: Word, b: IsgBlock) -> bool:
         """G80 without an argument list, with no file named for it (#FILE NAME, G80.nc on the search
@@ -1026,6 +1071,18 @@ def _element_keys(name: str, dims: tuple) -> list[str]:
     for d in dims:
         keys = [f"{k}[{i}]" for k in keys for i in range(d)]
     return keys
+
+
+_AXIS_LETTERS = frozenset("XYZABCUVW")
+_NO_MOTION_G = frozenset({4.0, 92.0, 98.0, 99.0, 130.0, 132.0, 230.0, 333.0})  # G codes whose axis words are not a motion
+
+
+def _moves(b: IsgBlock) -> bool:
+    """The block holds motion commands (axis words) - what calls a MODAL_MOVE cycle again."""
+    letters = {w.letter for w in b.words} | {it[1] for it in b.items if it[0] == "x"}
+    if not letters & _AXIS_LETTERS:
+        return False
+    return not any(w.letter == "G" and w.value in _NO_MOTION_G for w in b.words)
 
 
 def _ends_program(b: IsgBlock) -> bool:

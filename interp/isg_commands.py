@@ -58,6 +58,9 @@ def command(m, st, name: str, text: str, col: int) -> None:
         return cs(m, st, text, col)
     if name == "FILE":
         return file_names(m, st, text, col)
+    if name == "DISABLE" and first == "MODAL":  # #DISABLE MODAL CYCLE: the level's modal cycle call ends
+        m.frame.modal = None
+        return
     if name == "MCS":
         if first == "OFF":
             return

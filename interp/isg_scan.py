@@ -50,6 +50,7 @@ class IsgBlock(Block):
     cond: object = None  # $IF <cond> $GOTO ... in one line: the condition
     target: str = ""  # the label this line defines ("N10" for N10:, "[NAME]")
     deferred: str = ""  # a line using a macro not defined when it was read: expanded when it runs
+    modal: str = ""  # L CYCLE [..]: "CYCLE", or "MODAL_MOVE" / "MODAL_BLOCK" for a modal cycle call
 
     @property
     def empty(self) -> bool:
@@ -312,7 +313,8 @@ def call(cur: Cursor, block: IsgBlock, col: int) -> None:
     if cur.at_word("CYCLE"):
         cur.i += 5
         cur.skip()
-        block.gcall = cycle_args(cur)
+        *block.gcall, block.modal = cycle_args(cur)
+        block.gcall = tuple(block.gcall)
         return
     m = FILE_NAME.match(text, cur.i)
     if not m:
@@ -360,7 +362,12 @@ def cycle_args(cur: Cursor) -> tuple:
     if not m:
         raise cur.error("L CYCLE [...] must name the cycle first: L CYCLE [NAME = file.nc ...]")
     cur.i = m.end()
-    return (m.group(1).strip('"'), m.start(1) + 1, cycle_params(cur))
+    mm = re.compile(r"[\s,]*(MODAL_MOVE|MODAL_BLOCK|MODAL)\b", re.I).match(cur.text, cur.i)
+    modal = "CYCLE"
+    if mm:
+        modal = "MODAL_MOVE" if mm.group(1).upper() == "MODAL" else mm.group(1).upper()
+        cur.i = mm.end()
+    return (m.group(1).strip('"'), m.start(1) + 1, cycle_params(cur), modal)
 
 
 def assignment(cur: Cursor, block: IsgBlock) -> None:

@@ -38,6 +38,13 @@ against the program and the TwinCAT CNC programming manual's semantics:
   radius 13 about (10, 20), starts tangentially and ends at (23, 20); the right-angle corner at
   (20, 0) becomes the extended lines' intersection (23, -3) (G25); the line y = -3 meets the
   departure moved left at (3*sqrt(2) - 3, -3) = (1.2426, -3); the departure ends at (-10, -10).
+- modal-cycle.nc: L CYCLE [NAME = peck.nc MODAL_MOVE @P1 = 3] runs peck.nc (down 3 incrementally at
+  F100, back up) at the call (0, 0, 5) and again after each block with a motion: N30 X10 (a rapid:
+  the cycle's G91 G01 F100 end with it), N40 G01 Y10 F200; not after N50 M08 (no motion) nor after
+  #DISABLE MODAL CYCLE (N70 X20 feeds at F200 alone). N80 G81[2, 4] runs G81.nc once (the manual's
+  implicit calls are not modal): down 2 at F50 to Z3, rapid up 4 to Z7; N90 X30 feeds again with
+  G01 F200 (a call with parameters restores them). N100 G803 is declared external in setup.toml:
+  no motion; N110 G00 Z20 rises from (30, 10, 7).
 """
 from __future__ import annotations
 
@@ -54,7 +61,7 @@ from cutsim.interp import canon
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "isg-lang"
 SETUP = GOLDEN / "setup.toml"
-NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation"]
+NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle"]
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -1,0 +1,13 @@
+%MODAL (a modal cycle call, an implicit call and an external implicit call)
+N10 G00 X0 Y0 Z5
+N20 L CYCLE [NAME = peck.nc MODAL_MOVE @P1 = 3]
+N30 X10
+N40 G01 Y10 F200
+N50 M08
+N60 #DISABLE MODAL CYCLE
+N70 X20
+N80 G81[2, 4]
+N90 X30
+N100 G803
+N110 G00 Z20
+N120 M30
