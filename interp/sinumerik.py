@@ -79,11 +79,32 @@ UNSUPPORTED_NAMES = {"RND": "rounding the corner", "RNDM": "modal corner roundin
                      "AP": "a polar angle", "RP": "a polar radius", "TURN": "helix turns", "POS": "a positioning axis",
                      "POSA": "a positioning axis", "OFFN": "a contour offset", "I1": "an intermediate point",
                      "J1": "an intermediate point", "K1": "an intermediate point"}
+# a subprogram file's extensions (find_sub) and its archive form _N_NAME_SPF: stripped from the setup's
+# [machine] external_subprograms names and from EXTCALL/PCALL paths to give the name a call uses
+SUB_EXTENSIONS = (".SPF", ".MPF", ".NC")
+ARCHIVE_NAME = re.compile(r"_N_([A-Z0-9_]+)_(?:SPF|MPF)")
 MAX_ARRAY = 1_000_000  # elements of one array (DEF REAL A[1000, 1000])
 MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
 MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
 R_NAME = re.compile(r"R[0-9]+")
 AXIS_LETTER = {0: "I", 1: "J", 2: "K"}  # the centre address of each axis
+
+
+def call_name(file: str) -> str:
+    """The name a call uses for a subprogram file: "subs/L_VENDOR.SPF" and "_N_L_VENDOR_SPF" are
+    L_VENDOR (folder, extension and archive form removed; upper case)."""
+    name = re.split(r"[/\\]", file.strip())[-1].strip().upper()
+    base, ext = os.path.splitext(name)
+    if ext in SUB_EXTENSIONS:
+        name = base
+    m = ARCHIVE_NAME.fullmatch(name)
+    return m.group(1) if m else name
+
+
+def missing_hint(name: str) -> str:
+    """What to do about a call the simulator finds no subprogram for (the end of its error)."""
+    return (f"; a subprogram the machine has but the simulator does not is declared in the setup: "
+            f"[machine] external_subprograms = [\"{name}\"]")
 
 
 COMPARE = {"==": lambda a, b: a == b, "<>": lambda a, b: a != b, "<": lambda a, b: a < b, ">": lambda a, b: a > b,
@@ -226,6 +247,8 @@ class Sinumerik(ModalMachine):
         self.cfg_names = {k.partition("[")[0] for k in self.cfg_vars}  # names given in [variables]
         self.sysvars: dict[str, Slot] = {}  # system variables and setup data read or written so far
         self.warned: set[str] = set()  # command kinds warned about (one warning each)
+        # the setup's [machine] external_subprograms, by the name a call uses (call_name)
+        self.externals = frozenset(call_name(n) for n in cfg.external_subprograms)
         self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
         machine.state(self)  # the machine side's state (its modal part is saved by PROC ... SAVE)
 
@@ -558,7 +581,9 @@ class Sinumerik(ModalMachine):
         if name in self.subs:
             return self.subs[name]
         if name in NOT_FILES:
-            raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support")
+            listed = " ([machine] external_subprograms does not apply to it: the simulator knows the Siemens " \
+                     "keywords and cycles and will not take one as cutting nothing)" if name in self.externals else ""
+            raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support{listed}")
         path = None
         for d in (*self.sub_dirs(), *self.cfg.subprogram_path):
             try:
@@ -572,7 +597,8 @@ class Sinumerik(ModalMachine):
                 break
         if path is None:
             raise SubprogramMissing(self.unit_program, line, col, f"subprogram {name} is not defined (PROC {name} in "
-                                    f"this file, {name}.spf beside it or in [machine] subprogram_path)")
+                                    f"this file, {name}.spf beside it or in [machine] subprogram_path"
+                                    f"{missing_hint(name)})")
         text = self.read_sub(path, name, line, col)
         unit, more = split_units(path, text, sinumerik_fast.read_plain)
         if not any(ln.stmts for ln in unit.lines) and more:
@@ -928,21 +954,28 @@ class Sinumerik(ModalMachine):
                 if st.name in IGNORED_CALLS:
                     continue
                 if st.name not in CYCLES:  # a PROC with parameters: NAME(1, , R3)
-                    self.call_proc(st, src, blk.words, stack)
-                    return True
+                    if self.call_proc(st, src, blk.words, stack):
+                        return True
+                    continue  # a declared external subprogram: skipped
                 args = [(None if a.value is None else self.ev(a.value, line, a.col), a.col) for a in st.args]
                 run_cycle(self, st.name, args, src, st.col)
                 continue
             if st.name in self.vars:  # SubCall
                 raise self.error(line, st.col, f"'{st.name}' is a variable: write {st.name}=<value> to assign it")
-            self.call_sub(self.find_sub(st.name, line, st.col), src, blk.words, stack, st.col)
+            unit = self.find_unit(st.name, src, st.col, blk.words)
+            if unit is None:
+                continue  # a declared external subprogram: skipped
+            self.call_sub(unit, src, blk.words, stack, st.col)
             return True
         words = blk.words
         if "L" in words:
             lw = words.pop("L")
             if lw.value != int(lw.value):
                 raise self.error(line, lw.col, f"L{lw.value:g}: a subprogram number is a whole number")
-            self.call_sub(self.find_sub(f"L{int(lw.value)}", line, lw.col), src, words, stack, lw.col)
+            unit = self.find_unit(f"L{int(lw.value)}", src, lw.col, words)
+            if unit is None:
+                return False
+            self.call_sub(unit, src, words, stack, lw.col)
             return True
         if "P" in words:
             raise self.error(line, words["P"].col, "P (repeat count) only goes with a subprogram call")
@@ -1055,20 +1088,56 @@ class Sinumerik(ModalMachine):
             raise self.error(line, st.col, f"the program does not end in time: REPEAT {st.start} would run about "
                              f"{est:,} blocks, more than the {self.cfg.max_blocks:,} of [simulation] max_blocks")
 
-    def call_proc(self, st: Call, src: Src, words: dict[str, Value], stack: list[Frame]) -> None:
+    def call_proc(self, st: Call, src: Src, words: dict[str, Value], stack: list[Frame]) -> bool:
         """NAME(args) / L140(2): a subprogram with parameters (an unknown name is an error naming
-        it as a cycle, function or subprogram); CALL "NAME": the subprogram a string names."""
-        if st.name == "CALL":
+        it as a cycle, function or subprogram); CALL "NAME": the subprogram a string names; EXTCALL
+        "path/NAME.SPF": the program a string names on external storage, found by its name. False
+        when the subprogram is a declared external one (skipped, ``find_unit``)."""
+        if st.name in ("CALL", "EXTCALL"):
             name = self.ev(st.args[0].value, src.line, st.col)
+            if st.name == "EXTCALL" and isinstance(name, str):
+                name = call_name(name)
             if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name.strip()):
-                raise self.error(src.line, st.col, f"CALL needs a subprogram name as a string, not {to_text(name)!r}")
+                raise self.error(src.line, st.col, f"{st.name} needs a subprogram name as a string, "
+                                 f"not {to_text(name)!r}")
             st = Call(st.col, name.strip().upper(), ())
         try:
-            unit = self.find_sub(st.name, src.line, st.col)
+            unit = self.find_unit(st.name, src, st.col, words, st.args)
         except SubprogramMissing:
             raise self.error(src.line, st.col, f"unknown cycle, function or subprogram {st.name} (no PROC {st.name} "
-                             f"in this file, no {st.name}.spf beside it or in [machine] subprogram_path)") from None
+                             f"in this file, no {st.name}.spf beside it or in [machine] subprogram_path"
+                             f"{missing_hint(st.name)})") from None
+        if unit is None:
+            return False
         self.call_sub(unit, src, words, stack, st.col, st.args)
+        return True
+
+    def find_unit(self, name: str, src: Src, col: int, words: dict[str, Value], args: tuple = ()) -> Unit | None:
+        """The subprogram a call names (``find_sub``), or None when it is not found but declared in
+        the setup's [machine] external_subprograms: the call is skipped (its P repeat count and its
+        arguments checked, one warning per name) and the tool stays where it was."""
+        try:
+            return self.find_sub(name, src.line, col)
+        except SubprogramMissing:
+            if name not in self.externals:
+                raise
+        if "P" in words:
+            p = words.pop("P")
+            if p.value != int(p.value) or p.value < 1:
+                raise self.error(src.line, p.col, "P (repeat count) must be a whole number of at least 1")
+        for a in args:  # an argument that is not a bare name (an axis, a VAR target) is evaluated: its errors count
+            if a.value is not None and not (isinstance(a.value, Var) and a.value.name not in self.vars):
+                self.ev(a.value, src.line, a.col)
+        self.external_note(name, Src(src.program, src.line, col, src.label, src.calls))
+        return None
+
+    def external_note(self, name: str, src: Src) -> None:
+        """The one warning of a skipped call of a declared external subprogram ``name``."""
+        if f"external:{name}" in self.warned:
+            return
+        self.warned.add(f"external:{name}")
+        self.warn(src, f"{name} is declared external in the setup ([machine] external_subprograms): its motion is "
+                       "not simulated, the tool is taken to stay where it was")
 
     def unsupported(self, blk: Block, line: int) -> None:
         """A machine keyword ``settings`` did not take (it implements the ones it knows) is an

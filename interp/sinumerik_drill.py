@@ -468,15 +468,16 @@ def modal_call(m, blk, line: int) -> list:
         m.mcall = (st.name, args, st.col, "cycle")
     elif rest and isinstance(rest[0], (Call, SubCall)):
         st = rest.pop(0)
-        m.find_sub(st.name, line, st.col)  # a missing subprogram is an error at the MCALL
-        m.mcall = (st.name, st, st.col, "sub")
+        # a missing subprogram is an error at the MCALL; a declared external one: no modal call (it would do nothing)
+        found = m.find_unit(st.name, Src(m.unit_program, line, 1), st.col, {}) is not None
+        m.mcall = (st.name, st, st.col, "sub") if found else None
     elif "L" in blk.words:
         lw = blk.words.pop("L")
         if lw.value != int(lw.value):
             raise m.error(line, lw.col, f"L{lw.value:g}: a subprogram number is a whole number")
         name = f"L{int(lw.value)}"
-        m.find_sub(name, line, lw.col)
-        m.mcall = (name, SubCall(lw.col, name), lw.col, "sub")
+        found = m.find_unit(name, Src(m.unit_program, line, 1), lw.col, {}) is not None
+        m.mcall = (name, SubCall(lw.col, name), lw.col, "sub") if found else None
     else:
         m.mcall = None
     return rest

@@ -27,7 +27,8 @@ ADDRESSES = set("GMXYZIJKFSTDLP") | EXTRA_AXES  # single-letter addresses with a
 ISO_ADDRESSES = {"R", "Q"}  # the ISO drilling cycles' R plane and peck depth, with a plain number
 EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P", "RPL"} | EXTRA_AXES  # RPL: ROT RPL=30
 STRUCTURED = {"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "UNTIL"}
-KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "REPEATB", "CALL", "OF", "DEFAULT",
+KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "REPEATB", "CALL", "EXTCALL",
+            "PCALL", "OF", "DEFAULT",
             "TO", "AND", "OR", "XOR", "NOT", "DIV", "MOD", "B_AND", "B_OR", "B_XOR", "B_NOT"} | STRUCTURED
 TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
 JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
@@ -946,6 +947,32 @@ def _read_call(sc: _Scanner, col: int) -> Call:
     return Call(col, "CALL", (Arg(sc.expr(), sc.i + 1),))
 
 
+def _read_extcall(sc: _Scanner, col: int) -> Call:
+    """EXTCALL "PATH/NAME.SPF": a program on external storage, named by a string expression."""
+    return Call(col, "EXTCALL", (Arg(sc.expr(), sc.i + 1),))
+
+
+PCALL_PATH_RE = re.compile(r"/?(?:[A-Za-z0-9_]+/)*")  # PCALL /_N_WKS_DIR/_N_PART_WPD/NAME: the folders
+PCALL_ARCHIVE_RE = re.compile(r"_N_([A-Z0-9_]+)_(?:SPF|MPF)")
+
+
+def _read_pcall(sc: _Scanner, col: int) -> Call | SubCall:
+    """PCALL NAME / PCALL /_N_WKS_DIR/_N_PART_WPD/_N_NAME_SPF(args): a subprogram call by path; the
+    simulator finds it by its name (the folders of the path are not searched)."""
+    sc.ws()
+    sc.i = PCALL_PATH_RE.match(sc.s, sc.i).end()
+    ncol = sc.i + 1
+    name = sc.ident()
+    if not name:
+        raise sc.err(ncol, "PCALL needs a subprogram name (PCALL NAME or PCALL /_N_WKS_DIR/_N_PART_WPD/NAME)")
+    m = PCALL_ARCHIVE_RE.fullmatch(name)
+    name = m.group(1) if m else name
+    if sc.peek() == "(":
+        sc.i += 1
+        return Call(ncol, name, tuple(sc.arguments()))
+    return SubCall(ncol, name)
+
+
 def _read_case(sc: _Scanner, col: int, name: str) -> Case:
     value = sc.expr()
     if not sc.take_word("OF"):
@@ -1039,6 +1066,8 @@ def _read_ret(sc: _Scanner, col: int, name: str) -> Ret:
 _KEYWORD_READERS = {"DEF": _read_def, "GOTOF": _read_goto, "GOTOB": _read_goto, "GOTO": _read_goto,
                     "GOTOC": _read_goto, "IF": _read_if, "REPEAT": _read_repeat, "PROC": _read_proc,
                     "REPEATB": lambda sc, col, name: _read_repeatb(sc, col), "CALL": lambda sc, col, name: _read_call(sc, col),
+                    "EXTCALL": lambda sc, col, name: _read_extcall(sc, col),
+                    "PCALL": lambda sc, col, name: _read_pcall(sc, col),
                     "RET": _read_ret, "CASE": _read_case, "EXTERN": _read_extern, "FOR": _read_for,
                     "WHILE": _read_cond, "UNTIL": _read_cond, "ELSE": _read_bare, "ENDIF": _read_bare,
                     "ENDWHILE": _read_bare, "ENDFOR": _read_bare, "LOOP": _read_bare, "ENDLOOP": _read_bare}
