@@ -18,7 +18,7 @@ from . import canon
 from .canon import Src
 from .core import Code, Interpreter, Step
 from .errors import CutsimError
-from .isg_commands import command
+from .isg_commands import IDENTITY, command, frame, mat_vec, to_program
 from . import isg_fast
 from .isg_lang import SCOPES, truth
 from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
@@ -55,15 +55,23 @@ G_CODES = {
     26: Code("trc transition", "", "circular transitions at outside corners with tool radius compensation"),
     138: Code("trc selection", "", "direct selection/deselection of tool radius compensation"),
     139: Code("trc selection", "", "indirect selection/deselection of tool radius compensation"),
+    20: Code("mirror", "", "mirroring off"),
+    21: Code("mirror", "", "mirroring of X (on the Y axis)"),
+    22: Code("mirror", "", "mirroring of Y (on the X axis)"),
+    23: Code("mirror", "", "mirroring of X and Y"),
+    351: Code("mirror axes", "XYZ", "mirroring of the axes given (-1 on, 1 off)"),
+    68: Code("rotation", "XYZR", "contour rotation by R about X/Y in the plane"),
+    69: Code("rotation", "", "contour rotation off"),
 }
+MIRRORS = {20: (False, False), 21: (True, False), 22: (False, True), 23: (True, True)}
 # G codes that do not change the tool path (TwinCAT CNC programming manual, "G functions"):
 # accepted with one warning each. Those in G_AXIS_PARAMS take axis words as percentages or limits.
 G_HARMLESS = {
     4: "dwell time", 8: "acceleration at block start", 9: "deceleration at block end",
     10: "constant feed with tool radius compensation", 11: "adapted feed with tool radius compensation",
-    12: "corner deceleration off", 13: "corner deceleration on", 20: "mirroring off",
+    12: "corner deceleration off", 13: "corner deceleration on",
     60: "exact stop", 61: "polynomial contouring (blends corners within the contour tolerance)",
-    63: "tapping without compensating chuck", 66: "synchronise cycle at block end", 69: "contour rotation off",
+    63: "tapping without compensating chuck", 66: "synchronise cycle at block end",
     96: "constant cutting speed", 97: "constant spindle speed", 98: "negative software limit switches",
     99: "positive software limit switches", 129: "G00 velocity weighting", 130: "axis acceleration weighting",
     131: "acceleration weighting", 132: "axis ramp time weighting", 133: "ramp time weighting",
@@ -74,6 +82,7 @@ G_HARMLESS = {
     359: "exact stop mode", 360: "exact stop mode",
     260: "polynomial contouring mode", 261: "polynomial contouring mode", 93: "feed as machining time",
 }
+
 G_AXIS_PARAMS = {4, 98, 99, 130, 132, 230, 333}
 # selection/deselection methods of tool radius compensation the simulator does not model: they only
 # act when G41/G42 is selected or deselected, which is then refused (G138 direct and G139 indirect are)
@@ -83,8 +92,6 @@ TRC_METHODS = {5: "tangential selection/deselection", 236: "direct selection/des
 # G codes that change the tool path in a way the simulator does not model: exit 2 naming them
 G_NOT_MODELLED = {
     101: "measuring offsets into the zero offsets", 102: "measuring offsets out of the zero offsets",
-    21: "mirroring on the Y axis",
-    22: "mirroring on the X axis", 23: "mirroring on X and Y", 351: "mirroring", 68: "contour rotation",
     74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
     303: "circle in space", 150: "spline", 151: "spline",
 }
@@ -173,6 +180,12 @@ class Isg(Interpreter):
         self.trc_linear = True  # G25 (default) / G26
         self.trc_method: tuple = (139, None)
         self.circle_r: tuple[float, int] | None = None  # R (circle radius, modal) and its column  # G139 indirect (default), G138 direct, or an unmodelled one
+        # rotated and mirrored program coordinates (isg_commands.frame): #ROTATION, G20..G23/G351, #CS about Z
+        self.rotation: tuple | None = None  # (angle, plane, centre 1, centre 2)
+        self.mirror = [False, False, False]
+        self.turned = False  # a rotation or a mirroring is active: targets go through isg_commands.frame
+        self.turned_linear = IDENTITY  # the frame's linear part
+        self.comp_flip = 1.0  # -1: the compensation side swaps (mirrored plane at selection)
 
     # -- messages ----------------------------------------------------------------------------------
     def warn_once(self, key, src: Src, message: str) -> None:
@@ -546,6 +559,16 @@ class Isg(Interpreter):
             self.trc_method = (code, g)
         elif row.group == "centre":
             self.centre_abs = code == 161
+        elif row.group == "mirror":
+            self.mirror[0], self.mirror[1] = MIRRORS[code]
+            self.frame_changed(line, g.col)
+        elif row.group == "mirror axes":
+            st.g["mirror axes"] = g
+        elif code == 69:
+            self.rotation = None
+            self.frame_changed(line, g.col)
+        elif code == 68:
+            st.g["contour rotation"] = g
         elif row.group == "units":
             if code == 70:
                 raise self.error(line, g.col, "G70 (inch programming) is not modelled: the simulator works in millimetres")
@@ -613,6 +636,10 @@ class Isg(Interpreter):
             command(self, st, name, text, col)
         if "reference point offset" in st.g:
             self.set_position(st)
+        if "mirror axes" in st.g:
+            self.mirror_axes(st, st.g["mirror axes"])
+        if "contour rotation" in st.g:
+            self.g68(st, st.g["contour rotation"])
 
     def set_position(self, st: Step) -> None:
         """G92 X.. Y.. Z..: the reference point offset (an additive zero offset) of the axes given, set
@@ -643,11 +670,63 @@ class Isg(Interpreter):
     def target(self, values: dict[int, float], absolute=None):
         """End point (machine values) from axis words: absolute words are shifted by the active zero
         offset, #CS translation and G92; incremental ones add to the position."""
+        if self.turned:
+            L, t = frame(self)
+            p = to_program(L, t, self.pos)
+            for i, v in values.items():
+                p[i] = v if self.absolute else p[i] + v
+            q = mat_vec(L, p)
+            return (q[0] + t[0], q[1] + t[1], q[2] + t[2])
         end = list(self.pos)
         sh = self.shift()
         for i, v in values.items():
             end[i] = v + sh[i] if self.absolute else self.pos[i] + v
         return (end[0], end[1], end[2])
+
+    # -- rotation and mirroring (#ROTATION, #CS about Z, G20..G23, G351; frame in isg_commands) -------
+    def frame_changed(self, line: int, col: int) -> None:
+        """A rotation, mirroring or #CS changed: whether targets go the long way, and what may not change."""
+        self.turned = self.rotation is not None or any(self.mirror) or any(c[3] % 360.0 != 0.0 for c in self.cs)
+        lin = frame(self)[0] if self.turned else IDENTITY
+        if lin != IDENTITY and self.cfg.machine_kind == "lathe":
+            raise self.error(line, col, "rotating or mirroring the program coordinates on a lathe is not modelled by "
+                             "the simulator")
+        if self.comp_buf is not None and lin != self.turned_linear:
+            raise self.error(line, col, "a rotation or mirroring changed while tool radius compensation is active: "
+                             "not modelled by the simulator (switch it with G40 first)")
+        self.turned_linear = lin
+
+    def g68(self, st: Step, g: Word) -> None:
+        """G68 R.. X.. Y.. (G17; G18: Z X, G19: Y Z): contour rotation by R degrees about the absolute
+        point of the plane's main axes; an axis not programmed takes the tool's position (manual:
+        "Rotate the coordinate system in the plane (G68/G69)")."""
+        a, c, n = PLANE_AXES[self.plane]
+        r = st.words.pop("R", None)
+        if AXES[n] in st.words:
+            w = st.words[AXES[n]]
+            raise self.error(st.block.line, w.col, f"G68 takes the centre in the axes of the plane {self.plane}, "
+                             f"not {AXES[n]}")
+        here = to_program(*frame(self), self.pos) if self.turned else [self.pos[i] - self.shift()[i] for i in range(3)]
+        cen = [st.words.pop(AXES[i]).value if AXES[i] in st.words else here[i] for i in (a, c)]
+        self.rotation = (0.0 if r is None else r.value, self.plane, cen[0], cen[1])
+        self.frame_changed(st.block.line, g.col)
+
+    def mirror_axes(self, st: Step, g: Word) -> None:
+        """G351 X-1 Y1 Z+1: mirroring on (-1) or off (1) per axis, modal; G351 stands alone in its block
+        (manual: "Mirroring with axis specification (G351)")."""
+        line = st.block.line
+        given = [(i, st.words.pop(a)) for i, a in enumerate(AXES) if a in st.words]
+        if not given:
+            raise self.error(line, g.col, "G351 needs at least one axis with -1 (mirroring on) or 1 (off): G351 X-1")
+        other = [w for w in st.words.values()] + [m for _, m in st.m]
+        if other or len(st.groups) > 1 or st.block.call or st.block.gcall:
+            col = other[0].col if other else g.col
+            raise self.error(line, col, "G351 must stand alone in its block (only a block number with it)")
+        for i, w in given:
+            if w.value not in (1.0, -1.0):
+                raise self.error(line, w.col, f"G351 {AXES[i]}{w.raw}: the value is -1 (mirroring on) or 1 (off)")
+            self.mirror[i] = w.value == -1.0
+        self.frame_changed(line, g.col)
 
     def extra_axes(self, st: Step) -> None:
         if st.words.keys() <= _NOT_EXTRA:  # no A B C U V W nor a named axis: nothing to do
@@ -720,12 +799,15 @@ class Isg(Interpreter):
             self.warn(st.src, f"G{code} with tool radius 0 (the setup gives no radius for the active tool, or D0): "
                       "the path is not offset")
         self.comp, self.comp_radius, self.comp_plane, self.comp_off = code, r, self.plane, False
+        a, c, _ = PLANE_AXES[self.plane]
+        L = self.turned_linear
+        self.comp_flip = -1.0 if L[a][a] * L[c][c] - L[a][c] * L[c][a] < 0 else 1.0  # manual: mirroring swaps the side
         self.comp_buf = []
 
     def flush_comp(self, departure: bool) -> None:
         """The buffered records, offset to the tool centre path, go to the program."""
         buf, self.comp_buf = self.comp_buf, None
-        side = 1.0 if self.comp == 41 else -1.0
+        side = (1.0 if self.comp == 41 else -1.0) * self.comp_flip
         self.comp, self.comp_off = 40, False
 
         def err(r, msg):
@@ -755,6 +837,10 @@ class Isg(Interpreter):
     def convert_path(self, st: Step) -> None:
         b, src, words, motion = st.block, st.src, st.words, st.motion
         self.extra_axes(st)
+        if self.turned and self.rotation is not None and self.rotation[1] != self.plane:
+            self.rotation = None  # manual: a change of plane deselects the contour rotation, with a warning
+            self.warn(src, "the change of plane deselects the contour rotation (#ROTATION)")
+            self.frame_changed(b.line, 1)
         if "R" in words:  # circle radius, modal (manual: "Radius programming (R, G163)")
             w = words.pop("R")
             if w.value == 0:
@@ -765,6 +851,8 @@ class Isg(Interpreter):
         cols = {i: w.col for i, w in axis_words.items()}
         centre = {a: words.pop(a) for a in "IJK" if a in words}
         if self.motion == 33:
+            if self.turned:
+                raise self.error(b.line, 1, "G33 in rotated or mirrored coordinates is not modelled by the simulator")
             self.thread_block(b, src, centre, values, cols)
         elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
             self.circle(b, src, centre, values, cols)
@@ -1019,6 +1107,8 @@ class Isg(Interpreter):
     # -- circles ---------------------------------------------------------------------------------
     def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float],
                cols: dict[int, int]) -> None:
+        if self.turned:
+            return self.turned_circle(b, src, words, values, cols)
         if self.centre_abs:  # G161: I/J/K are absolute centre coordinates -> relative to the start
             sh = self.shift()
             words = {a: Word(a, w.value + sh["IJK".index(a)] - self.pos["IJK".index(a)], w.raw, w.col)
@@ -1034,6 +1124,31 @@ class Isg(Interpreter):
         else:
             centre = self.centre_words(b.line, words, ", relative to the start; or its radius R")
         self.arc(src, end, centre, self.motion == 2)
+
+    def turned_circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float],
+                      cols: dict[int, int]) -> None:
+        """A circle in rotated or mirrored coordinates: its centre offsets turn with the frame; a mirrored
+        plane reverses its direction (G02 <-> G03). The plane must map onto itself."""
+        L, t = frame(self)
+        a, c, n = PLANE_AXES[self.plane]
+        if abs(abs(L[n][n]) - 1.0) > 1e-12:
+            raise self.error(b.line, 1, f"a circle in the plane {self.plane} under a coordinate system rotated about Z "
+                             "lies in a tilted plane: not modelled by the simulator (program it in G17)")
+        if self.centre_abs:  # G161: absolute centre coordinates of the program frame -> relative to the start
+            p = to_program(L, t, self.pos)
+            words = {k: Word(k, w.value - p["IJK".index(k)], w.raw, w.col) for k, w in words.items()}
+        end = self.target(values)
+        self.check_position(b.line, end, cols)
+        cw = self.motion == 2
+        if L[a][a] * L[c][c] - L[a][c] * L[c][a] < 0:
+            cw = not cw
+        if not words and self.circle_r is not None:
+            centre = self.radius_centre(b.line, end, cw)
+        else:
+            prog_centre = self.centre_words(b.line, words, ", relative to the start; or its radius R")
+            d = mat_vec(L, tuple(prog_centre[i] - self.pos[i] for i in range(3)))
+            centre = (self.pos[0] + d[0], self.pos[1] + d[1], self.pos[2] + d[2])
+        self.arc(src, end, centre, cw)
 
     def radius_centre(self, line: int, end, cw: bool):
         """The centre of a circle given by its radius R (modal): the shorter arc for R > 0, the

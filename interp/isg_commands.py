@@ -9,6 +9,7 @@ import re
 
 from .errors import CutsimError
 from .isg_lang import Cursor, expression
+from .modal import PLANE_AXES
 
 # commands without effect on the tool path -> what they do
 PASSIVE = {
@@ -67,12 +68,7 @@ def command(m, st, name: str, text: str, col: int) -> None:
         raise m.error(line, col, f"#MCS {first}: motion in machine coordinates (offsets and tool length switched "
                       "off) is not modelled by the simulator")
     if name == "ROTATION":
-        if first == "OFF":
-            return
-        angle = re.search(r"ANGLE\s*=\s*([-+0-9.]+)", text, re.I)
-        if angle and float(angle.group(1)) % 360 == 0:
-            return
-        raise m.error(line, col, "#ROTATION ON (a rotated coordinate system) is not modelled by the simulator")
+        return rotation(m, st, text, col, first)
     if name == "TRAFO" and first != "OFF":
         if "TRAFO" in m.cfg.transformations:
             m.warn_once(("#", "TRAFO"), st.src, "#TRAFO ON: the setup declares the transformation Cartesian "
@@ -142,6 +138,7 @@ def cs(m, st, text: str, col: int) -> None:
             m.cs.clear()
         elif m.cs:
             m.cs.pop()
+        m.frame_changed(line, col)
         return
     if op not in ("DEF", "ON"):
         raise m.error(line, col, f"#CS {op}: only #CS DEF, #CS ON and #CS OFF are known")
@@ -165,16 +162,19 @@ def cs(m, st, text: str, col: int) -> None:
     ident = int(ident[0]) if ident and ident[0] is not None else None
     if vec is not None:
         comps = [0.0 if v is None else float(v) for v in vec] + [0.0] * 6
-        t, rot = tuple(comps[:3]), comps[3:6]
-        for a in rot:
-            if a % 360 != 0:
-                raise m.error(line, col, f"#CS {op} with a rotation ({', '.join(f'{v:g}' for v in rot)} degrees) is not "
-                              "modelled by the simulator (a rotated machining plane); only translations are applied")
+        rot = comps[3:6]
+        tilted = [f"{'XY'[k]} by {rot[k]:g} degrees" for k in (0, 1) if rot[k] % 360 != 0]
+        if tilted:
+            raise m.error(line, col, f"#CS {op} with a rotation about {' and about '.join(tilted)} is not modelled by "
+                          "the simulator (a tilted machining plane needs a rotary tool axis); only translations and a "
+                          "rotation about the tool axis Z are applied")
+        t = (comps[0], comps[1], comps[2], rot[2])
         key = ident if ident is not None else (max(m.cs_defs) + 1 if m.cs_defs else 1)
         m.cs_defs[key] = t
         m.cs_last = key
         if op == "ON":
             m.cs.append(t)
+            m.frame_changed(line, col)
         return
     key = ident if ident is not None else m.cs_last
     if key is None or key not in m.cs_defs:
@@ -183,6 +183,7 @@ def cs(m, st, text: str, col: int) -> None:
     m.cs.append(m.cs_defs[key])
     if not all(math.isfinite(v) for v in m.cs_defs[key]):  # pragma: no cover - values come from expressions
         raise m.error(line, col, "#CS values out of range")
+    m.frame_changed(line, col)
 
 
 def file_names(m, st, text: str, col: int) -> None:
@@ -212,3 +213,104 @@ def dist_ctrl(m, st, text: str, col: int) -> None:
         return
     raise m.error(st.block.line, col, f"{axis}[DIST_CTRL {mode or '...'}]: distance control (the axis follows a sensor "
                   "on the workpiece surface) is not modelled by the simulator")
+
+
+def rotation(m, st, text: str, col: int, first: str) -> None:
+    """``#ROTATION ON [ANGLE = a CENTER1 = c1 CENTER2 = c2]`` (``=`` optional) / ``#ROTATION OFF``:
+    contour rotation in the current plane by ``a`` degrees about the point (c1, c2) of its two main
+    axes (manual: "Rotation in a plane (contour rotation)"); missing values are 0."""
+    line = st.block.line
+    if first == "OFF":
+        m.rotation = None
+        m.frame_changed(line, col)
+        return
+    if first != "ON":
+        raise m.error(line, col, "#ROTATION needs ON or OFF")
+    i = text.upper().index("ON") + 2
+    vals = {"ANGLE": 0.0, "CENTER1": 0.0, "CENTER2": 0.0}
+    cur = Cursor(m.name, line, text, i)
+    cur.skip()
+    if cur.peek() == "[":
+        cur.i += 1
+        while True:
+            cur.skip()
+            if cur.peek() == "]":
+                cur.i += 1
+                break
+            key = next((k for k in vals if cur.at_word(k)), None)
+            if key is None:
+                raise m.error(line, col, f"#ROTATION ON [...]: ANGLE, CENTER1 or CENTER2 expected at '{text[cur.i:cur.i + 10]}'")
+            cur.i += len(key)
+            cur.skip()
+            if cur.peek() == "=":
+                cur.i += 1
+            v = expression(cur)(m)
+            if isinstance(v, str):
+                raise m.error(line, col, f"#ROTATION {key}: \"{v}\" is not a number")
+            vals[key] = float(v)
+            cur.skip()
+            if cur.peek() == ",":
+                cur.i += 1
+    cur.skip()
+    if cur.i < len(text):
+        raise m.error(line, col, f"unexpected '{text[cur.i]}' after #ROTATION ON [...]")
+    m.rotation = (vals["ANGLE"], m.plane, vals["CENTER1"], vals["CENTER2"])
+    m.frame_changed(line, col)
+
+
+# -- the program frame: contour rotation, mirroring, #CS (with a rotation about Z), zero offsets ----------
+IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def turn(deg: float, a: int, c: int) -> tuple:
+    """The rotation by ``deg`` degrees in the plane of axes ``a`` -> ``c`` (positive from a towards c:
+    counter-clockwise in G17 seen from +Z)."""
+    r = math.radians(deg % 360.0)
+    co, si = math.cos(r), math.sin(r)
+    if deg % 90.0 == 0.0:  # exact quarter turns
+        co, si = round(co), round(si)
+    rows = [list(row) for row in IDENTITY]
+    rows[a][a], rows[a][c], rows[c][a], rows[c][c] = co, -si, si, co
+    return tuple(tuple(row) for row in rows)
+
+
+def mat_vec(L, v) -> tuple:
+    return tuple(L[i][0] * v[0] + L[i][1] * v[1] + L[i][2] * v[2] for i in range(3))
+
+
+def _mat_mul(A, B) -> tuple:
+    return tuple(tuple(sum(A[i][k] * B[k][j] for k in range(3)) for j in range(3)) for i in range(3))
+
+
+def frame(m) -> tuple:
+    """The map program coordinates -> machine coordinates as (L, t): q = L p + t. Applied in order:
+    the contour rotation about its centre, the mirroring of the program axes, the #CS stack (the
+    last one switched on first), the zero offset and G92 (docs/dialects/isg.md, "Rotation and
+    mirroring")."""
+    steps = []
+    if m.rotation is not None:
+        deg, plane, c1, c2 = m.rotation
+        a, c, _ = PLANE_AXES[plane]
+        R = turn(deg, a, c)
+        cen = [0.0, 0.0, 0.0]
+        cen[a], cen[c] = c1, c2
+        rc = mat_vec(R, cen)
+        steps.append((R, tuple(cen[i] - rc[i] for i in range(3))))
+    if any(m.mirror):
+        steps.append((tuple(tuple((-1.0 if m.mirror[i] else 1.0) if i == j else 0.0 for j in range(3))
+                            for i in range(3)), (0.0, 0.0, 0.0)))
+    for cs in reversed(m.cs):
+        steps.append((turn(cs[3], 0, 1), (cs[0], cs[1], cs[2])))
+    L, t = IDENTITY, (0.0, 0.0, 0.0)
+    for Ls, ts in steps:
+        L = _mat_mul(Ls, L)
+        lt = mat_vec(Ls, t)
+        t = tuple(lt[i] + ts[i] for i in range(3))
+    sh = (m.zero[0] + m.g92[0], m.zero[1] + m.g92[1], m.zero[2] + m.g92[2])
+    return L, tuple(t[i] + sh[i] for i in range(3))
+
+
+def to_program(L, t, q) -> list:
+    """The inverse of the frame (L is orthogonal): program coordinates of the machine point ``q``."""
+    d = (q[0] - t[0], q[1] - t[1], q[2] - t[2])
+    return [L[0][i] * d[0] + L[1][i] * d[1] + L[2][i] * d[2] for i in range(3)]

@@ -45,6 +45,17 @@ against the program and the TwinCAT CNC programming manual's semantics:
   implicit calls are not modal): down 2 at F50 to Z3, rapid up 4 to Z7; N90 X30 feeds again with
   G01 F200 (a call with parameters restores them). N100 G803 is declared external in setup.toml:
   no motion; N110 G00 Z20 rises from (30, 10, 7).
+- rotation.nc: #ROTATION ON [ANGLE = 30] turns the 10 mm square (10,0) (10,10) (0,10) (0,0) about
+  the origin: (x cos30 - y sin30, x sin30 + y cos30) = (8.660254, 5), (3.660254, 13.660254),
+  (-5, 8.660254), (0, 0) (reached by the incremental G91 Y-10, which turns too), (8.660254, 5).
+  #CS ON [50, 50, 0, 0, 0, 90]: program (x, y) is machine (50 - y, 50 + x): X10 Y0 -> (50, 60); the
+  counter-clockwise G03 to X0 Y10 about the program origin (I-10) is counter-clockwise from (50, 60)
+  to (40, 50) about (50, 50); X0 Y0 -> (50, 50); G91 X5 -> (50, 55). #ROTATION ON [ANGLE -90
+  CENTER1 = 20 CENTER2 = 0]: X20 Y10 is (0, 10) from the centre, turned by -90 degrees (10, 0):
+  (30, 0). G21 mirrors X: X10 Y0 -> (-10, 0); G03 X0 Y10 I-10 (counter-clockwise about (0, 0) in the
+  program) runs clockwise from (-10, 0) to (0, 10); G02 X-10 Y0 R10 (program: clockwise about
+  (-10, 10), the shorter arc) runs counter-clockwise from (0, 10) to (10, 0) about (10, 10). G20
+  ends it; G351 Y-1 mirrors Y alone: X5 Y5 -> (5, -5); G351 Y1 ends it.
 """
 from __future__ import annotations
 
@@ -61,7 +72,7 @@ from cutsim.interp import canon
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "isg-lang"
 SETUP = GOLDEN / "setup.toml"
-NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle"]
+NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle", "rotation"]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -109,10 +120,14 @@ def test_passive_commands_warn_once_each():
     ("#TRAFO ON", "kinematic transformation"),
     ("#RTCP ON", "RTCP"),
     ("#MCS ON", "machine coordinates"),
-    ("#CS ON [0, 0, 10, 0, 0, 45]", "rotation"),
-    ("#ROTATION ON [ANGLE=30]", "#ROTATION"),
-    ("G68 X0 Y0 R30", "contour rotation"),
-    ("G21", "mirroring"),
+    ("#CS ON [0, 0, 10, 30, 0, 45]", "rotation about X by 30 degrees"),
+    ("#CS ON [0, 0, 10, 0, -15, 0]", "rotation about Y by -15 degrees"),
+    ("#CS DEF [2] [0, 0, 10, 5, 5, 0]", "rotation about X by 5 degrees and about Y by 5 degrees"),
+    ("G68 X0 Z1 R30", "G68 takes the centre in the axes of the plane XY, not Z"),
+    ("G351 X-1 Y2", "G351 Y2: the value is -1 (mirroring on) or 1 (off)"),
+    ("G351 X-1 G01 Y2", "G351 must stand alone"),
+    ("G351", "G351 needs at least one axis"),
+    ("#ROTATION ON [ANGEL=30]", "ANGLE, CENTER1 or CENTER2 expected"),
     ("G237 G41 D1", "G41 under G237 (perpendicular selection/deselection of tool radius compensation)"),
     ("G74 Z1", "homing"),
     ("#FOO", "#FOO is not known"),
@@ -321,3 +336,70 @@ def test_distance_control_off_passes_on_is_refused():
     assert sum("DIST_CTRL" in m for _, m in prog.warnings) == 1
     e = fails("%P\nG01 X1 F100\nZ[DIST_CTRL DRYRUN CONST_DIST SET_DIST=[2*0.5]]\nM30\n")
     assert (e.line, e.col) == (3, 1) and "DRYRUN" in e.message
+
+
+# -- rotation and mirroring ------------------------------------------------------------------------------
+SQUARE = "G01 X0 Y0 F100\nX20\nY20\nX0\nY0\n"
+
+
+def feeds(prog) -> list:
+    return [(tuple(round(v, 9) for v in m.start), tuple(round(v, 9) for v in m.end)) for m in prog.moves]
+
+
+def test_mirrored_compensation_swaps_the_side():
+    # manual: under G41 the path after mirroring is computed right of the (mirrored) contour: G21 + G41
+    # round the square is the hand-mirrored square (x -> -x) with G42
+    mirrored = run("%P\nG21\nG00 X10 Y-10 Z-1\nG41\n" + SQUARE + "G40 G00 X10 Y-10\nM30\n", tool_radii={1: 2.0})
+    by_hand = run("%P\nG00 X-10 Y-10 Z-1\nG42\n" + SQUARE.replace("X20", "X-20") +
+                  "G40 G00 X-10 Y-10\nM30\n", tool_radii={1: 2.0})
+    assert feeds(mirrored) == feeds(by_hand)
+    # the program's square runs counter-clockwise with G41: the tool is inside it, 2 from each side; the
+    # mirrored square's inside corners (-18, 2), (-18, 18), (-2, 18) (the fourth is left by the departure)
+    corners = {m[1][:2] for m in feeds(mirrored)}
+    assert {(-18.0, 2.0), (-18.0, 18.0), (-2.0, 18.0)} <= corners
+
+
+def test_rotated_compensation_is_the_rotated_path():
+    rotated = run("%P\n#ROTATION ON [ANGLE=90]\nG00 X-10 Y-10 Z-1\nG41\n" + SQUARE + "G40 G00 X-10 Y-10\nM30\n",
+                  tool_radii={1: 2.0})
+    plain = run("%P\nG00 X-10 Y-10 Z-1\nG41\n" + SQUARE + "G40 G00 X-10 Y-10\nM30\n", tool_radii={1: 2.0})
+    # a quarter turn: (x, y) -> (-y, x), exactly
+    assert feeds(rotated) == [((-a[1], a[0], a[2]), (-b[1], b[0], b[2])) for a, b in feeds(plain)]
+
+
+def test_plane_change_deselects_the_contour_rotation():
+    prog = run("%P\n#ROTATION ON [ANGLE=90]\nG01 X10 F100\nG18 X20\nM30\n")
+    # X10 turned a quarter: (0, 10); after G18 the rotation is off: X20, Y stays where the tool is
+    assert feeds(prog)[0][1] == (0.0, 10.0, 50.0) and feeds(prog)[-1][1] == (20.0, 10.0, 50.0)
+    assert any("deselects the contour rotation" in m for _, m in prog.warnings)
+
+
+def test_g161_centre_in_rotated_coordinates():
+    # G161: I/J are the absolute centre (program frame); #CS turned 90 degrees at (0, 0): (x, y) -> (-y, x)
+    prog = run("%P\n#CS ON [0, 0, 0, 0, 0, 90]\nG01 X10 Y0 F100\nG161 G03 X0 Y10 I0 J0\nM30\n")
+    arc = prog.moves[-1]
+    assert (arc.start, arc.end, arc.center, arc.clockwise) == ((0.0, 10.0, 50.0), (-10.0, 0.0, 50.0),
+                                                               (0.0, 0.0, 50.0), False)
+
+
+@pytest.mark.parametrize("text, line, col, what", [
+    ("#CS ON [0, 0, 0, 0, 0, 30]\nG18\nG02 X10 Z0 I5 K0", 4, 1, "tilted plane"),
+    ("G41\nG01 X10 Y0 F100\nG21\nX20", 4, 1, "rotation or mirroring changed while tool radius compensation"),
+    ("#ROTATION ON [ANGLE=10]\nG33 Z-10 K1", 3, 1, "G33 in rotated or mirrored coordinates"),
+])
+def test_rotation_limits_are_exit_2(text, line, col, what):
+    e = fails(f"%P\n{text}\nM30\n", tool_radii={1: 2.0})
+    assert (e.line, e.col) == (line, col) and what in e.message, str(e)
+
+
+def test_rotation_on_a_lathe_is_exit_2():
+    e = fails("%P\nG21\nM30\n", machine_kind="lathe")
+    assert (e.line, e.col) == (2, 1) and "on a lathe" in e.message
+
+
+def test_g68_rotates_about_its_centre_and_g69_ends_it():
+    # G68 R90 about (10, 0): X20 Y0 is (10, 0) from the centre, a quarter turn (0, 10): (10, 10); a
+    # centre axis not programmed is where the tool is (X5 -> centre (5, 2) for the second rotation)
+    prog = run("%P\nG68 R90 X10 Y0\nG01 X20 Y0 F100\nG69\nX30\nG00 X5 Y2\nG68 R180 Y2\nG01 X6 Y2\nM30\n")
+    assert feeds(prog) == [((0.0, 0.0, 50.0), (10.0, 10.0, 50.0)), ((10.0, 10.0, 50.0), (30.0, 10.0, 50.0)),
+                           ((30.0, 10.0, 50.0), (5.0, 2.0, 50.0)), ((5.0, 2.0, 50.0), (4.0, 2.0, 50.0))]

@@ -1,4 +1,4 @@
-; EXPECT 3:1 G23 (mirroring on X and Y)
+; EXPECT 3:10 G351 Y2: the value is -1 (mirroring on) or 1 (off)
 %P
-G23
+G351 X-1 Y2
 M30
