@@ -562,6 +562,9 @@ class Isg(Interpreter):
         elif row.group == "mirror":
             self.mirror[0], self.mirror[1] = MIRRORS[code]
             self.frame_changed(line, g.col)
+            if code != 20:
+                self.warn_once(("G", code), st.src, f"G{g.raw} mirrors the program ({row.meaning}; on this controller "
+                               "it is not the millimetre input of other controls)")
         elif row.group == "mirror axes":
             st.g["mirror axes"] = g
         elif code == 69:

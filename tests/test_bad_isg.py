@@ -22,7 +22,8 @@ RULES = {  # one program per rule of docs/dialects/isg.md that a real program ca
     "external-unset", "machine-m-undeclared", "axis-undeclared", "trafo-on", "rtcp-on", "cs-rotation",
     "mcs-on", "radius-comp", "mirroring", "unknown-command", "global-file-missing", "implicit-call-missing",
     "macro-undefined", "comment-not-closed", "var-not-closed", "string-as-coordinate", "g70-inch",
-    "expression-nesting",
+    "expression-nesting", "modal-block", "modal-cycle-twice", "cs-circle-tilted", "rotation-bad-key",
+    "mirror-under-compensation",
 }
 
 
