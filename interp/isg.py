@@ -909,8 +909,12 @@ class Isg(Interpreter):
                              f"{MAX_CALL_DEPTH} deep "
                              f"({chain} -> {target}); the limit of open subprogram calls is {MAX_CALL_DEPTH}")
 
-    def call_local(self, b: IsgBlock, fr: Frame) -> None:
+    def call_local(self, b: IsgBlock, fr: Frame, params: dict | None = None) -> None:
+        """LL name (the caller's call parameters stay visible), LL CYCLE [NAME = name @P1 = ..] (its own,
+        and the caller's modal state restored at its end); ``params``: a modal cycle called again."""
         target, col = b.call
+        if params is None and b.modal:
+            params = self.cycle_call(b, fr, "LL", target, col, b.cparams)
         sec = fr.local.get(target)
         if sec is None and self.external(b, target):
             return
@@ -925,8 +929,27 @@ class Isg(Interpreter):
                 msg += " (this file defines no local subprogram '%L name')"
             raise self.error(b.line, col, msg)
         self.enter(b, col, target, fr)
-        sub = Frame(fr.name, fr.local, fr.params, fr.stack + (target,), fr.calls + ((fr.name, b.line),))
+        sub = Frame(fr.name, fr.local, fr.params if params is None else params, fr.stack + (target,),
+                    fr.calls + ((fr.name, b.line),))
+        if params is None:
+            self.run_level(sec, sub, top=False)
+            return
+        saved = self.cycle_state()
         self.run_level(sec, sub, top=False)
+        self.restore_cycle_state(saved)
+
+    def cycle_call(self, b: IsgBlock, fr: Frame, kind: str, name: str, col: int, pexprs: dict) -> dict:
+        """A cycle call's checks and parameters; a MODAL_MOVE one becomes the level's modal cycle."""
+        if fr.modal is not None:
+            raise self.error(b.line, col, f"cycle call while the modal cycle {fr.modal[1]} (line {fr.modal[4]}) is "
+                             "active: deselect it first with #DISABLE MODAL CYCLE")
+        if b.modal == "MODAL_BLOCK":
+            raise self.error(b.line, col, "MODAL_BLOCK (the cycle called again after every block) is not modelled by "
+                             "the simulator; MODAL_MOVE (again after every block with a motion) is")
+        params = {k: f(self) for k, f in pexprs.items()}
+        if b.modal == "MODAL_MOVE":
+            fr.modal = (kind, name, col, params, b.line)
+        return params
 
     def run_level(self, sec: Section, sub: Frame, top: bool) -> None:
         saved, saved_name = self.frame, self.name
@@ -939,22 +962,20 @@ class Isg(Interpreter):
 
     def call_global(self, b: IsgBlock, fr: Frame) -> None:
         fname, col, pexprs = b.gcall
-        if b.modal and fr.modal is not None:
-            raise self.error(b.line, col, f"cycle call while the modal cycle {fr.modal[0]} (line {fr.modal[3]}) is "
-                             "active: deselect it first with #DISABLE MODAL CYCLE")
-        if b.modal == "MODAL_BLOCK":
-            raise self.error(b.line, col, "MODAL_BLOCK (the cycle called again after every block) is not modelled by "
-                             "the simulator; MODAL_MOVE (again after every block with a motion) is")
-        params = {k: f(self) for k, f in pexprs.items()}
-        if b.modal == "MODAL_MOVE":
-            fr.modal = (fname, col, params, b.line)
+        if b.modal:
+            params = self.cycle_call(b, fr, "L", fname, col, pexprs)
+        else:
+            params = {k: f(self) for k, f in pexprs.items()}
         self.global_file(b, fr, fname, col, params, cycle=bool(b.modal))
 
     def modal_cycle(self, b: IsgBlock, fr: Frame) -> None:
         """The modal cycle (L CYCLE [NAME = .. MODAL_MOVE ..]) again after block ``b`` of its program
         level, which has a motion (manual: "Cycles as global or local subroutines")."""
-        fname, col, params, _ = fr.modal
-        self.global_file(b, fr, fname, col, dict(params), cycle=True)
+        kind, name, col, params, _ = fr.modal
+        if kind == "LL":
+            self.call_local(IsgBlock(b.line, b.col, b.label, call=(name, col)), fr, dict(params))
+        else:
+            self.global_file(b, fr, name, col, dict(params), cycle=True)
 
     def global_file(self, b: IsgBlock, fr: Frame, fname: str, col: int, params: dict, cycle: bool) -> None:
         """Run the global subprogram file ``fname`` (a declared external one: nothing); a cycle restores

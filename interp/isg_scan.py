@@ -50,7 +50,8 @@ class IsgBlock(Block):
     cond: object = None  # $IF <cond> $GOTO ... in one line: the condition
     target: str = ""  # the label this line defines ("N10" for N10:, "[NAME]")
     deferred: str = ""  # a line using a macro not defined when it was read: expanded when it runs
-    modal: str = ""  # L CYCLE [..]: "CYCLE", or "MODAL_MOVE" / "MODAL_BLOCK" for a modal cycle call
+    modal: str = ""  # L/LL CYCLE [..]: "CYCLE", or "MODAL_MOVE" / "MODAL_BLOCK" for a modal cycle call
+    cparams: dict = field(default_factory=dict)  # LL CYCLE [..]: {"@P1": closure}
 
     @property
     def empty(self) -> bool:
@@ -303,6 +304,12 @@ def call(cur: Cursor, block: IsgBlock, col: int) -> None:
     if cur.peek() in ("l", "L"):
         cur.i += 1
         cur.skip()
+        if cur.at_word("CYCLE"):  # LL CYCLE [NAME = local @P1 = ..]: a local subprogram as a cycle
+            cur.i += 5
+            cur.skip()
+            name, ncol, block.cparams, block.modal = cycle_args(cur)
+            block.call = (nfc(name), ncol)
+            return
         m = NAME.match(text, cur.i)
         if not m:
             raise cur.error("LL must be followed by the name of a local subprogram")

@@ -403,3 +403,14 @@ def test_g68_rotates_about_its_centre_and_g69_ends_it():
     prog = run("%P\nG68 R90 X10 Y0\nG01 X20 Y0 F100\nG69\nX30\nG00 X5 Y2\nG68 R180 Y2\nG01 X6 Y2\nM30\n")
     assert feeds(prog) == [((0.0, 0.0, 50.0), (10.0, 10.0, 50.0)), ((10.0, 10.0, 50.0), (30.0, 10.0, 50.0)),
                            ((30.0, 10.0, 50.0), (5.0, 2.0, 50.0)), ((5.0, 2.0, 50.0), (4.0, 2.0, 50.0))]
+
+
+def test_local_cycle_call_and_modal_local_cycle():
+    # LL CYCLE [NAME = DOWN @P1 = 2]: the local subprogram with its own @P1; its G91 G01 end with it
+    sub = "%L DOWN\nG91 G01 Z[-@P1] F100\nZ[@P1]\nM17\n"
+    prog = run(sub + "%P\nG00 X1 Z5\nLL CYCLE [NAME = DOWN @P1 = 2]\nX3\n"
+               "LL CYCLE [NAME = DOWN MODAL_MOVE @P1 = 1]\nX4\n#DISABLE MODAL CYCLE\nX5\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 5.0), (1.0, 0.0, 3.0), (1.0, 0.0, 5.0), (3.0, 0.0, 5.0),
+                          (3.0, 0.0, 4.0), (3.0, 0.0, 5.0), (4.0, 0.0, 5.0), (4.0, 0.0, 4.0), (4.0, 0.0, 5.0),
+                          (5.0, 0.0, 5.0)]
+    assert [type(m).__name__ for m in prog.moves][3] == "Rapid"
