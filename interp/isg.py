@@ -169,6 +169,8 @@ class Isg(Interpreter):
         self.warned: set = set()
         self.files: dict[str, tuple] = {}  # global subprogram files read: path -> (main, local)
         self.implicit_files: dict[str, str] = {}  # #FILE NAME [G80 = "file"]: G code -> file name
+        # [machine] external_subprograms by their names without extension ("0_INICIO_PROG", "G803")
+        self.external_stems = frozenset(os.path.splitext(n)[0] or n for n in cfg.external_subprograms)
         # tool radius compensation (G40/G41/G42): records between selection and deselection are buffered
         self.tool_no: int | None = next(iter(cfg.tool_radii), None)
         self.d_zero = False  # D0: no tool compensation
@@ -1010,12 +1012,10 @@ class Isg(Interpreter):
         (``[machine] external_subprograms``) and the simulator does not: True (after one warning per
         name) when ``fname`` is one of them; nothing runs and the tool stays where it is."""
         base = fname.replace("\\", "/").rsplit("/", 1)[-1]
-        up = base.upper()
-        names = {up, up + ".NC", up[:-3] if up.endswith(".NC") else up}
-        ext = self.cfg.external_subprograms
-        if not names & ext:
+        stem = os.path.splitext(base.upper())[0] or base.upper()
+        if stem not in self.external_stems:
             return False
-        self.warn_once(("external", up[:-3] if up.endswith(".NC") else up), Src(self.name, b.line, 1, b.label, self.frame.calls),
+        self.warn_once(("external", stem), Src(self.name, b.line, 1, b.label, self.frame.calls),
                        f"{base} is declared external in the setup ([machine] external_subprograms): its motion is not "
                        "simulated, the tool is taken to stay where it was")
         return True
@@ -1053,7 +1053,7 @@ class Isg(Interpreter):
     def g80_plain(self, g: Word, b: IsgBlock) -> bool:
         """G80 without an argument list, with no file named for it (#FILE NAME, G80.nc on the search
         path) and not declared external: the ISO "modal cycle off", which moves nothing."""
-        if "G80" in self.implicit_files or g.col in b.args or "G80" in self.cfg.external_subprograms:
+        if "G80" in self.implicit_files or g.col in b.args or "G80" in self.external_stems:
             return False
         return self.find_file("G80", b.line, g.col, missing_ok=True) is None
 

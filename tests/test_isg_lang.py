@@ -277,7 +277,7 @@ EXTERNAL_MSG = "is declared external in the setup ([machine] external_subprogram
 def test_external_subprograms_are_accepted_without_motion(tmp_path):
     # the setup declares what the machine has: a controller path, a cycle without .nc, an implicit G code,
     # a local name; each call keeps the tool where it was, with one warning per name
-    ext = frozenset({"0_INICIO_PROG.NC", "SPIGOT", "G803", "VENDOR"})
+    ext = frozenset({"0_INICIO_PROG.NC", "SPIGOT.ECY", "G803", "VENDOR"})
     text = ("%P\nG00 X5 Y6 Z7\nL C:\\Users\\Public\\Subprg\\0_Inicio_Prog.nc\nL 0_inicio_prog\n"
             "L CYCLE [NAME = Spigot.nc @P1 = 2 @P2 = V.L.X]\nG803\nLL VENDOR\nG01 X8 F100\nM30\n")
     e = fails(text, name=str(tmp_path / "main.nc"), external_subprograms=ext)
