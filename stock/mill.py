@@ -467,24 +467,39 @@ CHAIN_POINTS = 2001  # poses per piece of a chain swept at once
 PIECE_VERTICES = 500_000  # tool-body vertices per piece (hulls of ~2 triangles per vertex)
 
 
-def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh) -> list:
+def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh, bottom: float = -math.inf) -> list:
     """(src, message) for the first move of each tool that cuts deeper than its flutes: the tool
     above the flutes would meet material still there (``fresh(index, solids)`` gives the volume of
     ``solids`` inside the stock as it is before the move ``index``). Checked in program order only
-    where the tip is lower than the stock top minus the flute length."""
+    where the tip is lower than the stock top minus the flute length.
+
+    A candidate whose shank, within the stock's heights (``bottom`` .. ``top``), lies inside the
+    shank of an earlier candidate that met no fresh material meets none either (the stock only
+    loses material), so it is not checked again: the same XY path (a cycle's passes repeated at
+    every depth step) with the shank's lower end at every point no lower than there, or below the
+    stock's bottom on both ends of the earlier one's segment (``_Shadow``). A 34 mm deep CYCLE71 with
+    8 mm flutes: 624 checks of 30 ms each, now the ones down to the first pass below the stock."""
     cands = []
     for lv in batch.levels():
         if flute_short(lv.z, lv.tool, top):
-            cands.append((lv.index, lv.src, lv.tool, lv.z, lambda lv=lv: [shank_level(lv, top)]))
+            key = ("level", lv.tool.diameter, tuple(_xy_key(pl) for pl in lv.polylines()))
+            low = np.array([lv.z + lv.tool.length])
+            cands.append((lv.index, lv.src, lv.tool, lv.z, lambda lv=lv: [shank_level(lv, top)], key, low))
     for i, p in enumerate(paths):
         if not isinstance(p, SpatialPath) or p.rapid or p.tool.is_lathe_tool or batchable(p):
             continue
         zmin = float(p.points[:, 2].min())
         if flute_short(zmin, p.tool, top):
-            cands.append((i, p.src, p.tool, zmin, lambda p=p: shank_hulls(p, top, tol)))
+            low = p.points[:, 2] + p.tool.length
+            low = np.where(low >= top, math.inf, low)  # shank_hulls leaves such a pose out
+            key = ("path", p.tool.diameter, _xy_key(p.points))
+            cands.append((i, p.src, p.tool, zmin, lambda p=p: shank_hulls(p, top, tol), key, low))
     out, warned = [], set()
-    for idx, src, tool, z, solids in sorted(cands, key=lambda c: c[0]):
+    clean: dict[tuple, list[np.ndarray]] = {}  # key -> the lower ends of candidates that found nothing
+    for idx, src, tool, z, solids, key, low in sorted(cands, key=lambda c: c[0]):
         if tool.number in warned:
+            continue
+        if any(_shadowed(low, b, bottom) for b in clean.get(key, ())):
             continue
         sol = solids()
         if not sol:
@@ -493,4 +508,26 @@ def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh)
         if vol > 1e-3:
             warned.add(tool.number)
             out.append((src, flute_message(tool, z, top, vol)))
+        else:
+            clean.setdefault(key, []).append(low)
     return out
+
+
+def _xy_key(pts: np.ndarray) -> bytes:
+    """The XY polyline on a 1e-9 mm grid: candidates with the same key sweep the same footprint."""
+    return np.round(np.asarray(pts, dtype=float)[:, :2] * 1e9).astype(np.int64).tobytes()
+
+
+def _shadowed(low: np.ndarray, earlier: np.ndarray, bottom: float) -> bool:
+    """Whether the shank with lower ends ``low`` at the poses of an XY path lies, above the stock's
+    ``bottom``, inside the shank of the same path with lower ends ``earlier``: per segment (a level:
+    its one height) either the lower ends no lower at both poses (the hull of the shorter columns
+    lies in the hull of the longer ones), or the earlier ends both at or below the stock's bottom
+    (above it the earlier shank is the whole column over the footprint)."""
+    if len(low) != len(earlier):
+        return False
+    if len(low) == 1:
+        return bool(low[0] >= earlier[0] or earlier[0] <= bottom)
+    higher = (low[:-1] >= earlier[:-1]) & (low[1:] >= earlier[1:])
+    full = (earlier[:-1] <= bottom) & (earlier[1:] <= bottom)
+    return bool(np.all(higher | full))

@@ -297,25 +297,45 @@ def _drill_cloud(tool: ToolSpec, n: int, ring: np.ndarray, top: float) -> np.nda
 
 
 def _mill_cloud(tool: ToolSpec, tol: float, height: float | None) -> np.ndarray:
-    r = tool.diameter / 2.0
+    """The body's vertex cloud cut off at ``height`` (None: the whole flute length). Hull sweeps ask
+    for one body per pose: the whole body is built once per tool and tolerance (``_full_cloud``)
+    and a cut one from its layers (``_mill_layers``), with the same vertices as built one by one."""
     if tool.kind == "drill":
-        top = tool.length if height is None else min(tool.length, max(0.0, height))
-        n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
-        ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
-        ring = np.column_stack([np.cos(ang), np.sin(ang)]) * (math.pi / (n * math.sin(math.pi / n)))
-        return _drill_cloud(tool, n, ring, top)
-    rc = min(tool.corner_radius, r)
+        return _drill_body(tool, tol, height)
     top = tool.length if height is None else min(tool.length, max(0.0, height))
+    if top == tool.length:
+        return _full_cloud(tool, tol)
+    return _layers_cloud(_mill_layers(tool, tol), tool, top)
+
+
+def _drill_body(tool: ToolSpec, tol: float, height: float | None) -> np.ndarray:
+    r = tool.diameter / 2.0
+    top = tool.length if height is None else min(tool.length, max(0.0, height))
+    n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
+    ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    ring = np.column_stack([np.cos(ang), np.sin(ang)]) * (math.pi / (n * math.sin(math.pi / n)))
+    return _drill_cloud(tool, n, ring, top)
+
+
+@functools.lru_cache(maxsize=256)
+def _full_cloud(tool: ToolSpec, tol: float) -> np.ndarray:
+    cloud = _layers_cloud(_mill_layers(tool, tol), tool, tool.length)
+    cloud.flags.writeable = False  # shared by every pose: callers add the pose (a new array)
+    return cloud
+
+
+@functools.lru_cache(maxsize=256)
+def _mill_layers(tool: ToolSpec, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ring (n, 2) of unit radius and the corner's layers (radius, z) of a mill, from the tip up
+    (a flat end mill: the one layer at the tip)."""
+    r = tool.diameter / 2.0
+    rc = min(tool.corner_radius, r)
     n = max(8, math.ceil(2 * math.pi / segment_angle(r, tol)))
     ang = np.linspace(0, 2 * math.pi, n, endpoint=False)
     # Vertices a little outside the circle so the polygon has the circle's perimeter, hence its
     # mean width: the walls a sweep cuts deviate both ways within the tolerance, unbiased in volume.
     ring = np.column_stack([np.cos(ang), np.sin(ang)]) * (math.pi / (n * math.sin(math.pi / n)))
-
-    def layer(rad: float, z: float) -> np.ndarray:
-        return np.column_stack([ring * rad, np.full(n, z)]) if rad > 1e-12 else np.array([[0.0, 0.0, z]])
-
-    layers = []
+    rad, zs = [], []
     if rc > 0:
         k = max(1, math.ceil((math.pi / 2) / segment_angle(rc, tol)))
         # the corner arc's inner vertices stand out so each chord's triangle has the sector's
@@ -324,17 +344,42 @@ def _mill_cloud(tool: ToolSpec, tol: float, height: float | None) -> np.ndarray:
         f = math.sqrt(delta / math.sin(delta))
         for i, a in enumerate(np.linspace(0, math.pi / 2, k + 1)):
             s = f if 0 < i < k else 1.0
-            z = rc - rc * s * math.cos(a)
-            if z >= top:
-                break
-            layers.append(layer((r - rc) + rc * s * math.sin(a), z))
+            zs.append(rc - rc * s * math.cos(a))
+            rad.append((r - rc) + rc * s * math.sin(a))
     else:
-        layers.append(layer(r, 0.0))
+        zs.append(0.0)
+        rad.append(r)
+    return ring, np.array(rad), np.array(zs)
+
+
+def _layers_cloud(layers: tuple, tool: ToolSpec, top: float) -> np.ndarray:
+    """The mill's cloud up to ``top``: the corner's layers below it, then the section at ``top``."""
+    ring, rad, zs = layers
+    r = tool.diameter / 2.0
+    rc = min(tool.corner_radius, r)
+    if rc > 0:
+        below = np.flatnonzero(zs >= top)
+        m = int(below[0]) if len(below) else len(zs)  # the layers up to the first at or above the top
+        rad, zs = rad[:m], zs[:m]
+    rads = list(rad)
+    heights = list(zs)
     if top < rc:  # the cut falls on the corner: its section circle
-        layers.append(layer((r - rc) + math.sqrt(max(0.0, rc * rc - (rc - top) ** 2)), top))
+        rads.append((r - rc) + math.sqrt(max(0.0, rc * rc - (rc - top) ** 2)))
+        heights.append(top)
     elif top > 0.0 or rc > 0:
-        layers.append(layer(r, top))
-    return np.vstack(layers)
+        rads.append(r)
+        heights.append(top)
+    n = len(ring)
+    out = []
+    for rd, z in zip(rads, heights):
+        if rd > 1e-12:
+            layer = np.empty((n, 3))
+            layer[:, :2] = ring * rd
+            layer[:, 2] = z
+            out.append(layer)
+        else:
+            out.append(np.array([[0.0, 0.0, z]]))
+    return np.vstack(out)
 
 
 # -- swept solids --------------------------------------------------------------------------------
