@@ -29,6 +29,7 @@ from .core import MOTION, Code, arc_centre
 from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
+from . import sinumerik_corner as corner
 from . import sinumerik_drill as drill
 from . import sinumerik_fast
 from .sinumerik_cycles import ANGLES, CYCLES, DRILLING, RUNNERS, SPECS, _spec, compensate_records, run_cycle
@@ -74,8 +75,7 @@ NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1",
            "CYCLE90", "CYCLE61", "CYCLE76", "CYCLE77", "CYCLE79", "CYCLE899", "CYCLE95", "CYCLE97", "MSG", "SETAL",
            "WORKPIECE"}
 # path words the simulator does not implement: an error naming them, not "unknown variable"
-UNSUPPORTED_NAMES = {"RND": "rounding the corner", "RNDM": "modal corner rounding", "CHF": "a chamfer",
-                     "CHR": "a chamfer", "ANG": "a contour angle", "AR": "an arc's opening angle",
+UNSUPPORTED_NAMES = {"ANG": "a contour angle", "AR": "an arc's opening angle",
                      "AP": "a polar angle", "RP": "a polar radius", "TURN": "helix turns", "POS": "a positioning axis",
                      "POSA": "a positioning axis", "OFFN": "a contour offset", "I1": "an intermediate point",
                      "J1": "an intermediate point", "K1": "an intermediate point"}
@@ -222,6 +222,7 @@ class Block:
     # bare machine keywords (name, column) of sinumerik_lang.MACHINE_COMMANDS: ``settings`` removes
     # the ones it implements; any left over is an error (``unsupported``)
     commands: list[tuple[str, int]] = field(default_factory=list)
+    corner: dict = field(default_factory=dict)  # CHF CHR RND RNDM FRC FRCM -> (value, column) (sinumerik_corner)
 
 
 class Sinumerik(ModalMachine):
@@ -249,6 +250,7 @@ class Sinumerik(ModalMachine):
         self.warned: set[str] = set()  # command kinds warned about (one warning each)
         # the setup's [machine] external_subprograms, by the name a call uses (call_name)
         self.externals = frozenset(call_name(n) for n in cfg.external_subprograms)
+        self.corners = corner.Corners()  # chamfers and roundings: RNDM, FRCM, the held move (sinumerik_corner)
         self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
         machine.state(self)  # the machine side's state (its modal part is saved by PROC ... SAVE)
 
@@ -329,6 +331,9 @@ class Sinumerik(ModalMachine):
             return self.system_slot(name, index, line, col, write)
         if name in UNSUPPORTED_NAMES:
             raise self.error(line, col, f"{name}= ({UNSUPPORTED_NAMES[name]}) is not supported by the simulator")
+        if name in corner.CORNER_WORDS:
+            raise self.error(line, col, f"{name} is a corner's chamfer, rounding or feed, written {name}=<value> in "
+                                        "a block with a move, not a variable")
         raise self.error(line, col, f"unknown variable '{name}' (declare it with DEF, or give a global one a "
                          f"value in the setup: [variables] \"{name}\" = ...)")
 
@@ -478,6 +483,15 @@ class Sinumerik(ModalMachine):
                 what = "the arc centre" if p is not rec.end else "the end point"
                 raise CutsimError(rec.src.program, rec.src.line, rec.src.col,
                                   range_message(f"{what} {'XYZ'[i]}", p[i], -COORD_LIMIT, COORD_LIMIT, "mm"))
+        cs = self.corners
+        if cs.capture is not None:  # the block's move, for its corner (sinumerik_corner.run_move)
+            cs.capture.append(rec)
+            return
+        if cs.hold is not None:  # a move waits for its corner: other records wait behind it
+            if not isinstance(rec, canon.MOTIONS):
+                cs.queue.append(rec)
+                return
+            corner.flush(self, "a cycle's or another kind of move comes next")
         if self.comp_buf is not None:
             self.comp_buf.append(rec)
         else:
@@ -516,6 +530,7 @@ class Sinumerik(ModalMachine):
                 continue
             self.count_block(ln)
             ended = self.block(ln, fr, stack)
+        corner.finish(self)  # a chamfer or rounding on the last move (no M30) is an error there
         if self.comp_buf is not None:
             self.flush_comp(None, last_line)
         self.program.blocks = self.executed
@@ -654,6 +669,8 @@ class Sinumerik(ModalMachine):
         if sinumerik_fast.plain_block(self, ln, src):  # constant G0/G1 X Y Z F, nothing else active
             return False
         line = ln.line
+        if self.corners.hold is not None:
+            self.corners.hold.blocks += 1
         blk = self.evaluate(ln)
         motion, new_comp = self.modal_codes(blk.gs, line)
         iso = drill.iso_codes(self, blk, src)  # G81 .. G89 / G80: True when this block drills a hole
@@ -666,6 +683,8 @@ class Sinumerik(ModalMachine):
             self.move(ln, src, blk.words, 0)
             self.motion = modal_motion
             drill.iso_drill(self, src)
+        elif blk.corner or self.corners.active():
+            corner.run_move(self, blk.corner, line, lambda: self.move(ln, src, blk.words, motion))
         else:
             self.move(ln, src, blk.words, motion)
         if new_comp == 40 and self.comp_buf is not None:
@@ -680,6 +699,7 @@ class Sinumerik(ModalMachine):
             if any(f.kind == "unit" for f in stack[1:]):  # M2/M30 in a subprogram: return
                 self.ret(stack)
                 return False
+            corner.finish(self)
             if self.comp_buf is not None:
                 self.flush_comp(None, line)
             self.end(src)
@@ -694,7 +714,10 @@ class Sinumerik(ModalMachine):
         line = ln.line
         blk = Block()
         for st in ln.stmts:
-            if isinstance(st, Assign):
+            if isinstance(st, Assign) and st.name in corner.CORNER_WORDS and not st.index and st.name not in self.vars:
+                corner.word(self, blk.corner, st.name, self.num(self.ev(st.value, line, st.col), line, st.col), line,
+                            st.col)
+            elif isinstance(st, Assign):
                 self.assign(st, line)
             elif isinstance(st, Def):
                 self.define(st, line)

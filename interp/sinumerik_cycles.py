@@ -18,6 +18,8 @@ from .canon import Src
 from .errors import CutsimError
 from .modal import PLANE_AXES
 from .compensation import Elem, OffsetError, _cross, _dot, _left, _norm, _sub, length, offset_chain, tangent
+from .sinumerik_corner import Corners
+from .sinumerik_corner import finish as finish_corners
 from .sinumerik_lang import (COORD_LIMIT, Branch, Call, Case, Frame, Goto, Num, Repeat, Ret, SubCall,
                              SubprogramMissing, Word, range_message)
 
@@ -850,6 +852,8 @@ def contour_records(m, unit, lines, cy: Cycle) -> list:
     """Run the contour's blocks in a sandbox: their records, with the machine's state put back."""
     saved = ModalState.of(m)
     saved_program = m.unit_program
+    saved_corners = m.corners
+    m.corners = Corners()  # the contour's own chamfers and roundings; a move held before the cycle waits
     recs: list = []
     m.program.records = recs
     m.comp_buf = None
@@ -876,9 +880,11 @@ def contour_records(m, unit, lines, cy: Cycle) -> list:
             m.block(ln, fr, [fr])
             if m.plane != "XY":
                 raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in G17 (XY)")
+        finish_corners(m)  # RND on the contour's last move: an error there
     finally:
         saved.restore(m)
         m.unit_program = saved_program
+        m.corners = saved_corners
     return recs
 
 

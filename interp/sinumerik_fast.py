@@ -132,7 +132,7 @@ def plain_evaluate(m, ln: Line, block, value):
 def plain_block(m, ln: Line, src) -> bool:
     """``Sinumerik.block(ln, ...)`` for a block of plain constant G0/G1 X Y Z F words (as
     ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.iso), no
-    modal call (MCALL), radius compensation off, the machine state (interp/sinumerik_machine.py)
+    modal call (MCALL), radius compensation off, no chamfer or rounding waiting or modal (RNDM), the machine state (interp/sinumerik_machine.py)
     without inch units, programmable frame, work offset, pending warnings or deferred cycles, a
     tool in the spindle; one motion code (or none) and G0/G1 active; F > 0; the end point within
     COORD_LIMIT. Then each hook of the long way does nothing but what is done here: clear the
@@ -140,6 +140,9 @@ def plain_block(m, ln: Line, src) -> bool:
     (through m.rapid / m.linear). False (nothing done) otherwise: the block goes the long way,
     which raises its errors there."""
     if m.comp_buf is not None or getattr(m, "iso", None) is not None or getattr(m, "mcall", None) is not None:
+        return False
+    cs = getattr(m, "corners", None)
+    if cs is not None and (cs.hold is not None or cs.modal_r > 0.0):
         return False
     ms = m.__dict__.get("_machine")
     if ms is None or ms.pending or ms.deferred or ms.no_tool:

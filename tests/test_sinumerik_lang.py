@@ -355,8 +355,8 @@ RET
 def test_r_index_assignment_scoped_def_and_unsupported_path_words():
     p = run("R[2+1]=5\nDEF CHAN REAL CC=2\nG1 X=R3+CC F100\nWAITP(X)\nM30\n")
     assert ends(p) == [(7, 0, 50)] and p.warnings[-1][1].startswith("WAITP")
-    e = error_of("G1 X10 RND=2 F100\n")
-    assert (e.line, e.col) == (1, 8) and e.message == "RND= (rounding the corner) is not supported by the simulator"
+    e = error_of("G1 X10 ANG=30 F100\n")  # (RND=, CHF=: tests/test_sinumerik_corner.py)
+    assert (e.line, e.col) == (1, 8) and e.message == "ANG= (a contour angle) is not supported by the simulator"
 
 
 def test_subprograms_in_the_archive_folder_spf_dir(tmp_path):
