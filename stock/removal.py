@@ -96,8 +96,31 @@ class _Frame:
     def meets(self, lo, hi) -> bool:
         return _overlap(lo, hi, self.lo, self.hi)
 
+    def clip(self, solids: list[m3d.Manifold]) -> list[m3d.Manifold]:
+        """``solids`` cut off by the planes of the stock's box (plus the margin) they reach beyond by
+        more than the box's own size: the stock lies inside the box, so what it loses, and what a
+        check finds, are unchanged. A tool far bigger than the stock (a 10 m ball-end over a 30 mm
+        plate: hulls 530 mm wide with thousands of triangles, 3M in all, 21 s in the subtract)
+        then keeps only the few faces over the stock."""
+        lo, hi = self.lo - self.margin, self.hi + self.margin
+        reach = CLIP_REACH * float(np.max(hi - lo))
+        out = []
+        for s in solids:
+            b = s.bounding_box()
+            for ax in range(3):
+                if b[ax] < lo[ax] - reach:
+                    s = s.trim_by_plane(tuple(float(k == ax) for k in range(3)), float(lo[ax]))
+                if b[ax + 3] > hi[ax] + reach:
+                    s = s.trim_by_plane(tuple(-float(k == ax) for k in range(3)), -float(hi[ax]))
+            if not s.is_empty():
+                out.append(s)
+        return out
+
     def revolve(self, region: m3d.CrossSection) -> m3d.Manifold:
         return m3d.Manifold.revolve(region, circular_segments=self.nseg)
+
+
+CLIP_REACH = 1.0  # sweeps reaching beyond the stock's box by more than this many times its size are cut off
 
 
 def _frame(stock: m3d.Manifold, spec: StockSpec, tol: float) -> _Frame:
@@ -180,6 +203,7 @@ class _Sweeper:
         return self.bodies[tool.number]
 
     def add_cut(self, index: int, solids: list) -> _Cut | None:
+        solids = self.f.clip(solids)
         if solids:
             lo, hi = _bbox(solids)
             if self.f.meets(lo, hi):
@@ -233,7 +257,8 @@ class _Sweeper:
             return
         cut = self.add_cut(i, mill.sweep(path, self.tol, self.cap))
         if cut is not None:  # checked with the tool shrunk by a few tolerances (stock/mill.py)
-            self.checks.append((_Cut(i, mill.check_solids(path, self.tol, self.cap), None, cut.lo, cut.hi), path))
+            self.checks.append((_Cut(i, self.f.clip(mill.check_solids(path, self.tol, self.cap)), None, cut.lo, cut.hi),
+                                path))
 
     def level(self, i: int, path: SpatialPath) -> None:
         self.millb.take(i, path)
@@ -254,7 +279,7 @@ class _Sweeper:
     def flush(self) -> None:
         """Sweep the moves held back for joining: the chain (lazily, piece by piece when it is
         subtracted; a bounding box suffices until then) and the pending arc."""
-        tol, cap = self.tol, self.cap
+        tol, cap, clip = self.tol, self.cap, self.f.clip
         if self.chain.parts:
             index, tool = self.chain.index, self.chain.tool
             reach = np.array([tool.diameter / 2.0, tool.diameter / 2.0, 0.0])
@@ -262,7 +287,7 @@ class _Sweeper:
                 lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach + [0.0, 0.0, tool.length]
                 if self.f.meets(lo, hi):
                     self.cuts.append(_Cut(index, [], None, lo, hi,
-                                          build=lambda pts=pts, tool=tool: mill.hull_sweep(pts, tool, tol, cap)))
+                                          build=lambda pts=pts, tool=tool: clip(mill.hull_sweep(pts, tool, tol, cap))))
         if self.arcs:
             index, p = self.arcs.pop()
             solids = helix.arc_sweep(p, tol, self.f.top)
@@ -319,8 +344,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         warnings += mill.flute_warnings(sweeper.millb, paths, frame.top, tol, lambda idx, sol: _fresh_volume(
             stock, _Cut(idx, sol, None, *_bbox(sol)), sweeper.cuts, frame.revolve, built), float(frame.lo[2]))
         stock = mill.refined(stock)
-    del built
-    part, count = _subtract(stock, sweeper.cuts, paths, frame, work, progress)
+    part, count = _subtract(stock, sweeper.cuts, paths, frame, work, progress, built)
     return Removal(part, warnings, count)
 
 
@@ -343,7 +367,7 @@ def _collisions(stock: m3d.Manifold, sweeper: _Sweeper, progress: Progress | Non
 
 
 def _subtract(stock: m3d.Manifold, cuts: list[_Cut], paths: list, frame: _Frame, work: "Work",
-              progress: Progress | None) -> tuple[m3d.Manifold, int]:
+              progress: Progress | None, built: "_Built | None" = None) -> tuple[m3d.Manifold, int]:
     """One batch subtract; a program whose solids exceed CHUNK_TRIANGLES is subtracted in
     consecutive batches of about that size (cut order), each built just before and released
     after, so memory stays bounded however long the program is. Returns the part (debris
@@ -358,7 +382,7 @@ def _subtract(stock: m3d.Manifold, cuts: list[_Cut], paths: list, frame: _Frame,
     for k, c in enumerate(cuts):
         if progress:
             progress("subtracting", k, len(cuts))
-        for sol in c.get():
+        for sol in (built.take(c) if built is not None else c.get()):  # swept for a check: not again
             pending.append(sol)
             tris += sol.num_tri()
         if tris > CHUNK_TRIANGLES:
@@ -517,6 +541,14 @@ class _Built:
             old = next(iter(self.solids))
             self.held -= self.solids.pop(old)[2]
         return got[1]
+
+    def take(self, cut: _Cut) -> list:
+        """The solids of ``cut`` for the subtract, built ones handed over (and no longer kept)."""
+        got = self.solids.pop(id(cut), None)
+        if got is None:
+            return cut.get()
+        self.held -= got[2]
+        return [s for s, _, _ in got[1]]
 
 
 BUILT_TRIANGLES = 1_000_000  # triangles of lazily swept cuts kept between checks
