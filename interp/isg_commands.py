@@ -226,7 +226,9 @@ def rotation(m, st, text: str, col: int, first: str) -> None:
         return
     if first != "ON":
         raise m.error(line, col, "#ROTATION needs ON or OFF")
-    i = text.upper().index("ON") + 2
+    pad = col + len("ROTATION") + 1  # where the text starts in the line (one blank after the name, as written)
+    text = " " * pad + text
+    i = text.upper().index("ON", pad) + 2
     vals = {"ANGLE": 0.0, "CENTER1": 0.0, "CENTER2": 0.0}
     cur = Cursor(m.name, line, text, i)
     cur.skip()
