@@ -453,12 +453,13 @@ class Chain:
         ``hull_sweep`` one after the other: a long CAM program is then never all in memory as
         solids at once. A piece has at most CHAIN_POINTS poses, fewer for tools whose hulls are
         big (about PIECE_VERTICES body vertices per piece). The chain is empty afterwards."""
+        from . import tube
         from .tools import mill_body
 
         pts = np.concatenate(self.parts)
         self.parts = []
         size = CHAIN_POINTS
-        if not (self.tool.corner_radius >= self.tool.diameter / 2.0 - 1e-12):  # not a ball (tubes)
+        if not tube.is_ball(self.tool):  # a ball-end mill sweeps tubes (the same test as the estimate's)
             size = int(min(CHAIN_POINTS, max(50, PIECE_VERTICES // len(mill_body(self.tool, tol)[0]))))
         return [pts[i:i + size] for i in range(0, max(1, len(pts) - 1), size - 1)]
 

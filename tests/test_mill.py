@@ -239,3 +239,92 @@ def test_slot_in_mesh_stock(tmp_path):
     vol = (60 * 10 + math.pi * 25) * 3
     assert abs(r.report["removed_volume"] - vol) <= 5e-4 * vol
     assert r.report["stock_volume"] == pytest.approx(200000.0)
+
+
+def test_flute_check_same_path_deeper(tmp_path):
+    """Flute checks skip a pass whose shank lies inside the shank of an earlier clean pass on the
+    same XY path (stock/mill.py ``_shadowed``), but not one that reaches lower into fresh stock. A
+    6 mm end mill with 5 mm flutes on a 20 mm plate slots X-30..30 (through the plate, entering and
+    leaving outside it) at Z-3 (flutes above the top), Z-6 (shank from Z-1: cleared by the Z-3 pass) and Z-13 (line 12):
+    its shank from Z-8 meets the 2 mm from Z-8 to Z-6 that no pass took, over the shank's
+    footprint in the plate: X-20..20 x 2 r (r = 3 - 2 tol; straight flanks, exact). The deeper passes at Z-16 .. Z-25 (bottoms below the plate's
+    Z-20 or inside the earlier shanks) find nothing more; the slot goes through the plate but for
+    the 2 mm no flute reached."""
+    tol = 0.01
+    setup = tmp_path / "s.toml"
+    setup.write_text(f"""\
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [-30.0, 0.0, 10.0]
+[stock]
+shape = "box"
+x = [-20.0, 20.0]
+y = [-20.0, 20.0]
+z = [-20.0, 0.0]
+[[tool]]
+number = 1
+kind = "endmill"
+diameter = 6.0
+length = 5.0
+[simulation]
+tolerance = {tol}
+""")
+    lines = ["N10 G00 G17 G90 T1 S1000 M03"]
+    n = 20
+    for z in (-3, -6, -13, -16, -19, -22, -25):
+        lines += [f"N{n} G00 X-30. Y0.", f"N{n + 10} G01 Z{z}. F100", f"N{n + 20} G01 X30.", f"N{n + 30} G00 Z2."]
+        n += 40
+    lines.append(f"N{n} G00 Z20.")
+    prog = tmp_path / "p.nc"
+    prog.write_text("\n".join(lines) + "\n")
+    res = cutsim.simulate(str(prog), str(setup))
+    flutes = [(w["line"], w["message"]) for w in res.warnings if "flute length" in w["message"]]
+    assert [line for line, _ in flutes] == [12], flutes  # the Z-13 slot (N120)
+    assert not [w for w in res.warnings if "flute length" not in w["message"]], res.warnings
+    vol = float(flutes[0][1].split("(")[-1].split(" mm^3")[0])
+    assert vol == pytest.approx(2.0 * 40.0 * 2 * (3.0 - 2 * tol), abs=2e-3), vol
+    # the slot through the plate (X-20..20 x 6 mm) but for Z-8..-6: 18 mm deep
+    assert res.report["removed_volume"] == pytest.approx(40.0 * 6.0 * 18.0, abs=1e-3)
+
+
+def test_tool_far_bigger_than_the_stock(tmp_path):
+    """A 2 m flat end mill over a 10 x 10 x 5 mm plate: its sweeps reach far beyond the plate and
+    are cut off at the plate's box (stock/removal.py ``_Frame.clip``) without changing what the
+    plate loses. Plunge to Z-1 (a 3D move: hulls), ramp to X5 Z-2 (both discs cover the plate, the
+    lower bottom is Z-2), then a level pass at Z-3 (a prism): the plate is faced to Z-3 exactly,
+    300 mm^3, and no warning."""
+    setup = tmp_path / "s.toml"
+    setup.write_text("""\
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [0.0, 0.0, 10.0]
+[stock]
+shape = "box"
+x = [0.0, 10.0]
+y = [0.0, 10.0]
+z = [-5.0, 0.0]
+[[tool]]
+number = 1
+kind = "endmill"
+diameter = 2000.0
+length = 20.0
+[simulation]
+tolerance = 0.01
+""")
+    prog = tmp_path / "p.nc"
+    prog.write_text("""\
+N10 G00 G17 G90 T1 S1000 M03
+N20 G00 X0. Y0. Z5.
+N30 G01 Z-1. F100
+N40 G01 X5. Z-2.
+N50 G01 Z-3.
+N60 G01 X10.
+N70 G00 Z20.
+""")
+    res = cutsim.simulate(str(prog), str(setup))
+    assert res.warnings == []
+    assert res.report["removed_volume"] == pytest.approx(300.0, abs=1e-6)
+    lo, hi = res.mesh().bounds
+    assert hi[2] == pytest.approx(-3.0, abs=1e-9) and lo[2] == pytest.approx(-5.0, abs=1e-9)
