@@ -30,6 +30,7 @@ from dataclasses import dataclass, replace
 
 from .canon import Arc, Feed, Rapid, Src
 from .modal import PLANE_AXES
+from .sinumerik_lang import COORD_LIMIT, FEED_LIMIT, range_message
 from .sinumerik_machine import state as machine_state
 
 EPS = 1e-9
@@ -291,6 +292,9 @@ def word(m, corner: dict, name: str, value: float, line: int, col: int) -> None:
         raise m.error(line, col, f"FRC={value:g}: the feed of the chamfer or rounding must be more than 0")
     if value < 0:
         raise m.error(line, col, f"{name}={value:g} must not be negative")
+    hi = FEED_LIMIT if name in ("FRC", "FRCM") else COORD_LIMIT
+    if not value <= hi:  # NaN too
+        raise m.error(line, col, range_message(name, value, 0, hi, "mm/min or mm/rev" if name in ("FRC", "FRCM") else "mm"))
     corner[name] = (value, col)
 
 

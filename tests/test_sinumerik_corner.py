@@ -266,6 +266,8 @@ def test_a_tool_change_between_waits_behind_the_element():
     ("G0 X20 RND=5\nG1 Y20\nM30\n", 4, 8, "a rounding next to a G0 move is not modelled"),
     ("G3 X20 Y0 I10 J0 RND=12\nG1 X0\nM30\n", 4, 18, "does not fit inside the arc of radius 10"),
     ("R1=RND\nM30\n", 4, 4, "RND is a corner's chamfer, rounding or feed"),
+    ("G1 X20 RND=1000000\nY20\nM30\n", 4, 8, "RND = 1000000: value exceeds the permitted range 0 to 99"),
+    ("G1 X20 RND=2 FRC=2000000\nY20\nM30\n", 4, 14, "FRC = 2000000: value exceeds the permitted range"),
     ("SCALE X2\nG1 X20 RND=5\nY20\nM30\n", 5, 8, "scales it unevenly"),
 ])
 def test_bad_corners(text, line, col, fragment):
