@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import stat
 import unicodedata
 
@@ -25,6 +26,9 @@ from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse
 from .lexer import COORD_LIMIT, Word, check_range, fmt_count
 from .compensation import compensate_records
 from .modal import AXES, PLANE_AXES, InterpConfig
+
+# V.G.NP[i].V.X (zero offset i = 1..6, G54..G59) and V.G.NP_AKT.V.X (the active one), X/Y/Z only
+ZERO_VAR = re.compile(r"V\.G\.NP(?:\[(\d+)\]|_AKT)\.V\.([XYZ])")
 
 G_CODES = {
     0: Code("motion", "XYZ", "rapid"),
@@ -159,6 +163,7 @@ class Isg(Interpreter):
         self.declared: dict[str, tuple] = {}  # V.P./V.S. name -> dims
         self.frame: Frame | None = None
         self.zero = (0.0, 0.0, 0.0)  # G54..G59 offset
+        self.npv: dict[int, list] = {}  # zero offsets the program wrote (V.G.NP[i].V.X = ..): i -> [x, y, z]
         self.g92 = [0.0, 0.0, 0.0]
         self.cs: list[tuple[float, float, float]] = []  # active #CS translations (a stack)
         self.cs_defs: dict[int, tuple[float, float, float]] = {}  # #CS DEF: id -> translation
@@ -202,6 +207,10 @@ class Isg(Interpreter):
         self.check_count(main, local)
         self.frame = Frame(self.name, local, {}, (), ())
         self.declare(main, top=True)
+        if main.title:
+            t = main.title if len(main.title) <= 60 else main.title[:57] + "..."
+            self.warn(Src(self.name, main.line, main.col), f"the text after the program name '%{main.name}' "
+                      f"('{t}') is taken as the program's title (write a title in parentheses)")
         for other in main.others:
             self.warn(Src(self.name, other.line, other.col), f"a further main program '%{other.name}' in this file "
                       f"is not run (the file runs its first main program, '%{main.name}')")
@@ -243,8 +252,10 @@ class Isg(Interpreter):
         return self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed (the limit is [simulation] "
                           "max_blocks): a loop or jump that does not end?")
 
-    def declare(self, sec: Section, top: bool) -> None:
-        """#VAR declarations of a program level: V.L. into its frame, V.P./V.S. program-wide."""
+    def declare(self, sec: Section | IsgBlock, top: bool) -> None:
+        """#VAR declarations of a program level (at its start: each name with its first declaration),
+        or of one #VAR block where the run reaches it (after the level's first block: declared again,
+        with that block's values): V.L. into its frame, V.P./V.S. program-wide."""
         for d in sec.decls:
             size = math.prod(d.dims) if d.dims else 1
             values = [f(self) for f in d.init]
@@ -273,6 +284,10 @@ class Isg(Interpreter):
                 pc = self.control(sec, b, pc)
                 continue
             self.last_block = b
+            if b.decls:
+                self.declare(b, not fr.stack)
+                pc += 1
+                continue
             if b.deferred:
                 b = self.expand(b)
                 if b is None:
@@ -298,7 +313,13 @@ class Isg(Interpreter):
 
     def expand(self, b: IsgBlock):
         """A line whose macro was not defined when it was read: expanded and read now."""
-        nb = scan(self.name, b.line, expand_macros(self.name, b.line, b.deferred, self.macros))
+        used: list = []
+        nb = scan(self.name, b.line, expand_macros(self.name, b.line, b.deferred, self.macros,
+                                                   self.cfg.external_subprograms, used))
+        for name in used:
+            self.warn_once(("macro", name.upper()), Src(self.name, b.line, 1, b.label, self.frame.calls),
+                           f"macro \"{name}\" is declared external in the setup ([machine] external_subprograms): "
+                           "the machine defines it; its effect is not simulated (it is taken to move nothing)")
         if isinstance(nb, Ctrl):
             raise self.error(b.line, nb.col, f"${nb.kw} from a macro is not supported by the simulator")
         return nb
@@ -411,6 +432,9 @@ class Isg(Interpreter):
             if key in self.vars:
                 return self._element(self.vars, key, line, col)
             raise self.error(line, col, f"{key} is not declared (declare it in the main program's #VAR ... #ENDVAR)")
+        m = ZERO_VAR.fullmatch(key) if scope == "G" else None
+        if m:
+            return self.zero_table(m, line, col)[0][AXES.index(m.group(2))]
         if key in self.vars:
             return self.vars[key]
         if key in self.cfg.variables:
@@ -443,6 +467,10 @@ class Isg(Interpreter):
             if key.startswith("V.G.WZ_AKT.") and key != "V.G.WZ_AKT.R":
                 raise self.error(line, col, f"{key} = ...: changing the active tool's data (length, offsets) moves the "
                                  "tool tip in a way the simulator does not model")
+            m = ZERO_VAR.fullmatch(key) if scope == "G" else None
+            if m:
+                self.write_zero(m, value, line, col)
+                return
             self.vars[key] = value  # an external or global variable the program sets
             return
         if key not in store:
@@ -580,12 +608,36 @@ class Isg(Interpreter):
         else:
             st.g[row.meaning] = g
 
+    def zero_table(self, m, line: int, col: int) -> tuple[list, int | None]:
+        """The zero offset V.G.NP[i] (i = 1..6: G54..G59) or V.G.NP_AKT (the active one) a variable
+        names: (its X, Y, Z values, i or None for NP_AKT)."""
+        if m.group(1) is None:
+            return list(self.zero), None
+        i = int(m.group(1))
+        if not 1 <= i <= 6:
+            raise self.error(line, col, f"V.G.NP[{i}]: the zero offsets are V.G.NP[1] (G54) .. V.G.NP[6] (G59)")
+        if i not in self.npv:
+            self.npv[i] = list(self.cfg.work_offsets.get(f"G{53 + i}", (0.0, 0.0, 0.0)))
+        return self.npv[i], i
+
+    def write_zero(self, m, value, line: int, col: int) -> None:
+        """V.G.NP[i].V.X = .. writes the zero offset table (used from the next G54..G59 selection on);
+        V.G.NP_AKT.V.X = .. the active zero offset (at once), as the manual's examples do."""
+        if isinstance(value, str):
+            raise self.error(line, col, f"a zero offset is a number, not the string \"{value}\"")
+        vals, i = self.zero_table(m, line, col)
+        vals[AXES.index(m.group(2))] = float(value)
+        if i is None:
+            self.zero = tuple(vals)
+
     def zero_offset(self, st: Step, code: int, g: Word) -> None:
         if code == 53:
             self.zero = (0.0, 0.0, 0.0)
             return
         key = f"G{code}"
-        if key in self.cfg.work_offsets:
+        if code - 53 in self.npv:
+            self.zero = tuple(self.npv[code - 53])
+        elif key in self.cfg.work_offsets:
             self.zero = tuple(self.cfg.work_offsets[key])
         else:
             self.zero = (0.0, 0.0, 0.0)

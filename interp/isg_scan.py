@@ -52,11 +52,12 @@ class IsgBlock(Block):
     deferred: str = ""  # a line using a macro not defined when it was read: expanded when it runs
     modal: str = ""  # L/LL CYCLE [..]: "CYCLE", or "MODAL_MOVE" / "MODAL_BLOCK" for a modal cycle call
     cparams: dict = field(default_factory=dict)  # LL CYCLE [..]: {"@P1": closure}
+    decls: list = field(default_factory=list)  # a #VAR block after the level's first block: run where it stands
 
     @property
     def empty(self) -> bool:
         return not (self.items or self.call or self.gcall or self.offsets or self.commands or self.goto
-                    or self.deferred)
+                    or self.deferred or self.decls)
 
 
 @dataclass
@@ -93,6 +94,7 @@ class Section:
     ended: bool = False
     labels: dict = field(default_factory=dict)  # "N10" / "[NAME]" -> index
     others: list = field(default_factory=list)  # further main programs of the file (not run)
+    title: str = ""  # text after a main program's name without parentheses ("% 1x10 dots right")
 
     @property
     def flow(self) -> bool:
@@ -593,14 +595,17 @@ class MacroMissing(CutsimError):
     """A macro no file has defined (yet)."""
 
 
-def expand_macros(prog: str, lineno: int, text: str, macros: dict) -> str:
-    """Replace every ``"NAME"`` outside a #MSG text by the macro's content (recursively)."""
+def expand_macros(prog: str, lineno: int, text: str, macros: dict, external: frozenset = frozenset(),
+                  used: list | None = None) -> str:
+    """Replace every ``"NAME"`` outside a #MSG text by the macro's content (recursively). A macro no
+    file defined whose upper-cased name is in ``external`` (``[machine] external_subprograms``: the
+    machine's start program defines it) is replaced by nothing and its name appended to ``used``."""
     if '"' not in text:
         return text
     cmd = re.search(r"(?:^|[\s:\]])#\s*[A-Za-z]", text)
     if cmd:  # a # command's text (#MSG ["..."]) holds strings, not macros
         head = text[:cmd.start()]
-        return expand_macros(prog, lineno, head, macros) + text[cmd.start():] if '"' in head else text
+        return expand_macros(prog, lineno, head, macros, external, used) + text[cmd.start():] if '"' in head else text
     for _ in range(MAX_MACRO_DEPTH):
         out, i, changed = [], 0, False
         code = text.split(";", 1)[0] if '"' not in text.split(";", 1)[0][-1:] else text
@@ -609,12 +614,15 @@ def expand_macros(prog: str, lineno: int, text: str, macros: dict) -> str:
             before = code[:m.start()].rstrip()
             if name not in macros and before[-1:] in set("=!<>+-*/,[(&|"):
                 continue  # a string in an expression (V.E.X = "text", V.E.M == "A"), not a macro
-            if name not in macros:
+            if name not in macros and name.upper() in external and used is not None:
+                used.append(name)
+            elif name not in macros:
                 raise MacroMissing(prog, lineno, m.start() + 1, f"macro \"{name}\" is not defined: define it with "
                                   f"\"{name}\" = \"...\" before it is used (a macro from another file is not "
-                                  "known to the simulator)")
+                                  "known to the simulator; one the machine's own start program defines may be "
+                                  f"declared: [machine] external_subprograms = [\"{name}\"])")
             out.append(text[i:m.start()])
-            out.append(macros[name])
+            out.append(macros.get(name, ""))
             i = m.end()
             changed = True
         if not changed:
@@ -643,7 +651,11 @@ def header(name: str, lineno: int, indent: int, text: str) -> Section:
     if tail.startswith("("):
         j = tail.find(")")
         tail = "" if j < 0 else tail[j + 1:].lstrip()
-    if tail and not tail.startswith(";"):
+    if tail and not tail.startswith(";") and sec.kind == "main":
+        # a title written without parentheses (a bioprinter's "% 1x10 dots right 24 well plate"):
+        # the first word names the program, the rest of the line is its title (a warning says so)
+        sec.title = tail.split(";", 1)[0].rstrip()
+    elif tail and not tail.startswith(";"):
         raise CutsimError(name, lineno, indent + len(text) - len(tail) + 1,
                           "unexpected text after the program name (a title goes in parentheses, a comment after ';')")
     return sec
@@ -654,6 +666,22 @@ def _directive(stripped: str) -> str:
     if not m:
         return ""
     return (m.group(1) + (" " + m.group(2) if m.group(2) else "")).upper()
+
+
+def _declare_line(name: str, lineno: int, line: str, var_line: int, sec: Section, var_block) -> None:
+    """One line inside #VAR .. #ENDVAR: its declaration joins the level's (the first of each name,
+    known from the level's start) and, for a #VAR after the level's first block, that block's."""
+    try:
+        decl = declaration(name, lineno, line)
+    except CutsimError as e:
+        raise CutsimError(e.program, e.line, e.col, f"{e.message} (#VAR at line {var_line} is not closed "
+                          "by #ENDVAR before this line?)") from None
+    if decl is None:
+        return
+    if all(d.name != decl.name for d in sec.decls):
+        sec.decls.append(decl)
+    if var_block is not None:
+        var_block.decls.append(decl)
 
 
 def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | None = None, fast=None):
@@ -667,6 +695,7 @@ def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | No
     sections: list[Section] = []
     macros = {} if macros is None else macros
     mode, mode_line = "", 0
+    var_block: IsgBlock | None = None
     pending, pending_line = None, 0
     for lineno, line in iter_lines(text):
         code = line.split(";", 1)[0].rstrip()
@@ -691,20 +720,17 @@ def parse(name: str, text: str, max_blocks: int | None = None, macros: dict | No
         if mode == "var":
             if d == "ENDVAR":
                 mode = ""
+                if var_block is not None and var_block.decls:
+                    sec.blocks.append(var_block)  # declared again where it stands (real programs per layer)
             else:
-                try:
-                    decl = declaration(name, lineno, line)
-                except CutsimError as e:
-                    raise CutsimError(e.program, e.line, e.col, f"{e.message} (#VAR at line {mode_line} is not closed "
-                                      "by #ENDVAR before this line?)") from None
-                if decl is not None:
-                    sec.decls.append(decl)
+                _declare_line(name, lineno, line, mode_line, sec, var_block)
             continue
         if d == "COMMENT BEGIN":
             mode, mode_line = "comment", lineno
             continue
         if d == "VAR":
             mode, mode_line = "var", lineno
+            var_block = IsgBlock(line=lineno, col=1) if sec.blocks and not sec.ended else None
             continue
         if stripped.startswith("%"):
             sections.append(header(name, lineno, len(line) - len(stripped), stripped))

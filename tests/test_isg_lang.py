@@ -56,6 +56,14 @@ against the program and the TwinCAT CNC programming manual's semantics:
   program) runs clockwise from (-10, 0) to (0, 10); G02 X-10 Y0 R10 (program: clockwise about
   (-10, 10), the shorter arc) runs counter-clockwise from (0, 10) to (10, 0) about (10, 10). G20
   ends it; G351 Y-1 mirrors Y alone: X5 Y5 -> (5, -5); G351 Y1 ends it.
+- real-forms.nc (its own setup): forms of real WAAM and bioprinter programs. The header's text after
+  the name is a title; L vendor_start.nc and the macros "ARC_ON"/"ARC_OFF" are declared external (no
+  motion). G92 X100 Y50 Z10 puts X0 Y0 Z0 at machine (100, 50, 10). The first #VAR gives
+  V.P.LAYER = [1, 0.5]: X[10 * 1] -> (110, 50, 10), Z0.5 -> 10.5; the second #VAR, run where it
+  stands, gives [2, 1.5]: X20 -> (120, 50, 10.5), Z1.5 -> 11.5. V.G.NP[1].V.X = 200 and
+  V.G.NP[1].V.Y = -200 / 4 = -50 write G54's offset; after G92 X0 Y0 Z0, G54 X1 Y1 goes to
+  (201, -49), Z (not programmed) stays 11.5; V.G.NP_AKT.V.Z = -10 moves the active offset at once:
+  Z5 -> machine -5.
 """
 from __future__ import annotations
 
@@ -72,7 +80,8 @@ from cutsim.interp import canon
 HERE = Path(__file__).resolve().parent
 GOLDEN = HERE / "golden" / "isg-lang"
 SETUP = GOLDEN / "setup.toml"
-NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle", "rotation"]
+NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle", "rotation",
+         "real-forms"]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -414,3 +423,68 @@ def test_local_cycle_call_and_modal_local_cycle():
                           (3.0, 0.0, 4.0), (3.0, 0.0, 5.0), (4.0, 0.0, 5.0), (4.0, 0.0, 4.0), (4.0, 0.0, 5.0),
                           (5.0, 0.0, 5.0)]
     assert [type(m).__name__ for m in prog.moves][3] == "Rapid"
+
+
+# -- forms of real programs (issue 16 corpus): titles, #VAR where it stands, external macros, NP ------
+def test_header_text_after_the_name_is_a_title_with_one_warning():
+    prog = run("% 1x10 dots right 24 well plate\nG01 X1 F100\nM30\n")
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    assert [m for _, m in prog.warnings if "title" in m] == [
+        "the text after the program name '%1x10' ('dots right 24 well plate') is taken as the program's title "
+        "(write a title in parentheses)"]
+
+
+def test_local_subprogram_header_with_text_is_still_an_error():
+    e = fails("%L SUB extra\nM29\n%P\nM30\n")
+    assert (e.line, e.col) == (1, 8) and "unexpected text after the program name" in e.message
+
+
+def test_var_block_runs_where_it_stands():
+    text = ("%P\nG01 X1 F100\n#VAR\nV.P.A = 2\nV.L.B[2] = [3, 4]\n#ENDVAR\nXV.P.A YV.L.B[1]\nV.P.A = 7\n"
+            "#VAR\nV.P.A = 5\n#ENDVAR\nXV.P.A\nM30\n")
+    # the second #VAR sets V.P.A back to 5 although the program wrote 7 between them
+    assert ends(run(text)) == [(1.0, 0.0, 50.0), (2.0, 4.0, 50.0), (5.0, 4.0, 50.0)]
+
+
+def test_var_at_level_start_is_known_before_a_later_redeclaration():
+    # the level knows each name from its start with its first declaration's value
+    text = "%P\n#VAR\nV.P.A = 1\n#ENDVAR\nXV.P.A F100\n#VAR\nV.P.A = 3\n#ENDVAR\nXV.P.A\nM30\n"
+    assert ends(run(text)) == [(1.0, 0.0, 50.0), (3.0, 0.0, 50.0)]
+
+
+def test_macro_declared_external_passes_with_one_warning():
+    text = '%P\n"ARC_ON"\nG01 X1 F100\n"Arc_On"\nM30\n'
+    prog = run(text, external_subprograms=frozenset({"ARC_ON"}))
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    msgs = [m for _, m in prog.warnings if "macro" in m]
+    # one warning per declared name (the setup's names compare without case)
+    assert len(msgs) == 1 and "its effect is not simulated" in msgs[0]
+
+
+def test_macro_not_declared_names_the_setup_key():
+    e = fails('%P\nG01 X1 F100\n  "ARC_ON"\nM30\n', external_subprograms=frozenset({"OTHER"}))
+    assert (e.line, e.col) == (3, 3) and "[machine] external_subprograms = [\"ARC_ON\"]" in e.message
+
+
+def test_a_defined_macro_is_expanded_even_when_declared_external():
+    text = '"ARC_ON" = "G01 X5 F100"\n%P\n"ARC_ON"\nM30\n'
+    prog = run(text, external_subprograms=frozenset({"ARC_ON"}))
+    assert ends(prog) == [(5.0, 0.0, 50.0)] and not [m for _, m in prog.warnings if "macro" in m]
+
+
+def test_zero_offset_table_variables():
+    text = ("%P\nV.G.NP[3].V.Z = -2\nG56 G01 X0 Z0 F100\nV.G.NP[3].V.X = 5\nX0\nG56 X0\n"
+            "X[V.G.NP_AKT.V.X + V.G.NP[3].V.Z]\nM30\n")
+    # G56 is V.G.NP[3]; a table write acts from the next selection (N5 X0 stays at 0, N6 G56 X0 at 5)
+    prog = run(text, work_offsets={"G56": (1.0, 1.0, 1.0)})
+    assert ends(prog) == [(1.0, 0.0, -2.0), (1.0, 0.0, -2.0), (5.0, 0.0, -2.0), (8.0, 0.0, -2.0)]
+
+
+@pytest.mark.parametrize("text, col, what", [
+    ("V.G.NP[7].V.X = 1", 1, "V.G.NP[1] (G54) .. V.G.NP[6] (G59)"),
+    ("V.G.NP[1].V.X = \"A\"", 1, "a zero offset is a number"),
+    ("X[V.G.NP[0].V.Y]", 3, "V.G.NP[1] (G54) .. V.G.NP[6] (G59)"),
+])
+def test_zero_offset_variable_errors(text, col, what):
+    e = fails(f"%P\n{text}\nM30\n")
+    assert (e.line, e.col) == (2, col) and what in e.message, str(e)
