@@ -676,6 +676,7 @@ class Sinumerik(ModalMachine):
         iso = drill.iso_codes(self, blk, src)  # G81 .. G89 / G80: True when this block drills a hole
         end = self.settings(src, blk, motion)
         self.unsupported(blk, line)
+        corner.comp_change(self, new_comp)  # a corner where G40/G41/G42 changes: not modelled
         self.comp_on(new_comp, src, line)
         moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
         if iso:  # the hole position: G0 in the plane at the level the tool stands on, then the hole

@@ -418,6 +418,19 @@ def flush(m, why: str | None = None) -> None:
         m.emit(r)
 
 
+def comp_change(m, new_comp: int | None) -> None:
+    """A block that starts, changes or ends radius compensation (G41/G42/G40) while a move waits for
+    its corner: the held move and the next would be offset differently; not modelled (exit 2 at
+    the word leading to the corner)."""
+    h = m.corners.hold
+    if h is None or new_comp is None:
+        return
+    on = m.comp_buf is not None
+    if (new_comp == 40 and on) or (new_comp in (41, 42) and (not on or m.comp != new_comp)):
+        raise m.error(h.line, h.col, f"{h.kind}: a chamfer or rounding at a corner where the radius compensation "
+                                     f"starts, changes or ends (G{new_comp}) is not modelled")
+
+
 def finish(m) -> None:
     """The program (or a cycle's contour) ends: a chamfer or rounding still waiting has no second
     element: RND/CHF/CHR is an error at its word, RNDM's last corner is none."""

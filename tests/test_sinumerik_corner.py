@@ -269,6 +269,10 @@ def test_a_tool_change_between_waits_behind_the_element():
     ("G1 X20 RND=1000000\nY20\nM30\n", 4, 8, "RND = 1000000: value exceeds the permitted range 0 to 99"),
     ("G1 X20 RND=2 FRC=2000000\nY20\nM30\n", 4, 14, "FRC = 2000000: value exceeds the permitted range"),
     ("SCALE X2\nG1 X20 RND=5\nY20\nM30\n", 5, 8, "scales it unevenly"),
+    ("G1 X20 RND=5\nG42 Y20\nM30\n", 4, 8, "where the radius compensation starts, changes or ends (G42)"),
+    ("G41 G1 X20\nY20 CHR=2\nG40 X30 Y30\nM30\n", 5, 5, "(G40) is not modelled"),
+    ("G41 G1 X20\nRNDM=2\nY20\nG40\nG0 Z5\nM30\n", 6, 1, "RNDM: a chamfer or rounding at a corner where"),
+    ("G41 G1 X20 RND=2\nG42 Y20\nM30\n", 4, 12, "(G42) is not modelled"),
 ])
 def test_bad_corners(text, line, col, fragment):
     e = error_of(HEAD + text)
