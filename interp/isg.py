@@ -27,6 +27,15 @@ from .lexer import COORD_LIMIT, Word, check_range, fmt_count
 from .compensation import compensate_records
 from .modal import AXES, PLANE_AXES, InterpConfig
 
+class _EveryName:
+    """Contains every name (macros after a skipped external subprogram)."""
+
+    def __contains__(self, name) -> bool:
+        return True
+
+
+_EVERY_NAME = _EveryName()
+
 # V.G.NP[i].V.X (zero offset i = 1..6, G54..G59) and V.G.NP_AKT.V.X (the active one), X/Y/Z only
 ZERO_VAR = re.compile(r"V\.G\.NP(?:\[(\d+)\]|_AKT)\.V\.([XYZ])")
 
@@ -176,6 +185,7 @@ class Isg(Interpreter):
         self.implicit_files: dict[str, str] = {}  # #FILE NAME [G80 = "file"]: G code -> file name
         # [machine] external_subprograms by their names without extension ("0_INICIO_PROG", "G803")
         self.external_stems = frozenset(os.path.splitext(n)[0] or n for n in cfg.external_subprograms)
+        self.external_skipped: str | None = None  # the first declared external subprogram skipped
         # tool radius compensation (G40/G41/G42): records between selection and deselection are buffered
         self.tool_no: int | None = next(iter(cfg.tool_radii), None)
         self.d_zero = False  # D0: no tool compensation
@@ -314,12 +324,19 @@ class Isg(Interpreter):
     def expand(self, b: IsgBlock):
         """A line whose macro was not defined when it was read: expanded and read now."""
         used: list = []
-        nb = scan(self.name, b.line, expand_macros(self.name, b.line, b.deferred, self.macros,
-                                                   self.cfg.external_subprograms, used))
+        # after a declared external subprogram was skipped, a macro no file defines is taken to be
+        # one it defines (a WAAM cell's start program defines "Encender_arco"): every name passes
+        external = _EVERY_NAME if self.external_skipped else self.cfg.external_subprograms
+        nb = scan(self.name, b.line, expand_macros(self.name, b.line, b.deferred, self.macros, external, used))
         for name in used:
-            self.warn_once(("macro", name.upper()), Src(self.name, b.line, 1, b.label, self.frame.calls),
-                           f"macro \"{name}\" is declared external in the setup ([machine] external_subprograms): "
-                           "the machine defines it; its effect is not simulated (it is taken to move nothing)")
+            src = Src(self.name, b.line, 1, b.label, self.frame.calls)
+            if name.upper() in self.cfg.external_subprograms:
+                why = "is declared external in the setup ([machine] external_subprograms): the machine defines it"
+            else:
+                why = (f"is defined by no file: taken to be defined by the external {self.external_skipped} "
+                       "(declared in [machine] external_subprograms and not simulated)")
+            self.warn_once(("macro", name.upper()), src, f"macro \"{name}\" {why}; its effect is not simulated "
+                           "(it is taken to move nothing)")
         if isinstance(nb, Ctrl):
             raise self.error(b.line, nb.col, f"${nb.kw} from a macro is not supported by the simulator")
         return nb
@@ -1067,6 +1084,8 @@ class Isg(Interpreter):
         stem = os.path.splitext(base.upper())[0] or base.upper()
         if stem not in self.external_stems:
             return False
+        if self.external_skipped is None:
+            self.external_skipped = base
         self.warn_once(("external", stem), Src(self.name, b.line, 1, b.label, self.frame.calls),
                        f"{base} is declared external in the setup ([machine] external_subprograms): its motion is not "
                        "simulated, the tool is taken to stay where it was")

@@ -57,8 +57,8 @@ against the program and the TwinCAT CNC programming manual's semantics:
   (-10, 10), the shorter arc) runs counter-clockwise from (0, 10) to (10, 0) about (10, 10). G20
   ends it; G351 Y-1 mirrors Y alone: X5 Y5 -> (5, -5); G351 Y1 ends it.
 - real-forms.nc (its own setup): forms of real WAAM and bioprinter programs. The header's text after
-  the name is a title; L vendor_start.nc and the macros "ARC_ON"/"ARC_OFF" are declared external (no
-  motion). G92 X100 Y50 Z10 puts X0 Y0 Z0 at machine (100, 50, 10). The first #VAR gives
+  the name is a title; L vendor_start.nc and the macro "ARC_ON" are declared external, "ARC_OFF" is
+  taken to come from the skipped vendor_start.nc (no motion). G92 X100 Y50 Z10 puts X0 Y0 Z0 at machine (100, 50, 10). The first #VAR gives
   V.P.LAYER = [1, 0.5]: X[10 * 1] -> (110, 50, 10), Z0.5 -> 10.5; the second #VAR, run where it
   stands, gives [2, 1.5]: X20 -> (120, 50, 10.5), Z1.5 -> 11.5. V.G.NP[1].V.X = 200 and
   V.G.NP[1].V.Y = -200 / 4 = -50 write G54's offset; after G92 X0 Y0 Z0, G54 X1 Y1 goes to
@@ -488,3 +488,18 @@ def test_zero_offset_table_variables():
 def test_zero_offset_variable_errors(text, col, what):
     e = fails(f"%P\n{text}\nM30\n")
     assert (e.line, e.col) == (2, col) and what in e.message, str(e)
+
+
+def test_undefined_macro_after_a_skipped_external_subprogram_is_taken_to_be_its():
+    text = '%P\nG01 X1 F100\nL C:\\vendor\\start.nc\n"ARC_ON"\nX2\n"ARC_ON"\nM30\n'
+    prog = run(text, external_subprograms=frozenset({"START.NC"}))
+    assert ends(prog) == [(1.0, 0.0, 50.0), (2.0, 0.0, 50.0)]
+    msgs = [m for _, m in prog.warnings if "macro" in m]
+    assert msgs == ['macro "ARC_ON" is defined by no file: taken to be defined by the external start.nc (declared in '
+                    '[machine] external_subprograms and not simulated); its effect is not simulated (it is taken to '
+                    'move nothing)']
+
+
+def test_undefined_macro_before_the_external_call_is_still_an_error():
+    e = fails('%P\n"ARC_ON"\nL start.nc\nM30\n', external_subprograms=frozenset({"START.NC"}))
+    assert (e.line, e.col) == (2, 1) and 'macro "ARC_ON" is not defined' in e.message
