@@ -497,6 +497,11 @@ class Sinumerik(ModalMachine):
         else:
             self.program.records.append(rec)
 
+    def corner_flush(self) -> None:
+        """A cycle's moves follow a move held for its corner: the held move goes out as it is
+        (sinumerik_machine.run_mapped calls this before it collects the cycle's records)."""
+        corner.flush(self, "a cycle's move comes next")
+
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:
         self.main, self.subs = split_units(self.name, text, sinumerik_fast.read_plain)

@@ -326,6 +326,12 @@ def run_move(m, corner: dict, line: int, do_move) -> None:
     if kind is None and cs.hold is None:
         do_move()
         return
+    if machine_state(m).deferred:  # the block's cycles run in its move (under a frame): their moves come next
+        flush(m, "a cycle's move comes next")
+        if kind in ELEMENT_WORDS:
+            _refuse(m, line, corner[kind][1], kind)
+        do_move()
+        return
     cs.capture = []
     try:
         do_move()

@@ -589,6 +589,9 @@ def run_mapped(m, ms: Machine, fn) -> None:
     """Run ``fn`` (which moves the interpreter in program coordinates) in the WCS: the position is
     taken back into the WCS, the records ``fn`` emits are mapped into the machine."""
     recs: list = []
+    flush = getattr(m, "corner_flush", None)  # a move held for its corner goes out first, unmapped
+    if flush is not None:
+        flush()
     saved_records, saved_pos = m.program.records, list(m.pos)
     m.pos = list(ms.to_wcs(saved_pos))
     m.program.records = recs

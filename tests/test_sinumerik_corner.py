@@ -283,3 +283,16 @@ def test_bad_corners(text, line, col, fragment):
 def test_rndm_on_the_last_move_is_no_error():
     got = contour(run(HEAD + "RNDM=2\nG1 X20\nM30\n"))
     assert [g[0] for g in got] == ["Feed"]
+
+
+def test_a_cycle_after_the_held_move_under_a_frame():
+    """TRANS X5: G1 X20 RND=5 ends at machine X25; CYCLE81 comes next (a cycle's move, run in the
+    WCS and mapped): no rounding (one warning), the held move goes out once, not mapped a second
+    time: it ends at (25, 0, -1), and the cycle drills at X25 too."""
+    prog = run("T1 D1 M6\nTRANS X5\nG0 X0 Y0 Z-1\nG1 X20 F100 RND=5\nCYCLE81(10, 0, 2, -5)\nM30\n")
+    ends = [tuple(round(v, 6) for v in r.end) for r in prog.moves]
+    assert ends == [(5, 0, -1), (25, 0, -1), (25, 0, 2), (25, 0, -5), (25, 0, 10)]
+    assert any("RND= inserts no rounding here: a cycle's move comes next" in m for _, m in prog.warnings)
+    prog = run("T1 D1 M6\nG0 X0 Y0 Z-1\nG1 X20 F100 RND=5\nCYCLE81(10, 0, 2, -5)\nM30\n")  # no frame
+    assert [tuple(round(v, 6) for v in r.end) for r in prog.moves][1:] == [(20, 0, -1), (20, 0, 2), (20, 0, -5),
+                                                                           (20, 0, 10)]
