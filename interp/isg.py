@@ -216,7 +216,7 @@ class Isg(Interpreter):
         main, local = parse(self.name, text, self.cfg.max_blocks, self.macros, isg_fast.read_plain)
         self.check_count(main, local)
         self.frame = Frame(self.name, local, {}, (), ())
-        self.declare(main, top=True)
+        self.declare(main)
         if main.title:
             t = main.title if len(main.title) <= 60 else main.title[:57] + "..."
             self.warn(Src(self.name, main.line, main.col), f"the text after the program name '%{main.name}' "
@@ -262,10 +262,11 @@ class Isg(Interpreter):
         return self.error(b.line, 1, f"more than {self.cfg.max_blocks:,} blocks executed (the limit is [simulation] "
                           "max_blocks): a loop or jump that does not end?")
 
-    def declare(self, sec: Section | IsgBlock, top: bool) -> None:
+    def declare(self, sec: Section | IsgBlock) -> None:
         """#VAR declarations of a program level (at its start: each name with its first declaration),
         or of one #VAR block where the run reaches it (after the level's first block: declared again,
-        with that block's values): V.L. into its frame, V.P./V.S. program-wide."""
+        with that block's values): V.L. into its frame, V.P./V.S. program-wide (also from a subprogram:
+        the manual creates user variables in the main program or a subprogram, V.P. ones global)."""
         for d in sec.decls:
             size = math.prod(d.dims) if d.dims else 1
             values = [f(self) for f in d.init]
@@ -274,8 +275,6 @@ class Isg(Interpreter):
             if d.scope == "L":
                 store = self.frame.vl
             else:
-                if not top and d.scope == "P":
-                    raise self.error(d.line, d.col, f"{d.name}: V.P. variables are declared in the main program")
                 store = self.vars
                 self.declared[d.name] = d.dims
             store[d.name] = d.dims
@@ -295,7 +294,7 @@ class Isg(Interpreter):
                 continue
             self.last_block = b
             if b.decls:
-                self.declare(b, not fr.stack)
+                self.declare(b)
                 pc += 1
                 continue
             if b.deferred:
@@ -494,6 +493,13 @@ class Isg(Interpreter):
             base = key.split("[", 1)[0]
             if base in store and isinstance(store[base], tuple):
                 raise self.error(line, col, f"{key}: index outside the array {base}{''.join(f'[{d}]' for d in store[base])}")
+            if scope == "P" and base == key and self.external_skipped:
+                # a timber CAM program writes V.P.CHARGENLAENGE after L steuer_TW.up (external), which declares it
+                self.warn_once(("vp", key), Src(self.name, line, col, "", self.frame.calls),
+                               f"{key} is declared by no #VAR: taken to be declared by the external "
+                               f"{self.external_skipped} (declared in [machine] external_subprograms, not simulated)")
+                store[key] = value
+                return
             raise self.error(line, col, f"{key} is not declared (declare it in #VAR ... #ENDVAR)")
         if isinstance(store[key], tuple):
             raise self.error(line, col, f"{key} is an array: give its index")
@@ -1003,10 +1009,10 @@ class Isg(Interpreter):
         sub = Frame(fr.name, fr.local, fr.params if params is None else params, fr.stack + (target,),
                     fr.calls + ((fr.name, b.line),))
         if params is None:
-            self.run_level(sec, sub, top=False)
+            self.run_level(sec, sub)
             return
         saved = self.cycle_state()
-        self.run_level(sec, sub, top=False)
+        self.run_level(sec, sub)
         self.restore_cycle_state(saved)
 
     def cycle_call(self, b: IsgBlock, fr: Frame, kind: str, name: str, col: int, pexprs: dict) -> dict:
@@ -1022,11 +1028,11 @@ class Isg(Interpreter):
             fr.modal = (kind, name, col, params, b.line)
         return params
 
-    def run_level(self, sec: Section, sub: Frame, top: bool) -> None:
+    def run_level(self, sec: Section, sub: Frame) -> None:
         saved, saved_name = self.frame, self.name
         self.frame, self.name = sub, sub.name
         try:
-            self.declare(sec, top)
+            self.declare(sec)
             self.section(sec)
         finally:
             self.frame, self.name = saved, saved_name
@@ -1099,7 +1105,7 @@ class Isg(Interpreter):
         label = os.path.basename(path)
         self.enter(b, col, label, fr)
         sub = Frame(path, local, params, fr.stack + (label,), fr.calls + ((fr.name, b.line),))
-        self.run_level(main, sub, top=False)
+        self.run_level(main, sub)
 
     def call_implicit(self, b: IsgBlock, fr: Frame, code: int, g: Word) -> None:
         """G80..G89 and G800..G819 call a subprogram the machine maker configures; the simulator runs

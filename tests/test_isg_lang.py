@@ -503,3 +503,27 @@ def test_undefined_macro_after_a_skipped_external_subprogram_is_taken_to_be_its(
 def test_undefined_macro_before_the_external_call_is_still_an_error():
     e = fails('%P\n"ARC_ON"\nL start.nc\nM30\n', external_subprograms=frozenset({"START.NC"}))
     assert (e.line, e.col) == (2, 1) and 'macro "ARC_ON" is not defined' in e.message
+
+
+def test_vp_declared_in_a_local_subprogram_is_program_global():
+    # manual: user variables are created in the main program or a subprogram; V.P. ones are global
+    text = "%L SUB\n#VAR\nV.P.G = 5\n#ENDVAR\nG01 YV.P.G F100\nM29\n%P\nLL SUB\nXV.P.G\nM30\n"
+    assert ends(run(text)) == [(0.0, 5.0, 50.0), (5.0, 5.0, 50.0)]
+
+
+def test_vp_written_after_a_skipped_external_is_taken_to_be_declared_by_it():
+    text = "%P\nL steuer.up\nV.P.LEN = 20\nG01 XV.P.LEN F100\nM30\n"
+    prog = run(text, external_subprograms=frozenset({"STEUER.UP"}))
+    assert ends(prog) == [(20.0, 0.0, 50.0)]
+    assert any("V.P.LEN is declared by no #VAR: taken to be declared by the external steuer.up" in m
+               for _, m in prog.warnings)
+
+
+@pytest.mark.parametrize("text, what", [
+    ("V.P.LEN = 20", "V.P.LEN is not declared"),  # no external subprogram skipped before it
+    ("L steuer.up\nV.P.ARR[2] = 1", "V.P.ARR[2] is not declared"),  # an array's size is unknown
+    ("L steuer.up\nG01 XV.P.LEN F100", "V.P.LEN is not declared"),  # read before any write
+])
+def test_vp_undeclared_stays_an_error(text, what):
+    e = fails(f"%P\n{text}\nM30\n", external_subprograms=frozenset({"STEUER.UP"}))
+    assert what in e.message, str(e)
