@@ -694,6 +694,7 @@ class Sinumerik(ModalMachine):
         else:
             self.move(ln, src, blk.words, motion)
         if new_comp == 40 and self.comp_buf is not None:
+            corner.comp_end(self)  # the departure move, if it waits for its corner, goes into the compensation
             self.flush_comp(src, line)
         drill.after_block(self, src, moved, blk, stack)
         if self.calls(blk, src, line, stack):

@@ -437,6 +437,19 @@ def comp_change(m, new_comp: int | None) -> None:
                                      f"starts, changes or ends (G{new_comp}) is not modelled")
 
 
+def comp_end(m) -> None:
+    """G40 ends radius compensation after this block's move, which may wait for its corner: RND/CHF/CHR
+    there is not modelled (exit 2 at the word); under RNDM the move goes into the compensation as it
+    is (no rounding at the corner after the departure move)."""
+    h = m.corners.hold
+    if h is None:
+        return
+    if h.kind in ELEMENT_WORDS:
+        raise m.error(h.line, h.col, f"{h.kind}: a chamfer or rounding at a corner where the radius compensation "
+                                     "starts, changes or ends (G40) is not modelled")
+    flush(m)
+
+
 def finish(m) -> None:
     """The program (or a cycle's contour) ends: a chamfer or rounding still waiting has no second
     element: RND/CHF/CHR is an error at its word, RNDM's last corner is none."""

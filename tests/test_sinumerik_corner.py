@@ -273,6 +273,7 @@ def test_a_tool_change_between_waits_behind_the_element():
     ("G41 G1 X20\nY20 CHR=2\nG40 X30 Y30\nM30\n", 5, 5, "(G40) is not modelled"),
     ("G41 G1 X20\nRNDM=2\nY20\nG40\nG0 Z5\nM30\n", 6, 1, "RNDM: a chamfer or rounding at a corner where"),
     ("G41 G1 X20 RND=2\nG42 Y20\nM30\n", 4, 12, "(G42) is not modelled"),
+    ("G41 G1 X20\nG40 Y20 RND=2\nX0\nM30\n", 5, 9, "(G40) is not modelled"),
 ])
 def test_bad_corners(text, line, col, fragment):
     e = error_of(HEAD + text)
@@ -296,3 +297,12 @@ def test_a_cycle_after_the_held_move_under_a_frame():
     prog = run("T1 D1 M6\nG0 X0 Y0 Z-1\nG1 X20 F100 RND=5\nCYCLE81(10, 0, 2, -5)\nM30\n")  # no frame
     assert [tuple(round(v, 6) for v in r.end) for r in prog.moves][1:] == [(20, 0, -1), (20, 0, 2), (20, 0, -5),
                                                                            (20, 0, 10)]
+
+
+def test_rndm_on_the_departure_move_of_g40():
+    """Under RNDM the G40 block's own move (the departure) is the last compensated move: it goes into
+    the compensation as it is, and the path stays continuous."""
+    prog = run(HEAD + "G41 X20\nY20\nG40 X30 Y30 RNDM=1\nX40\nRNDM=0\nG0 Z5\nM30\n", radius=1.0)
+    moves = prog.moves
+    assert all(math.dist(a.end, b.start) < 1e-9 for a, b in zip(moves, moves[1:]))
+    assert close(moves[-2].end, (40, 30, -1)) or close(moves[-1].start, (40, 30, -1))
