@@ -571,6 +571,10 @@ class Isg(Interpreter):
             if code in G_HARMLESS:
                 self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
                                "accepted, not simulated")
+                if g.col in st.block.gvalues:
+                    st.block.gvalues[g.col](self)  # its value is read (errors in it are errors), not used
+                for f in st.block.args.get(g.col, ()):
+                    f(self)
                 if code in G_AXIS_PARAMS:
                     for a in "XYZABCUVWF" + ("SK" if code == 4 else ""):
                         st.words.pop(a, None)

@@ -196,6 +196,8 @@ def word(cur: Cursor, block: IsgBlock, seen: dict) -> None:
         w = Word(letter, value, raw, col)
         block.words.append(w)
         block.items.append(("w", w))
+        if letter == "G" and value in GROUP_WEIGHTS and weight_value(cur, block, col):
+            return
         if letter in "GM":
             code_extras(cur, block, col)
         if letter == "G" and value == 4:
@@ -245,6 +247,23 @@ def dwell_time(cur: Cursor) -> None:
     if c and (c.isdigit() or c in ".[" or (c in "Pp" and cur.peek(1).isdigit()) or
               (c in "Vv" and cur.peek(1) == ".")):
         primary(cur)
+
+
+# axis group weightings written "G131 = 50" or, in the manual's HSC examples, "G131 50"
+GROUP_WEIGHTS = frozenset({129, 131, 133, 134, 231, 233, 334, 339})
+
+
+def weight_value(cur: Cursor, block: IsgBlock, col: int) -> bool:
+    """``G131 50``, ``G133 [V.P.W]``: the percentage of a group weighting written after a blank
+    (the manual's "N10 G131 50"); kept as the G word's value like ``G131=50``. True if read."""
+    j = cur.i
+    while j < len(cur.text) and cur.text[j] in " \t":
+        j += 1
+    if j > cur.i and j < len(cur.text) and (cur.text[j].isdigit() or cur.text[j] in ".["):
+        cur.i = j
+        block.gvalues[col] = primary(cur)
+        return True
+    return False
 
 
 def code_extras(cur: Cursor, block: IsgBlock, col: int) -> None:

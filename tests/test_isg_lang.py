@@ -527,3 +527,15 @@ def test_vp_written_after_a_skipped_external_is_taken_to_be_declared_by_it():
 def test_vp_undeclared_stays_an_error(text, what):
     e = fails(f"%P\n{text}\nM30\n", external_subprograms=frozenset({"STEUER.UP"}))
     assert what in e.message, str(e)
+
+
+def test_group_weighting_value_after_a_blank():
+    # the manual's HSC examples write "N10 G131 50" / "N20 G133 50" (also G131=50)
+    prog = run("%P\nN10 G131 50\nN20 G133 [V.E.W * 2]\nG134 150 G01 X1 F100\nM30\n", variables={"V.E.W": 40.0})
+    assert ends(prog) == [(1.0, 0.0, 50.0)]
+    assert sum("G131" in m for _, m in prog.warnings) == 1
+
+
+def test_group_weighting_value_is_evaluated():
+    e = fails("%P\nG131 [1/0]\nM30\n")
+    assert e.line == 2 and "division by zero" in e.message, str(e)
