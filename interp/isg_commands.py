@@ -15,7 +15,7 @@ from .modal import PLANE_AXES
 PASSIVE = {
     "MSG": "operator message", "FLUSH": "wait for the block preparation", "CONTOUR": "contouring mode",
     "HSC": "high speed cutting settings", "CHANNEL": "channel settings", "FILENAME": "file name for output",
-    "IDENT": "program identification", "DELETE": "delete a file", "VECTOR": "vector velocity limits",
+    "IDENT": "program identification", "DELETE": "delete", "VECTOR": "vector velocity limits",
     "TOOL": "tool data", "ORI": "orientation mode", "KIN": "kinematics selection (acts with #TRAFO ON)",
     "TIME": "time settings", "SLOPE": "acceleration profile", "SET": "settings", "EXPORT": "export",
     "SIGNAL": "signal", "WAIT": "wait", "TIMER": "timer", "OPTIONAL": "optional execution", "SYN": "synchronisation",
@@ -43,11 +43,33 @@ def warn(m, st, name: str, text: str) -> None:
                 "change the tool path: accepted, not simulated")
 
 
+def delete(m, st, text: str, col: int) -> None:
+    """``#DELETE V.P.NAME`` (also several, separated by commas or blanks): the user variables are
+    deleted (manual: "Self-defined variables (#VAR, #ENDVAR, #DELETE)"); a name that does not exist
+    and a controller variable (V.E., V.G., V.A.) are errors, as on the controller (IDs 20932, 20931)."""
+    line = st.block.line
+    for name in re.split(r"[\s,]+", text.split(";", 1)[0].strip()):
+        if not name:
+            continue
+        key = name.upper()
+        if not re.fullmatch(r"V\.[PLS]\.[A-Z_][A-Z0-9_.]*", key):
+            raise m.error(line, col, f"#DELETE {name}: only user variables V.P., V.L. and V.S. can be deleted "
+                          "(the controller's error 20931)")
+        store = m.frame.vl if key[2] == "L" else m.vars
+        if key not in store:
+            raise m.error(line, col, f"#DELETE {name}: the variable does not exist (the controller's error 20932)")
+        for k in [k for k in store if k == key or k.startswith(key + "[")]:
+            del store[k]
+        m.declared.pop(key, None)
+
+
 def command(m, st, name: str, text: str, col: int) -> None:
     """Run one ``#`` command of block ``st`` on the interpreter ``m``."""
     line = st.block.line
     head = text.split("[", 1)[0].split()
     first = head[0].upper() if head else ""
+    if name == "DELETE" and text.lstrip()[:2].upper() == "V.":
+        return delete(m, st, text, col)
     if name in PASSIVE:
         warn(m, st, name, text)
         return

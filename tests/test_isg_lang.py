@@ -539,3 +539,20 @@ def test_group_weighting_value_after_a_blank():
 def test_group_weighting_value_is_evaluated():
     e = fails("%P\nG131 [1/0]\nM30\n")
     assert e.line == 2 and "division by zero" in e.message, str(e)
+
+
+def test_delete_removes_user_variables():
+    # the timber CAM program: #DELETE V.P.FEEDPAR, then a #VAR declares it again with new values
+    text = ("%P\n#VAR\nV.P.F[2] = [1, 2]\nV.L.A = 5\n#ENDVAR\nG01 XV.P.F[1] F100\n#DELETE V.P.F, V.L.A\n"
+            "#VAR\nV.P.F[2] = [3, 4]\n#ENDVAR\nXV.P.F[1]\nM30\n")
+    assert ends(run(text)) == [(2.0, 0.0, 50.0), (4.0, 0.0, 50.0)]
+
+
+@pytest.mark.parametrize("text, line, what", [
+    ("#VAR\nV.P.F = 1\n#ENDVAR\nG01 X1 F100\n#DELETE V.P.F\nXV.P.F", 7, "V.P.F is not declared"),
+    ("#DELETE V.P.G", 2, "#DELETE V.P.G: the variable does not exist"),
+    ("#DELETE V.E.SPEED", 2, "only user variables V.P., V.L. and V.S. can be deleted"),
+])
+def test_delete_errors(text, line, what):
+    e = fails(f"%P\n{text}\nM30\n")
+    assert e.line == line and what in e.message, str(e)

@@ -1,0 +1,5 @@
+; EXPECT 4:1 #DELETE V.P.FEEDPAR: the variable does not exist
+%P
+G01 X1 F100
+#DELETE V.P.FEEDPAR
+M30
