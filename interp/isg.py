@@ -37,6 +37,8 @@ class _EveryName:
 _EVERY_NAME = _EveryName()
 
 # V.G.NP[i].V.X (zero offset i = 1..6, G54..G59) and V.G.NP_AKT.V.X (the active one), X/Y/Z only
+# V.G.@P[i].VALID: in a cycle, 1 when its call programmed @Pi (manual, error ID 21544)
+VALID_VAR = re.compile(r"V\.G\.@P\[(\d+)\]\.VALID")
 ZERO_VAR = re.compile(r"V\.G\.NP(?:\[(\d+)\]|_AKT)\.V\.([XYZ])")
 
 G_CODES = {
@@ -149,10 +151,11 @@ _NOT_EXTRA = frozenset("DEFGHIJKLMNOPQRSTXYZ")  # letters Isg.extra_axes leaves 
 class Frame:
     """One running program level: its file, local subprograms, V.L. variables, call parameters."""
 
-    __slots__ = ("name", "local", "vl", "params", "stack", "calls", "modal")
+    __slots__ = ("name", "local", "vl", "params", "stack", "calls", "modal", "cycle")
 
-    def __init__(self, name, local, params, stack, calls):
+    def __init__(self, name, local, params, stack, calls, cycle=False):
         self.name, self.local, self.params, self.stack, self.calls = name, local, params, stack, calls
+        self.cycle = cycle  # a cycle call (L CYCLE, LL CYCLE, an implicit call with an argument list)
         self.vl: dict = {}
         self.modal: tuple | None = None  # L CYCLE [.. MODAL_MOVE ..] of this level: (file name, column, params)
 
@@ -451,6 +454,12 @@ class Isg(Interpreter):
         m = ZERO_VAR.fullmatch(key) if scope == "G" else None
         if m:
             return self.zero_table(m, line, col)[0][AXES.index(m.group(2))]
+        m = VALID_VAR.fullmatch(key) if scope == "G" else None
+        if m:
+            if not self.frame.cycle:
+                raise self.error(line, col, f"{key} is read outside a cycle (the controller's error 21544: it tells "
+                                 "a cycle whether its call programmed @P" + m.group(1) + ")")
+            return 1.0 if f"@P{int(m.group(1))}" in self.frame.params else 0.0
         if key in self.vars:
             return self.vars[key]
         if key in self.cfg.variables:
@@ -487,6 +496,9 @@ class Isg(Interpreter):
             if m:
                 self.write_zero(m, value, line, col)
                 return
+            if VALID_VAR.fullmatch(key):
+                raise self.error(line, col, f"{key} is read-only (it tells a cycle whether its call programmed the "
+                                 "parameter)")
             self.vars[key] = value  # an external or global variable the program sets
             return
         if key not in store:
@@ -1011,7 +1023,7 @@ class Isg(Interpreter):
             raise self.error(b.line, col, msg)
         self.enter(b, col, target, fr)
         sub = Frame(fr.name, fr.local, fr.params if params is None else params, fr.stack + (target,),
-                    fr.calls + ((fr.name, b.line),))
+                    fr.calls + ((fr.name, b.line),), cycle=params is not None)
         if params is None:
             self.run_level(sec, sub)
             return
@@ -1070,7 +1082,7 @@ class Isg(Interpreter):
             self.run_file(b, fr, path, fname, col, params)
             return
         saved = self.cycle_state()
-        self.run_file(b, fr, path, fname, col, params)
+        self.run_file(b, fr, path, fname, col, params, cycle=True)
         self.restore_cycle_state(saved)
 
     _CYCLE_STATE = ("motion", "absolute", "per_rev", "feed", "plane", "circle_r", "centre_abs")
@@ -1101,14 +1113,15 @@ class Isg(Interpreter):
                        "simulated, the tool is taken to stay where it was")
         return True
 
-    def run_file(self, b: IsgBlock, fr: Frame, path: str, fname: str, col: int, params: dict) -> None:
+    def run_file(self, b: IsgBlock, fr: Frame, path: str, fname: str, col: int, params: dict,
+                 cycle: bool = False) -> None:
         if path not in self.files:
             text = self.read_file(path, fname, b.line, col)
             self.files[path] = parse(path, text, self.cfg.max_blocks, self.macros, isg_fast.read_plain)
         main, local = self.files[path]
         label = os.path.basename(path)
         self.enter(b, col, label, fr)
-        sub = Frame(path, local, params, fr.stack + (label,), fr.calls + ((fr.name, b.line),))
+        sub = Frame(path, local, params, fr.stack + (label,), fr.calls + ((fr.name, b.line),), cycle)
         self.run_level(main, sub)
 
     def call_implicit(self, b: IsgBlock, fr: Frame, code: int, g: Word) -> None:
@@ -1127,7 +1140,7 @@ class Isg(Interpreter):
                              f"setup: [machine] external_subprograms = [\"{name}\"])")
         params = {f"@P{k + 1}": v for k, v in enumerate(args)}
         saved = self.cycle_state()
-        self.run_file(b, fr, path, name, g.col, params)
+        self.run_file(b, fr, path, name, g.col, params, cycle=g.col in b.args)
         if g.col in b.args:  # with transfer parameters the call is a cycle call (manual): its changes end with it
             self.restore_cycle_state(saved)
 

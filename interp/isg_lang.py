@@ -394,10 +394,14 @@ def var_ref(cur: Cursor):
     parts: list = []  # strings and index closures
     while True:
         mm = IDENT.match(t, cur.i)
-        if not mm:
+        if not mm and scope == "G" and not parts and t[cur.i:cur.i + 2].upper() == "@P":
+            parts.append("@P")  # V.G.@P[i].VALID: was the cycle's @Pi programmed?
+            cur.i += 2
+        elif not mm:
             raise cur.error(f"variable name expected after V.{scope}.")
-        parts.append(mm.group(0).upper())
-        cur.i = mm.end()
+        else:
+            parts.append(mm.group(0).upper())
+            cur.i = mm.end()
         while cur.peek() == "[":
             cur.i += 1
             f = expression(cur)

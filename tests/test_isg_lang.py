@@ -556,3 +556,20 @@ def test_delete_removes_user_variables():
 def test_delete_errors(text, line, what):
     e = fails(f"%P\n{text}\nM30\n")
     assert e.line == line and what in e.message, str(e)
+
+
+def test_cycle_parameter_valid():
+    # manual (error ID 21544): V.G.@P[i].VALID tells a cycle whether its call programmed @Pi
+    text = ("%L CYC\n$IF V.G.@P[1].VALID\nG01 X@P1 F100\n$ENDIF\n$IF V.G.@P[1+1].VALID == 0\nG01 Y9\n$ENDIF\nM29\n"
+            "%P\nLL CYCLE [NAME = CYC @P1 = 4]\nM30\n")
+    assert ends(run(text)) == [(4.0, 0.0, 50.0), (4.0, 9.0, 50.0)]
+
+
+@pytest.mark.parametrize("text, what", [
+    ("$IF V.G.@P[1].VALID\n$ENDIF", "read outside a cycle (the controller's error 21544"),
+    ("%L SUB\nX[V.G.@P[1].VALID]\nM29\n%Q\nLL SUB", "read outside a cycle"),  # LL name is no cycle
+    ("%L CYC\nV.G.@P[1].VALID = 1\nM29\n%Q\nLL CYCLE [NAME = CYC @P1 = 1]", "is read-only"),
+])
+def test_cycle_parameter_valid_errors(text, what):
+    e = fails(text if text.startswith("%") else f"%P\n{text}\nM30\n")
+    assert what in e.message, str(e)
