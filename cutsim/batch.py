@@ -44,6 +44,7 @@ import click
 
 from cutsim.interp import DIALECTS
 from cutsim.interp.errors import CutsimError
+from cutsim.setup import huge_number_at
 
 DEFAULT_TIMEOUT = 1800.0  # s per job
 DEFAULT_MEMORY = 4096  # MiB of address space per job
@@ -155,6 +156,8 @@ def _toml_jobs(path: str, text: str) -> list[Job]:
         m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
         msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(e)) or "not TOML"
         raise _err(path, int(m.group(1)) if m else 0, int(m.group(2)) if m else 0, msg) from None
+    except ValueError:  # a number with more digits than Python converts (not a TOMLDecodeError)
+        raise _err(path, *huge_number_at(text), "a number with too many digits") from None
     pos = _positions(text)
     base = os.path.dirname(path)
 

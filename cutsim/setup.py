@@ -894,6 +894,19 @@ def load_setup(path: str) -> Setup:
             msg = msg[:end.start()] + " (at the end of the file)" if end else msg
             line, col = text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
         raise CutsimError(path, line, col, f"not valid TOML: {msg}") from None
+    except ValueError as e:  # tomllib's int() of a number with more digits than Python converts
+        line, col = huge_number_at(text)
+        raise CutsimError(path, line, col, f"not valid TOML: a number with too many digits ({e})"
+                          .split(";")[0] + ")") from None
     except RecursionError:  # tomllib reads nested arrays and inline tables recursively
         raise CutsimError(path, 1, 1, "arrays or inline tables are nested too deeply") from None
     return _Loader(path, text).load(data)
+
+
+def huge_number_at(text: str) -> tuple[int, int]:
+    """(line, column) of the first run of more than 4300 digits (Python's limit for int of a string,
+    which tomllib raises as a plain ValueError), or the start of the text."""
+    m = re.search(r"[0-9_]{4300,}", text)
+    if not m:
+        return 1, 1
+    return text.count("\n", 0, m.start()) + 1, m.start() - (text.rfind("\n", 0, m.start()) + 1) + 1

@@ -253,6 +253,7 @@ def test_folder_and_csv_manifests(tmp_path):
     ('[[job]]\nprogram = "a.nc"\nexpect = { exit = 3 }\n', "3:12", "exit"),
     ('[[job]]\nprogram = "a.nc\n', "2:16", "Illegal character"),
     ('[defaults]\ntolerance = 0.1\n', "1:1", "no [[job]]"),
+    ('[[job]]\nprogram = "a.nc"\ntimeout = ' + "9" * 5000 + "\n", "3:11", "too many digits"),  # tomllib's ValueError
 ])
 def test_bad_manifest_is_an_error_at_its_line(tmp_path, text, where, words):
     m = tmp_path / "m.toml"

@@ -256,3 +256,10 @@ def test_max_blocks_ceiling_is_ten_million(tmp_path):
     assert s.max_blocks == 10_000_000
     e = error(tmp_path, BASE + "\n[simulation]\nmax_blocks = 10000001\n")
     assert "[simulation] max_blocks" in e.message and "10,000,000" in e.message
+
+
+def test_number_with_more_digits_than_python_converts(tmp_path):
+    """tomllib raises a plain ValueError (not TOMLDecodeError) for an integer of more than 4300
+    digits: it is a TOML error at the number, not an internal error (fuzz seed 20261126, case 5256)."""
+    e = error(tmp_path, "[machine]\nkind = " + "1" * 5000 + "\n")
+    assert (e.line, e.col) == (2, 8) and "too many digits" in str(e)
