@@ -282,6 +282,8 @@ def _tok_sinumerik(rng: random.Random) -> str:
         'MSG("x")', 'MSG("a;b")', "STOPRE", "SUPA", "DIAMOF", "TRAFOOF", "G41 D1", "D0", "T2 D1 M6", "T99 M6",
         "X=AC(5)", "X=IC(-2)", "CR=5", "CR=-5", "I=AC(3) J=AC(4)", "%_N_SUB_SPF", ";#7__DlgK contour definition begin",
         ";#End contour definition end", "G1X10Y20", "N10", "N", "X10X20", "G0 G1", '"', "(", ")", "[", "]", "$A",
+        "G1 X5 RND=2", "G1 Y5 CHF=1", "G1 X0 CHR=1", "RNDM=1", "RNDM=0", "FRC=50", "FRCM=20", "RND=-1", "CHF=1e9",
+        'EXTCALL "SUB"', "PCALL SUB", "PCALL /_N_WKS_DIR/_N_SUB_SPF(1)", 'CALL "L_VENDOR"', "L_VENDOR", "CYCLE_ABC(1,2)",
     ])
 
 
@@ -874,6 +876,99 @@ def gen_isg_lathe(rng: random.Random) -> Gen:
     return Gen("isg", "lathe", "\n\n".join(parts) + "\n", setup)
 
 
+ISG_EXTERNAL = ["VENDOR_CYC.nc", "G803", "0_Start.nc"]
+
+
+def _isg_mill_piece(rng: random.Random, bbox, N, locals_: list[str]) -> list[str]:
+    """One random feature of a real ISG milling program (loops, V.P. variables, compensation, #CS and
+    #ROTATION about Z, G21/G22/G351 mirroring, G68, local and external subprograms, a cycle call)."""
+    x0, x1, y0, y1, z0, _ = bbox
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    dz = fmt_num(_r(rng, max(z0, -4), -0.2))
+    c = rng.random()
+    if c < 0.15:  # a $FOR/$WHILE loop of passes
+        k = rng.randint(1, 4)
+        if rng.random() < 0.5:
+            return [f"{N()} $FOR P1 = 0, {k}, 1", f"{N()}   G01 X[{fmt_num(x0)} + P1 * {fmt_num((x1 - x0) / (k + 1))}] "
+                    f"Y{fmt_num(_r(rng, y0, y1))} Z{dz} F300", f"{N()} $ENDFOR"]
+        return [f"{N()} #VAR", f"{N()}   V.P.CNT = 0", f"{N()} #ENDVAR", f"{N()} $WHILE V.P.CNT < {k}",
+                f"{N()}   G01 Y[{fmt_num(y0)} + V.P.CNT * {fmt_num((y1 - y0) / (k + 1))}] Z{dz} F300",
+                f"{N()}   V.P.CNT = V.P.CNT + 1", f"{N()} $ENDWHILE"]
+    if c < 0.3:  # a rectangle under radius compensation
+        ax, bx = sorted([_r(rng, x0, x1), _r(rng, x0, x1)])
+        ay, by = sorted([_r(rng, y0, y1), _r(rng, y0, y1)])
+        return [f"{N()} G00 X{fmt_num(ax - 5)} Y{fmt_num(ay - 5)}", f"{N()} G01 Z{dz} F200",
+                f"{N()} {rng.choice(['G41', 'G42'])} X{fmt_num(ax)} Y{fmt_num(ay)}", f"{N()} X{fmt_num(bx)}",
+                f"{N()} Y{fmt_num(by)}", f"{N()} X{fmt_num(ax)}", f"{N()} Y{fmt_num(ay)}",
+                f"{N()} G40 X{fmt_num(ax - 5)} Y{fmt_num(ay - 5)}", f"{N()} G00 Z5"]
+    if c < 0.5:  # a transformation about Z: #CS, #ROTATION, G68 or mirroring, then a small square and an arc
+        kind = rng.choice(["cs", "rot", "g68", "g21", "g22", "g351"])
+        ang = fmt_num(_r(rng, -180, 180, 1))
+        on, off = {
+            "cs": (f"#CS ON [{fmt_num(cx)}, {fmt_num(cy)}, 0, 0, 0, {ang}]", "#CS OFF"),
+            "rot": (f"#ROTATION ON [ANGLE = {ang} CENTER1 = {fmt_num(cx)} CENTER2 = {fmt_num(cy)}]", "#ROTATION OFF"),
+            "g68": (f"G68 R{ang} X{fmt_num(cx)} Y{fmt_num(cy)}", "G69"),
+            "g21": ("G21", "G20"), "g22": ("G22", "G20"),
+            "g351": (rng.choice(["G351 X-1", "G351 Y-1", "G351 X-1 Y-1"]), "G351 X1 Y1"),
+        }[kind]
+        r = _r(rng, 1, 6)
+        return [f"{N()} {on}", f"{N()} G00 X{fmt_num(r)} Y0", f"{N()} G01 Z{dz} F200", f"{N()} Y{fmt_num(r)}",
+                f"{N()} {rng.choice(['G02', 'G03'])} X0 Y{fmt_num(2 * r)} {rng.choice(['I0 J' + fmt_num(r), 'R' + fmt_num(r)])}",
+                f"{N()} G00 Z5", f"{N()} {off}"]
+    if c < 0.65:  # a local subprogram
+        name = rng.choice(["UP1", "Kontur", "sub_a"])
+        if name not in locals_:
+            locals_.append(name)
+        return [f"{N()} LL {name}"]
+    if c < 0.75:  # a vendor subprogram or implicit call (declared external or not)
+        return [f"{N()} " + rng.choice(["L VENDOR_CYC.nc", "L C:\\Users\\cnc\\0_Start.nc", "G803",
+                                         "L CYCLE [NAME = VENDOR_CYC.nc @P1 = 5]", "L MISSING.nc", "G805[1, 2]"])]
+    if c < 0.85:  # an arc in the plane
+        rad = _r(rng, 1, 8)
+        return [f"{N()} G00 X{fmt_num(cx - rad)} Y{fmt_num(cy)}", f"{N()} G01 Z{dz} F200",
+                f"{N()} {rng.choice(['G02', 'G03'])} X{fmt_num(cx + rad)} Y{fmt_num(cy)} I{fmt_num(rad)} J0",
+                f"{N()} G00 Z5"]
+    return [f"{N()} " + _tok_isg_mill(rng) for _ in range(rng.randint(1, 3))]
+
+
+def _tok_isg_mill(rng: random.Random) -> str:
+    return rng.choice(["#CS ON [1, 2, 0, 0, 0, 45]", "#CS ON [0, 0, 0, 10, 0, 0]", "#CS OFF", "#CS OFF ALL",
+                       "#ROTATION ON [ANGLE = 30]", "#ROTATION ON [ANGLE 1/0]", "#ROTATION OFF", "G68 R30",
+                       "G69", "G21", "G22", "G23", "G20", "G351 X-1", "G351 X2", "G351", "#MIRROR ON [X]",
+                       "#FLUSH WAIT", "#MSG [\"x\"]", "#HSC ON", "#HSC OFF", "#DISABLE MODAL CYCLE",
+                       "L CYCLE [NAME = VENDOR_CYC.nc MODAL_MOVE]", "G54", "G92 X0 Y0", "G41", "G40", "D1",
+                       "V.P.A = 1", "#VAR V.P.A #ENDVAR", "$IF V.P.A == 1", "$ENDIF", "G81", "G80", "G803"])
+
+
+def gen_isg_mill(rng: random.Random) -> Gen:
+    setup, bbox, extra = _mill_setup(rng, "isg")
+    x0, x1, y0, y1, z0, _ = bbox
+    if rng.random() < 0.7:
+        setup["machine"]["external_subprograms"] = rng.sample(ISG_EXTERNAL, rng.randint(1, len(ISG_EXTERNAL)))
+    nn = [0]
+
+    def N() -> str:
+        nn[0] += 10
+        return f"N{nn[0]}"
+
+    tool = rng.randint(1, len(setup["tool"]))
+    body = [f"{N()} G17 G90 T{tool} D1 M06", f"{N()} M03 S{rng.randint(500, 5000)} F{rng.randint(100, 800)}",
+            f"{N()} G00 X{fmt_num(x0 - 3)} Y{fmt_num(y0 - 3)} Z5"]
+    locals_: list[str] = []
+    for _ in range(rng.randint(1, 5)):
+        body += _isg_mill_piece(rng, bbox, N, locals_)
+    body += [f"{N()} G00 Z20", f"{N()} M30"]
+    subs = []
+    for name in locals_:
+        dx, dy = _r(rng, -3, 3), _r(rng, -3, 3)
+        subs.append(f"%L {name}\nN1 G91 G01 X{fmt_num(dx)} Y{fmt_num(dy)}\nN2 G90\nN3 M17")
+    if rng.random() < 0.3:
+        extra["VENDOR_CYC.nc"] = b"N1 G91 G01 X1 Y1\nN2 G90\nN3 M17\n"
+    head = rng.choice(["%MAIN", "% main", "%fuzz (ISG mill)", ""])
+    text = (head + "\n" if head else "") + "\n".join(body) + ("\n\n" + "\n\n".join(subs) if subs else "")
+    return Gen("isg", "mill", text + "\n", setup, extra)
+
+
 def _cycle_call(rng: random.Random, name: str, bbox, tool_d: float, contour: str | None = None) -> str:
     x0, x1, y0, y1, z0, z1 = bbox
     cx, cy = _r(rng, x0 + (x1 - x0) * 0.3, x1 - (x1 - x0) * 0.3), _r(rng, y0 + (y1 - y0) * 0.3, y1 - (y1 - y0) * 0.3)
@@ -925,7 +1020,9 @@ def gen_sinumerik_mill(rng: random.Random) -> Gen:
     x0, x1, y0, y1, z0, z1 = bbox
     tool = rng.randint(1, len(setup["tool"]))
     tool_d = setup["tool"][tool - 1]["diameter"]
-    lines = [f"; fuzz program", "N10 G17 G90" + rng.choice(["", " G54", " G64"])]
+    if rng.random() < 0.3:
+        setup["machine"]["external_subprograms"] = ["L_VENDOR", "SUB"]
+    lines = [f"; fuzz program", "N10 G17 G90" + rng.choice(["", " G54", " G64"]) + rng.choice(["", "", " RNDM=1"])]
     lines.append(rng.choice([f"N20 T{tool} D1 M6", f"N20 T{tool} D1\nN25 M6", f"N20 T{tool}"]))
     lines.append(f"N30 S{rng.randint(500, 5000)} {rng.choice(['M3', 'M3', 'M4', 'M5'])} F{rng.randint(100, 800)}")
     lines.append(f"N40 G0 X{fmt_num((x0 + x1) / 2)} Y{fmt_num((y0 + y1) / 2)} Z10")
@@ -950,8 +1047,10 @@ def gen_sinumerik_mill(rng: random.Random) -> Gen:
             xe, ye = _r(rng, x0 - 2, x1 + 2), _r(rng, y0 - 2, y1 + 2)
             dz = _r(rng, z0 * 0.8, 1)
             lines.append(f"G1 Z{fmt_num(dz)}")
-            lines.append(f"G1 X{fmt_num(xe)} Y{fmt_num(ye)}" if rng.random() < 0.7 else
-                         f"G1 X=IC({fmt_num(xe - x)}) Y=AC({fmt_num(ye)})")
+            corner = rng.choice(["", "", "", f" RND={fmt_num(_r(rng, 0.1, 2))}", f" CHF={fmt_num(_r(rng, 0.1, 2))}",
+                                 f" CHR={fmt_num(_r(rng, 0.1, 2))}"])
+            lines.append(f"G1 X{fmt_num(xe)} Y{fmt_num(ye)}{corner}" if rng.random() < 0.7 else
+                         f"G1 X=IC({fmt_num(xe - x)}) Y=AC({fmt_num(ye)}){corner}")
             x, y = xe, ye
         elif c < 0.7:
             rad = _r(rng, 1, 8)
@@ -1009,7 +1108,7 @@ def _contour(rng: random.Random, bbox) -> list[str]:
             f"G1 X{fmt_num(ax)}", f"Y{fmt_num(ay)}"]
 
 
-GENERATORS = [gen_cnc8x6_lathe, gen_cnc8x6_mill, gen_isg_lathe, gen_sinumerik_mill]
+GENERATORS = [gen_cnc8x6_lathe, gen_cnc8x6_mill, gen_isg_lathe, gen_isg_mill, gen_sinumerik_mill]
 
 
 def grammar_line(dialect: str):
