@@ -29,6 +29,7 @@ import math
 from dataclasses import dataclass, replace
 
 from .canon import Arc, Feed, Rapid, Src
+from .errors import CutsimError
 from .modal import PLANE_AXES
 from .sinumerik_lang import COORD_LIMIT, FEED_LIMIT, range_message
 from .sinumerik_machine import state as machine_state
@@ -266,7 +267,12 @@ class Hold:
     line: int
     col: int
     plane: str
+    prog: str  # the file of its block (the next move may run in another: a subprogram, a return)
     blocks: int = 0  # blocks run since its own
+
+    def error(self, message: str, col: int | None = None) -> CutsimError:
+        """An error at the word (RNDM: the held block), in the held block's own file."""
+        return CutsimError(self.prog, self.line, self.col if col is None else col, message)
 
 
 @dataclass
@@ -365,7 +371,7 @@ def _take(m, recs: list, corner: dict, kind: str | None, line: int) -> None:
         return
     if len(recs) != 1 or shapes[0] == "other":
         if cs.hold is not None and shapes[0] != "none":
-            _refuse(m, cs.hold.line, cs.hold.col, cs.hold.kind)
+            _refuse(m, cs.hold.line, cs.hold.col, cs.hold.kind, cs.hold.prog)
         if explicit or (kind == "RNDM" and shapes[0] != "none"):
             _refuse(m, line, col, kind)
         for r in recs:
@@ -383,7 +389,7 @@ def _take(m, recs: list, corner: dict, kind: str | None, line: int) -> None:
         m.emit(rec)
         return
     if cs.hold is not None:
-        rec = _resolve(m, cs.hold, rec)
+        rec = _resolve(m, cs.hold, rec, line)
     if kind is None:
         m.emit(rec)
         return
@@ -392,22 +398,18 @@ def _take(m, recs: list, corner: dict, kind: str | None, line: int) -> None:
     if value <= 0:
         m.emit(rec)
         return
-    cs.hold, cs.queue = Hold(rec, kind, value, feed, line, col, m.plane), []
+    cs.hold, cs.queue = Hold(rec, kind, value, feed, line, col, m.plane, m.unit_program), []
 
 
-def _refuse(m, line: int, col: int, kind: str):
+def _refuse(m, line: int, col: int, kind: str, prog: str | None = None):
     g = {"XY": "G17", "ZX": "G18", "YZ": "G19"}[m.plane]
-    raise m.error(line, col, f"{kind}: a chamfer or rounding next to a move that is not in the plane {g} "
+    raise CutsimError(prog or m.unit_program, line, col, f"{kind}: a chamfer or rounding next to a move that is not in the plane {g} "
                              "(a ramp, a helix, a thread or a cycle) is not modelled")
 
 
-def _note(m, kind: str, line: int, col: int, why: str) -> None:
+def _note(m, kind: str, line: int, col: int, why: str, prog: str | None = None) -> None:
     if kind in ELEMENT_WORDS:
-        m.warn(canon_src(m, line, col), f"{kind}= inserts no {NAMES[kind]} here: {why} (as on the controller)")
-
-
-def canon_src(m, line: int, col: int) -> Src:
-    return Src(m.unit_program, line, col)
+        m.warn(Src(prog or m.unit_program, line, col), f"{kind}= inserts no {NAMES[kind]} here: {why} (as on the controller)")
 
 
 def flush(m, why: str | None = None) -> None:
@@ -418,7 +420,7 @@ def flush(m, why: str | None = None) -> None:
         return
     cs.hold, cs.queue = None, None
     if why is not None:
-        _note(m, h.kind, h.line, h.col, why)
+        _note(m, h.kind, h.line, h.col, why, h.prog)
     m.emit(h.rec)
     for r in queue:
         m.emit(r)
@@ -433,8 +435,8 @@ def comp_change(m, new_comp: int | None) -> None:
         return
     on = m.comp_buf is not None
     if (new_comp == 40 and on) or (new_comp in (41, 42) and (not on or m.comp != new_comp)):
-        raise m.error(h.line, h.col, f"{h.kind}: a chamfer or rounding at a corner where the radius compensation "
-                                     f"starts, changes or ends (G{new_comp}) is not modelled")
+        raise h.error(f"{h.kind}: a chamfer or rounding at a corner where the radius compensation "
+                      f"starts, changes or ends (G{new_comp}) is not modelled")
 
 
 def comp_end(m) -> None:
@@ -445,8 +447,8 @@ def comp_end(m) -> None:
     if h is None:
         return
     if h.kind in ELEMENT_WORDS:
-        raise m.error(h.line, h.col, f"{h.kind}: a chamfer or rounding at a corner where the radius compensation "
-                                     "starts, changes or ends (G40) is not modelled")
+        raise h.error(f"{h.kind}: a chamfer or rounding at a corner where the radius compensation "
+                      "starts, changes or ends (G40) is not modelled")
     flush(m)
 
 
@@ -455,7 +457,7 @@ def finish(m) -> None:
     element: RND/CHF/CHR is an error at its word, RNDM's last corner is none."""
     h = m.corners.hold
     if h is not None and h.kind in ELEMENT_WORDS:
-        raise m.error(h.line, h.col, f"{h.kind}= on the last move: no move follows to make the corner with")
+        raise h.error(f"{h.kind}= on the last move: no move follows to make the corner with")
     flush(m)
 
 
@@ -480,9 +482,10 @@ def _point(m, rec, q) -> tuple[float, float, float]:
     return (p[0], p[1], p[2])
 
 
-def _resolve(m, h: Hold, rec):
-    """The held record h and the next one ``rec`` meet at a corner: emit h cut back, the element and
-    what waited; return ``rec`` cut back (it may be held in turn)."""
+def _resolve(m, h: Hold, rec, line: int):
+    """The held record h and the next one ``rec`` (of the block at ``line`` of the file running) meet
+    at a corner: emit h cut back, the element and what waited; return ``rec`` cut back (it may be
+    held in turn). Errors name the held block's own file and line (h.error), or the next block's."""
     if h.plane != m.plane:
         flush(m, "the plane changes before the next move")
         return rec
@@ -490,15 +493,19 @@ def _resolve(m, h: Hold, rec):
         flush(m, f"more than {MAX_BETWEEN} blocks without a move in the plane come before the next move")
         return rec
     e1, e2 = _plane_el(m, h.rec), _plane_el(m, rec)
-    label = f"{h.kind}={h.value:g}" if h.kind != "RNDM" else f"RNDM={h.value:g}"
+    label = f"{h.kind}={h.value:g}"
     try:
-        if h.kind in ("RND", "RNDM"):
+        if turn(e1, e2) == 0.0:  # a tangent transition: no corner, no element
+            got = None
+        elif h.kind in ("RND", "RNDM") and (isinstance(rec, Rapid) or isinstance(h.rec, Rapid)):
+            raise _rapid_rounding(m, h, line, label)
+        elif h.kind in ("RND", "RNDM"):
             got = fillet(e1, e2, h.value)
         else:
             c = h.value if h.kind == "CHR" else chamfer_legs(e1, e2, h.value)
             got = chamfer(e1, e2, c) if c > 0 else None
     except CornerError as e:
-        raise m.error(h.line, h.col, f"{label}: {e}") from None
+        raise h.error(f"{label}: {e}") from None
     if got is None:  # a tangent transition: no corner
         flush(m)
         return rec
@@ -511,8 +518,6 @@ def _resolve(m, h: Hold, rec):
     if len(got) == 2:
         insert = Rapid(src, p1, p2, rec.diameter) if isinstance(rec, Rapid) else \
             Feed(src, p1, p2, rec.diameter, feed, per_rev)
-    elif isinstance(rec, Rapid) or isinstance(h.rec, Rapid):
-        raise m.error(h.line, h.col, f"{label}: a rounding next to a G0 move is not modelled (there is no rapid arc)")
     else:
         insert = Arc(src, p1, p2, rec.diameter, _point(m, rec, got[2]), m.plane, not got[3], False, feed, per_rev)
     queue = m.corners.queue or []
@@ -521,6 +526,21 @@ def _resolve(m, h: Hold, rec):
         if r is insert or not _empty(r):
             m.emit(r)
     return then
+
+
+def _rapid_rounding(m, h: Hold, line: int, label: str) -> CutsimError:
+    """A real corner to be rounded next to a G0 move: the controller traverses the rounding at rapid
+    (the manual: F, FRC, FRCM are not active then), but the canonical records have no rapid arc, so
+    it is exit 2: RND= at its word; under RNDM at the G0 block (the held one, or the next one in the
+    file it runs in), with the way out."""
+    if h.kind != "RNDM":
+        return h.error(f"{label}: a rounding next to a G0 move is not modelled (there is no rapid arc)")
+    why = "would be rounded at rapid traverse, which is not modelled (there is no rapid arc); write RNDM=0"
+    if isinstance(h.rec, Rapid):
+        return h.error(f"{label}: the corner at the end of this G0 move {why} before this block to leave it sharp", 1)
+    where = f"line {h.line}" + ("" if h.prog == m.unit_program else f" of {h.prog}")
+    return m.error(line, 1, f"{label}: the corner at the start of this G0 move {why} in or before the block "
+                            f"leading to it ({where}) to leave it sharp")
 
 
 def _empty(rec) -> bool:

@@ -306,3 +306,99 @@ def test_rndm_on_the_departure_move_of_g40():
     moves = prog.moves
     assert all(math.dist(a.end, b.start) < 1e-9 for a, b in zip(moves, moves[1:]))
     assert close(moves[-2].end, (40, 30, -1)) or close(moves[-1].start, (40, 30, -1))
+
+
+def test_a_chamfer_into_a_g0_move_is_a_rapid_chamfer():
+    """CHR=3 at (20, 0) between G1 X20 and G0 Y20 (a right angle): the chamfer's ends lie 3 from the
+    corner, (17, 0) and (20, 3); it is traversed at rapid like the block leading away (the manual:
+    F, FRC, FRCM are not active for a chamfer at G0), FRC=20 is ignored."""
+    got = contour(run(HEAD + "G1 X20 CHR=3 FRC=20\nG0 Y20\nG0 Z5\nM30\n"))
+    assert_path(got, [("Feed", (0, 0), (17, 0), None), ("Rapid", (17, 0), (20, 3), None),
+                      ("Rapid", (20, 3), (20, 20), None)])
+    assert got[0][5] == 100
+
+
+def test_a_chamfer_after_a_g0_move_takes_the_feed_leading_away():
+    """CHF on a G0 move, G1 leading away: CHF=L between perpendicular lines has legs L / sqrt(2), so
+    CHF=4.242640687 gives legs 3: rapid (0, 0) -> (17, 0), the chamfer (17, 0) -> (20, 3) at the F of the
+    block leading away (F60), then (20, 3) -> (20, 20)."""
+    got = contour(run(HEAD + "G0 X20 CHF=4.242640687\nG1 Y20 F60\nG0 Z5\nM30\n"))
+    assert_path(got, [("Rapid", (0, 0), (17, 0), None), ("Feed", (17, 0), (20, 3), None),
+                      ("Feed", (20, 3), (20, 20), None)])
+    assert got[1][5] == got[2][5] == 60
+
+
+def test_a_rounding_next_to_g0_is_no_error_where_no_element_is_inserted():
+    """Under RNDM a G0 retract along Z leaves the plane, a G0 going straight on is a tangent
+    transition, four blocks between are too many: no corner element, so no G0 error; the moves run."""
+    got = contour(run(HEAD + "RNDM=2\nG1 X20\nG0 X30\nG0 Z5\nRNDM=0\nM30\n"))
+    assert_path(got, [("Feed", (0, 0), (20, 0), None), ("Rapid", (20, 0), (30, 0), None)])
+    prog = run(HEAD + "G0 X20 RND=5\nM8\nR1=1\nR2=2\nS500\nG1 Y20\nG0 Z5\nM30\n")
+    assert [g[0] for g in contour(prog)] == ["Rapid", "Feed"]
+    assert [(s.line, s.col) for s, m in prog.warnings if "RND" in m] == [(4, 8)]
+
+
+def _files(tmp_path, main, **subs):
+    for name, text in subs.items():
+        (tmp_path / f"{name}.spf").write_text(text)
+    path = tmp_path / "main.mpf"
+    path.write_text(main)
+    return str(path)
+
+
+def _error_in_files(path):
+    """The error of running ``path``, and the text of the line it names in the file it names."""
+    with pytest.raises(CutsimError) as e:
+        interpret(path, open(path).read(), InterpConfig(
+            dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0), tool_radii={1: 5.0}))
+    lines = open(e.value.program).read().splitlines()
+    assert 1 <= e.value.line <= len(lines), e.value  # a line that exists in the file named
+    return e.value, lines[e.value.line - 1]
+
+
+@pytest.mark.parametrize("main,subs,file,line,text,fragment", [
+    # the held move in the main program, the next move (too short for the rounding) in the subprogram
+    ("T1 D1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X20 RND=5\nSUBA\nM30\n", {"SUBA": "G90\nG1 Y4\nM17\n"},
+     "main.mpf", 4, "G1 X20 RND=5", "longer than an element"),
+    # the held move the last of the subprogram, the next move back in the main program
+    ("T1 D1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F100\nSUBB\nG1 Y4\nM30\n", {"SUBB": "G1 X20 RND=5\nM17\n"},
+     "SUBB.spf", 1, "G1 X20 RND=5", "longer than an element"),
+    # RNDM (the fuzz case): a G0 move held in the main program, the G1 in the subprogram
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nRNDM=1\nG0 X20\nSUBC\nM30\n", {"SUBC": "G1 Y20 F100\nM17\n"},
+     "main.mpf", 4, "G0 X20", "the corner at the end of this G0 move would be rounded at rapid traverse"),
+    # RNDM: a G1 held in the main program, the G0 leading away in the subprogram: the G0 block
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nRNDM=1\nG1 X20 F100\nSUBD\nM30\n", {"SUBD": "G90\nG0 Y20\nM17\n"},
+     "SUBD.spf", 2, "G0 Y20", "the corner at the start of this G0 move would be rounded"),
+    # ... the hint names the block leading to the corner, in its file
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nRNDM=1\nG1 X20 F100\nSUBD\nM30\n", {"SUBD": "G90\nG0 Y20\nM17\n"},
+     "SUBD.spf", 2, "G0 Y20", "write RNDM=0 in or before the block leading to it (line 4 of "),
+    # RND= next to G0 across the return: at the word, in the subprogram
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nSUBE\nG0 Y20\nM30\n", {"SUBE": "G1 X20 F100 RND=2\nM17\n"},
+     "SUBE.spf", 1, "G1 X20 F100 RND=2", "a rounding next to a G0 move is not modelled"),
+    # a compensation change after the return
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nSUBF\nG42 G1 Y20\nM30\n", {"SUBF": "G1 X20 F100 CHR=2\nM17\n"},
+     "SUBF.spf", 1, "G1 X20 F100 CHR=2", "(G42) is not modelled"),
+    # a ramp after the return
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nSUBG\nG1 Y20 Z-3\nM30\n", {"SUBG": "G1 X20 F100 RND=2\nM17\n"},
+     "SUBG.spf", 1, "G1 X20 F100 RND=2", "not in the plane G17"),
+    # RND= on the last move of a subprogram that ends the program
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nSUBH\n", {"SUBH": "G1 X20 F100 RND=2\nM17\n"},
+     "SUBH.spf", 1, "G1 X20 F100 RND=2", "on the last move"),
+    # a GOTOF over lines: the held block's own line
+    ("T1 D1 M6\nG0 X0 Y0 Z-1\nG1 X20 F100 RND=5\nGOTOF NEXT\nG1 X0\nNEXT: G1 Y4\nM30\n", {},
+     "main.mpf", 3, "G1 X20 F100 RND=5", "longer than an element"),
+])
+def test_errors_of_a_corner_across_files_name_a_line_of_their_own_file(tmp_path, main, subs, file, line, text,
+                                                                       fragment):
+    e, got = _error_in_files(_files(tmp_path, main, **subs))
+    assert (e.program, e.line) == (str(tmp_path / file), line), e
+    assert got == text and fragment in e.message, (got, e.message)
+
+
+def test_a_warning_of_a_corner_across_files_names_its_own_file(tmp_path):
+    """RND= in the main program, the subprogram's first move plunges (leaves the plane): no rounding,
+    the warning at the word in main.mpf."""
+    path = _files(tmp_path, "T1 D1 M6\nG0 X0 Y0 Z-1\nG1 X20 F100 RND=5\nSUBA\nM30\n", SUBA="G1 Z-3\nY20\nM17\n")
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0), tool_radii={1: 5.0})
+    prog = interpret(path, open(path).read(), cfg)
+    assert [(s.program, s.line, s.col) for s, m in prog.warnings if "RND=" in m] == [(path, 3, 13)]
