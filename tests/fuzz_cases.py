@@ -1022,10 +1022,12 @@ def gen_sinumerik_mill(rng: random.Random) -> Gen:
     tool_d = setup["tool"][tool - 1]["diameter"]
     if rng.random() < 0.3:
         setup["machine"]["external_subprograms"] = ["L_VENDOR", "SUB"]
-    lines = [f"; fuzz program", "N10 G17 G90" + rng.choice(["", " G54", " G64"]) + rng.choice(["", "", " RNDM=1"])]
+    lines = [f"; fuzz program", "N10 G17 G90" + rng.choice(["", " G54", " G64"])]
     lines.append(rng.choice([f"N20 T{tool} D1 M6", f"N20 T{tool} D1\nN25 M6", f"N20 T{tool}"]))
     lines.append(f"N30 S{rng.randint(500, 5000)} {rng.choice(['M3', 'M3', 'M4', 'M5'])} F{rng.randint(100, 800)}")
     lines.append(f"N40 G0 X{fmt_num((x0 + x1) / 2)} Y{fmt_num((y0 + y1) / 2)} Z10")
+    if rng.random() < 0.25:  # modal rounding after the positioning (a rounding at a rapid is not modelled)
+        lines.append(f"N45 RNDM={fmt_num(_r(rng, 0.1, 1.5))}")
     tail: list[str] = []
     labels = []
     x, y = (x0 + x1) / 2, (y0 + y1) / 2
