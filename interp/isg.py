@@ -454,6 +454,8 @@ class Isg(Interpreter):
         m = ZERO_VAR.fullmatch(key) if scope == "G" else None
         if m:
             return self.zero_table(m, line, col)[0][AXES.index(m.group(2))]
+        if key == "V.G.WZ_AKT.R" and key not in self.vars and (self.d_zero or self.tool_no in self.cfg.tool_radii):
+            return self.active_radius(line, col)
         m = VALID_VAR.fullmatch(key) if scope == "G" else None
         if m:
             if not self.frame.cycle:
@@ -851,6 +853,17 @@ class Isg(Interpreter):
             self.comp_buf.append(rec)
         else:
             self.program.records.append(rec)
+
+    def active_radius(self, line: int, col: int) -> float:
+        """V.G.WZ_AKT.R read by the program: the active tool's radius, the one G41/G42 use (the
+        setup's [[tool]] diameter / 2, 0 after D0); a different value in [variables] is an error."""
+        r = self.trc_radius()
+        given = self.cfg.variables.get("V.G.WZ_AKT.R")
+        if given is not None and (isinstance(given, str) or abs(given - r) > 1e-9):
+            raise self.error(line, col, f"V.G.WZ_AKT.R: the setup's [variables] gives {given!r}, but the active tool "
+                             f"(T{self.tool_no}{', D0' if self.d_zero else ''}) has the radius {r:g} "
+                             "([[tool]] diameter / 2): remove the variable or correct the tool")
+        return r
 
     def trc_radius(self) -> float:
         """The active tool's radius: V.G.WZ_AKT.R when the program wrote it, else the setup's tool

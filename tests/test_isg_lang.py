@@ -573,3 +573,18 @@ def test_cycle_parameter_valid():
 def test_cycle_parameter_valid_errors(text, what):
     e = fails(text if text.startswith("%") else f"%P\n{text}\nM30\n")
     assert what in e.message, str(e)
+
+
+def test_active_tool_radius_is_read_from_the_setup_tool():
+    # V.G.WZ_AKT.R: the radius G41/G42 use (the active [[tool]]'s diameter / 2, 0 after D0), or what the
+    # program wrote; a tool the setup does not have falls back to [variables]
+    text = "%P\nG01 X[V.G.WZ_AKT.R] F100\nT2\nX[V.G.WZ_AKT.R]\nD0\nX[V.G.WZ_AKT.R + 1]\nV.G.WZ_AKT.R = 7\nXV.G.WZ_AKT.R\nM30\n"
+    prog = run(text, tool_radii={1: 3.0, 2: 5.0})
+    assert ends(prog) == [(3.0, 0.0, 50.0), (5.0, 0.0, 50.0), (1.0, 0.0, 50.0), (7.0, 0.0, 50.0)]
+    assert ends(run("%P\nT9\nG01 X[V.G.WZ_AKT.R] F100\nM30\n", tool_radii={1: 3.0},
+                    variables={"V.G.WZ_AKT.R": 4.0})) == [(4.0, 0.0, 50.0)]
+
+
+def test_active_tool_radius_contradicting_the_setup_is_an_error():
+    e = fails("%P\nG01 X[V.G.WZ_AKT.R] F100\nM30\n", tool_radii={1: 3.0}, variables={"V.G.WZ_AKT.R": 4.0})
+    assert (e.line, e.col) == (2, 7) and "the active tool (T1) has the radius 3" in e.message
