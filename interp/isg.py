@@ -854,16 +854,20 @@ class Isg(Interpreter):
         else:
             self.program.records.append(rec)
 
-    def active_radius(self, line: int, col: int) -> float:
+    def active_radius(self, line: int, col: int):
         """V.G.WZ_AKT.R read by the program: the active tool's radius, the one G41/G42 use (the
-        setup's [[tool]] diameter / 2, 0 after D0); a different value in [variables] is an error."""
+        setup's [[tool]] diameter / 2, 0 after D0); a value the setup's [variables] gives explicitly
+        is used instead, with one warning when it differs."""
         r = self.trc_radius()
         given = self.cfg.variables.get("V.G.WZ_AKT.R")
-        if given is not None and (isinstance(given, str) or abs(given - r) > 1e-9):
-            raise self.error(line, col, f"V.G.WZ_AKT.R: the setup's [variables] gives {given!r}, but the active tool "
-                             f"(T{self.tool_no}{', D0' if self.d_zero else ''}) has the radius {r:g} "
-                             "([[tool]] diameter / 2): remove the variable or correct the tool")
-        return r
+        if given is None:
+            return r
+        if isinstance(given, str) or abs(given - r) > 1e-9:
+            self.warn_once(("WZ_AKT.R", self.tool_no, self.d_zero), Src(self.name, line, col, "", self.frame.calls),
+                           f"V.G.WZ_AKT.R: the setup's [variables] value {given!r} is used, but the active tool "
+                           f"(T{self.tool_no}{', D0' if self.d_zero else ''}) has the radius {r:g} "
+                           "([[tool]] diameter / 2), which tool radius compensation uses")
+        return given
 
     def trc_radius(self) -> float:
         """The active tool's radius: V.G.WZ_AKT.R when the program wrote it, else the setup's tool

@@ -585,6 +585,10 @@ def test_active_tool_radius_is_read_from_the_setup_tool():
                     variables={"V.G.WZ_AKT.R": 4.0})) == [(4.0, 0.0, 50.0)]
 
 
-def test_active_tool_radius_contradicting_the_setup_is_an_error():
-    e = fails("%P\nG01 X[V.G.WZ_AKT.R] F100\nM30\n", tool_radii={1: 3.0}, variables={"V.G.WZ_AKT.R": 4.0})
-    assert (e.line, e.col) == (2, 7) and "the active tool (T1) has the radius 3" in e.message
+def test_active_tool_radius_given_in_the_setup_wins_with_a_warning_when_it_differs():
+    prog = run("%P\nG01 X[V.G.WZ_AKT.R] F100\nX[V.G.WZ_AKT.R * 2]\nM30\n", tool_radii={1: 3.0},
+               variables={"V.G.WZ_AKT.R": 4.0})
+    assert ends(prog) == [(4.0, 0.0, 50.0), (8.0, 0.0, 50.0)]
+    assert sum("the active tool (T1) has the radius 3" in m for _, m in prog.warnings) == 1
+    same = run("%P\nG01 X[V.G.WZ_AKT.R] F100\nM30\n", tool_radii={1: 3.0}, variables={"V.G.WZ_AKT.R": 3.0})
+    assert not [m for _, m in same.warnings if "WZ_AKT" in m]
