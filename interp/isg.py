@@ -199,6 +199,7 @@ class Isg(Interpreter):
         self.comp_off = False  # G40 programmed: the next motion in the plane departs
         self.trc_linear = True  # G25 (default) / G26
         self.trc_method: tuple = (139, None)
+        self.r_col = 1  # column of the R word of the block being converted (1: none there)
         self.circle_r: tuple[float, int] | None = None  # R (circle radius, modal) and its column  # G139 indirect (default), G138 direct, or an unmodelled one
         # rotated and mirrored program coordinates (isg_commands.frame): #ROTATION, G20..G23/G351, #CS about Z
         self.rotation: tuple | None = None  # (angle, plane, centre 1, centre 2)
@@ -954,6 +955,7 @@ class Isg(Interpreter):
             self.rotation = None  # manual: a change of plane deselects the contour rotation, with a warning
             self.warn(src, "the change of plane deselects the contour rotation (#ROTATION)")
             self.frame_changed(b.line, 1)
+        self.r_col = words["R"].col if "R" in words else 1  # errors of a modal R name this block's R, else the block
         if "R" in words:  # circle radius, modal (manual: "Radius programming (R, G163)")
             w = words.pop("R")
             if w.value == 0:
@@ -1288,7 +1290,7 @@ class Isg(Interpreter):
     def radius_centre(self, line: int, end, cw: bool):
         """The centre of a circle given by its radius R (modal): the shorter arc for R > 0, the
         longer one for R < 0 (manual: "Radius programming (R, G163)"); the chord in the plane."""
-        r, col = self.circle_r
+        r, col = self.circle_r[0], self.r_col
         a, c, _ = PLANE_AXES[self.plane]
         k = 0.5 if self.diameter else 1.0  # X as a diameter
 
