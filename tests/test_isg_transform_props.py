@@ -5,8 +5,9 @@ The hand model here is independent of interp/isg_commands.frame: numpy matrices 
 documented order - contour rotation about its centre (#ROTATION ON [ANGLE CENTER1 CENTER2] or G68 R X Y),
 then the mirroring about the program zero (G20..G23, G351), then the #CS stack (each a turn about Z
 then a translation; the last one switched on acts first), then G54 and G92. A program P is drawn at
-random (lines G00/G01, circles G02/G03 with I/J, with R > 0 and R < 0 (the longer arc), full circles,
-absolute and G91 incremental words, axes left out, the frame switched in the middle of the contour);
+random (lines G00/G01, circles G02/G03 with I/J/K relative or G161 absolute, with R > 0 and R < 0 (the
+longer arc), full circles, helices, absolute and G91 incremental words, axes and zero centre words left
+out, in G17, G18 and G19, the frame switched in the middle of the contour);
 the model turns each block into the machine move it must give (start, end, centre, direction: a
 mirrored plane reverses it) and writes the program P' of those moves in plain machine coordinates.
 Both P and P' run through the public interpreter and must agree with the model to 1e-6 mm.
@@ -131,7 +132,8 @@ class Sim:
     def __init__(self, draw, offset=(0.0, 0.0, 0.0), plane: str = "G17"):
         self.draw = draw
         self.plane, self.axes = plane, PLANES[plane]
-        self.centre_abs, self.g161 = False, ""  # G161 / G162, and the word switching it in this block
+        self.centre_abs, self.g161 = False, ""
+        self.g92_off = np.zeros(3)  # G92's offset  # G161 / G162, and the word switching it in this block
         self.frame = Frame(offset)
         self.pos = np.array(START)  # machine
         self.lines: list[str] = []
@@ -286,6 +288,16 @@ class Sim:
         if self.frame.cs:
             self.frame.cs.pop()
 
+    def g92(self) -> None:
+        """G92 X.. Y.. Z.. (an additive zero offset in machine axis directions): set under G90, added
+        under G91; the axes not given keep theirs."""
+        axes = self.draw(hst.lists(hst.sampled_from([0, 1, 2]), min_size=1, max_size=3, unique=True))
+        vals = [r3(self.draw(hst.floats(-20.0, 20.0))) for _ in axes]
+        self.emit_line("G92 " + " ".join(f"{'XYZ'[i]}{f3(v)}" for i, v in zip(axes, vals)))
+        for i, v in zip(axes, vals):
+            self.frame.offset[i] += v - (self.g92_off[i] if self.absolute else 0.0)
+            self.g92_off[i] = v if self.absolute else self.g92_off[i] + v
+
     def switch(self, ops) -> None:
         for op in ops:
             getattr(self, op)()
@@ -370,6 +382,7 @@ def test_transformed_contour_is_the_hand_transformed_contour(kind, data):
     if offsets == "G54 G92":
         sim.emit_line(f"G92 X{f3(g92[0])} Y{f3(g92[1])}")
         sim.frame.offset = sim.frame.offset + np.array(g92)
+        sim.g92_off = np.array(g92)
     ops = FRAMES[kind]
     if kind == "all":  # the documented order holds whatever order the program switches them on in
         ops = data.draw(hst.permutations(ops), "order")
@@ -380,7 +393,7 @@ def test_transformed_contour_is_the_hand_transformed_contour(kind, data):
 
 
 # -- 3: the frame switched in the middle of a contour (no compensation active) -------------------------
-OPS = ["rotation_on", "rotation_off", "mirror", "cs_on", "cs_off"]
+OPS = ["rotation_on", "rotation_off", "mirror", "cs_on", "cs_off", "g92"]
 
 
 @pytest.mark.parametrize("plane", list(PLANES))
