@@ -483,3 +483,14 @@ def test_compensated_polygon_under_a_frame_is_the_hand_transformed_one(data):
         for c in offset_corners(pts, r)[1:]:
             q = L @ np.array([c[0], c[1], -1.0]) + t
             assert min(np.linalg.norm(e - q) for e in ends) < TOL, (c, q)
+
+
+def test_modal_radius_under_mirroring_keeps_the_shorter_arc():
+    """R is modal: G02 X10 Y0 R10 from (0, 0) runs clockwise over the top about (5, -sqrt(75)); the next
+    G03 X20 Y0 (R10 still) counter-clockwise below, about (15, sqrt(75)). Under G21 (x -> -x) both
+    centres mirror, (-5, -sqrt(75)) and (-15, sqrt(75)), and the directions reverse."""
+    prog = run("%P\nG17 F100\nG21\nG01 X0 Y0\nG02 X10 Y0 R10\nG03 X20 Y0\nM30\n")
+    arcs = [m for m in prog.moves if isinstance(m, canon.Arc)]
+    h = math.sqrt(75.0)
+    assert [(a.end[:2], a.clockwise) for a in arcs] == [((-10.0, 0.0), False), ((-20.0, 0.0), True)]
+    assert np.allclose([a.center[:2] for a in arcs], [(-5.0, -h), (-15.0, h)], rtol=0, atol=TOL)
