@@ -156,6 +156,22 @@ def check_resolved(tool: ToolSpec, tol: float) -> None:
                                f"([simulation] tolerance or --tolerance)")
 
 
+def fine_screw(path, tol: float):
+    """A thread cut whose tool point travels at most ``tol`` along its path per revolution, as the
+    lathe move it is within the tolerance: in every half-plane through the axis the screw sweep is
+    the profile at the path points one revolution apart, the revolved sweep the profile along the
+    whole path, and every point of the latter lies within ``tol`` of the former (the nearest pass is
+    at most one revolution's path away), so the revolved region is the part within the run's
+    tolerance — and costs one 2D region instead of thousands of teeth finer than the tolerance.
+    Other paths are returned as they are."""
+    if not isinstance(path, ScrewPath) or path.revolutions <= 0:
+        return path
+    r, z, _ = path.pose(np.asarray(path.breakpoints(), dtype=float))
+    if float(np.hypot(np.diff(r), np.diff(z)).sum()) > tol * path.revolutions:
+        return path
+    return PlanarPath(path.src, path.tool, np.column_stack([r, z]), False)
+
+
 def sweep_kind(path) -> str:
     """The one sweep strategy for ``path``, a key of STRATEGIES:
 
@@ -323,7 +339,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
         check_tool(tool)  # tools built in Python, not through the setup loader, meet the same ranges
     for tool in {id(p.tool): p.tool for p in paths if is_mill_move(p)}.values():
         check_resolved(tool, tol)
-    paths = drop_repeats(paths)
+    paths = [fine_screw(p, tol) for p in drop_repeats(paths)]
     kinds = [sweep_kind(p) for p in paths]
     work = Work(max_triangles, stock.num_tri())
     sweeper = _Sweeper(frame, tol, profile, work.estimate(paths, kinds, tol, profile, frame))

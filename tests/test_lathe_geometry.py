@@ -29,7 +29,7 @@ import pytest
 
 import cutsim
 from conftest import EXAMPLES
-from geometry import groove_roots, outer_radius, section, wrap
+from geometry import groove_roots, load, outer_radius, section, wrap
 
 LATHE = EXAMPLES / "cnc8x6-lathe"
 TOL = 0.002  # chordal tolerance of the runs that check micrometres
@@ -280,3 +280,24 @@ def test_full_pass_removes_the_screw_volume(tmp_path):
 
 def test_full_pass_volume_within_0_05_percent(tmp_path):
     assert abs(_volume_error(tmp_path, 0.002)) < 5e-4
+
+
+def test_lead_finer_than_the_tolerance_is_the_turned_groove(tmp_path):
+    """G33 with a lead of 1 um at tolerance 0.2 (fuzz seed 20261126 case 42440: 12,000 turns, the
+    screw sweep's teeth 1 um wide took minutes): within the tolerance the cut is the revolved
+    sweep of the profile along the path (stock/removal.py fine_screw), so at every angle the part's
+    radius over the cut length is the programmed X/2 = 14 within the tolerance, and the bar keeps
+    its 15 mm radius above the tool's start."""
+    (tmp_path / "fine.nc").write_text("N10 M03 S100 X28. Z2.\nN20 G33 Z-20. F0.001\nN30 G00 X40.\n")
+    (tmp_path / "fine.toml").write_text(
+        '[machine]\nkind = "lathe"\ndialect = "cnc8x6"\ndiameter_programming = true\nstart = [40.0, 0.0, 5.0]\n'
+        '[stock]\nshape = "cylinder"\ndiameter = 30.0\nz = [-12.0, 0.0]\n'
+        '[[tool]]\nnumber = 1\nkind = "thread"\nangle = 60.0\n')
+    tol = 0.2
+    res = cutsim.simulate(str(tmp_path / "fine.nc"), str(tmp_path / "fine.toml"), tolerance=tol)
+    mesh = load(res)
+    assert mesh.is_watertight and mesh.is_volume
+    zs = np.linspace(-11.5, -0.5, 23)
+    for phi in PHIS:
+        r = outer_radius(section(mesh, phi), zs)
+        assert np.all(np.abs(r - 14.0) <= tol + 1e-5), (phi, r)
