@@ -44,7 +44,7 @@ import click
 
 from cutsim.interp import DIALECTS
 from cutsim.interp.errors import CutsimError
-from cutsim.setup import huge_number_at
+from cutsim.setup import MIN_TOLERANCE, huge_number_at
 
 DEFAULT_TIMEOUT = 1800.0  # s per job
 DEFAULT_MEMORY = 4096  # MiB of address space per job
@@ -226,8 +226,8 @@ def _options(t: dict, fail, base: str) -> dict:
     o = {}
     if "tolerance" in t:
         v = t["tolerance"]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (1e-5 <= v <= 1.0):
-            raise fail(("tolerance",), f"tolerance: {v!r} is not a number between 0.00001 and 1 mm")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (MIN_TOLERANCE <= v <= 1.0):
+            raise fail(("tolerance",), f"tolerance: {v!r} is not a number between 0.0001 and 1 mm")
         o["tolerance"] = float(v)
     if "timeout" in t:
         v = t["timeout"]
@@ -1203,8 +1203,8 @@ def batch_command(ctx, manifest, out_dir, n_jobs, scheduler, images, resume, tol
                   reference_dir, reference_tol, quiet):
     """Verify every job of MANIFEST (a TOML or CSV list, or a folder of PROGRAM + PROGRAM.toml)."""
     try:
-        if tolerance is not None and not (1e-5 <= tolerance <= 1.0):
-            raise CutsimError("cutsim", 0, 0, f"--tolerance: {tolerance:g} is not between 0.00001 and 1 mm")
+        if tolerance is not None and not (MIN_TOLERANCE <= tolerance <= 1.0):
+            raise CutsimError("cutsim", 0, 0, f"--tolerance: {tolerance:g} is not between 0.0001 and 1 mm")
         summary = run_batch(manifest, out_dir, scheduler=scheduler, workers=n_jobs, tolerance=tolerance,
                             timeout=timeout, memory=memory, images=images, resume=resume,
                             reference_dir=reference_dir, reference_tol=reference_tol, progress=not quiet)

@@ -21,6 +21,7 @@ import time
 import click
 
 from cutsim.interp.errors import CutsimError
+from cutsim.setup import MIN_TOLERANCE
 
 FORMATS = ("stl", "3mf", "glb")
 PROG = "cutsim"
@@ -254,8 +255,8 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
         from cutsim.reports.output import Output
         from cutsim.reports.report import mesh_arrays, part_bytes, report_bytes
 
-        if tolerance is not None and not (1e-5 <= tolerance <= 1.0):
-            raise CutsimError(PROG, 0, 0, f"--tolerance: {tolerance:g} is not between 0.00001 and 1 mm")
+        if tolerance is not None and not (MIN_TOLERANCE <= tolerance <= 1.0):
+            raise CutsimError(PROG, 0, 0, f"--tolerance: {tolerance:g} is not between 0.0001 and 1 mm")
         names = [f"part.{fmt}", "report.json"] + (["report.html"] if images else [])
         out = Output(out_dir, names)  # an unusable DIR is reported before the simulation
         result = cutsim.simulate(program, setup_path, tolerance=tolerance, progress=progress)

@@ -79,6 +79,10 @@ COORD_MAX = 100_000.0  # |coordinate| of the stock, the start position, profile 
 MIN_SIZE = 0.001  # smallest stock size (diameter, extent along an axis)
 RATE_MAX = 1_000_000.0  # mm/min: rapid and default feed
 VALUE_MAX = 1e12  # |R parameter| and |machine constant|
+# The finest chordal tolerance: 0.1 um. The written mesh is snapped to a grid of at least 2^-16 mm
+# (1.5e-5 mm; docs/setup.md, reports/mesh.py), so a finer tolerance could not survive the export, and
+# circles at 1e-5 mm have thousands of segments whose booleans run for minutes (fuzz).
+MIN_TOLERANCE = 1e-4
 MAX_BLOCKS_LIMIT = 10_000_000  # every executed move is held until the run ends (~0.65 KB each): 6.5 GB at the ceiling
 MAX_TRIANGLES_RANGE = (1_000, 2_000_000_000)
 MAX_SETUP_BYTES = 16 * 1024 * 1024
@@ -498,7 +502,7 @@ class _Loader:
         if table is None:
             return 0.002, False, MAX_BLOCKS, DEFAULT_MAX_TRIANGLES
         s = _Reader(self, table, "simulation")
-        tol = s.get("tolerance", float, 0.002, check=lambda v: 1e-5 <= v <= 1.0, why="must be between 0.00001 and 1 mm")
+        tol = s.get("tolerance", float, 0.002, check=lambda v: MIN_TOLERANCE <= v <= 1.0, why="must be between 0.0001 and 1 mm")
         fow = s.get("fail_on_warning", bool, False)
         max_blocks = s.get("max_blocks", int, MAX_BLOCKS, check=lambda v: 1 <= v <= MAX_BLOCKS_LIMIT,
                            why=f"must be at least 1 and at most {MAX_BLOCKS_LIMIT:,}")

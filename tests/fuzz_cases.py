@@ -1285,7 +1285,7 @@ def mutate_setup(rng: random.Random, setup: dict, machine: str) -> list[str]:
         elif c < 0.88:
             sim = setup.setdefault("simulation", {}) if isinstance(setup.get("simulation", {}), dict) else {}
             k = rng.choice(["tolerance", "max_blocks", "fail_on_warning"])
-            sim[k] = rng.choice({"tolerance": [0.0, 1e-5, 1.0, 1.0001, -0.05, float("nan"), 2, True, "0.05"],
+            sim[k] = rng.choice({"tolerance": [0.0, 1e-5, 1e-4, 1.0, 1.0001, -0.05, float("nan"), 2, True, "0.05"],
                                  "max_blocks": [0, 1, 2, 5, -1, 1.5, 2 ** 70, 10 ** 9, "5"],
                                  "fail_on_warning": [True, False, 1, "yes"]}[k])
             notes.append(f"simulation.{k} = {toml_value(sim[k])}")
@@ -1321,7 +1321,7 @@ def mutate_setup(rng: random.Random, setup: dict, machine: str) -> list[str]:
 # command lines
 
 TOLERANCES = ["0.05", "0.05", "0.1", "0.02", "0", "-0.05", "nan", "inf", "-inf", "1e-6", "2", "1", "1.0000001",
-              "abc", "", "0x1", "1e-5", "1e400", "0.05 ", " 0.05", "0,05", "\u0660.\u0660\u0665"]
+              "abc", "", "0x1", "1e-5", "1e-4", "1e400", "0.05 ", " 0.05", "0,05", "\u0660.\u0660\u0665"]
 FORMATS = ["stl", "stl", "3mf", "glb", "STL", "obj", ""]
 
 
@@ -1334,7 +1334,7 @@ def mutate_cli(rng: random.Random, case: Case) -> None:
     c = rng.random()
     if c < 0.3:
         tol = rng.choice(TOLERANCES)
-        if tol in ("1e-5", "1e-6") and case.size() > 600:
+        if tol in ("1e-4", "1e-5", "1e-6") and case.size() > 600:
             tol = "0.05"
         case.argv[case.argv.index("--tolerance") + 1] = tol
         case.notes.append(f"--tolerance {tol!r}")

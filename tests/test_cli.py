@@ -123,7 +123,7 @@ def _no_noise(res):
 
 @pytest.mark.parametrize("args, message", [
     (["--tolerance", "abc"], "cutsim:0:0: error: --tolerance: 'abc' is not a valid float"),
-    (["--tolerance", "nan"], "cutsim:0:0: error: --tolerance: nan is not between 0.00001 and 1 mm"),
+    (["--tolerance", "nan"], "cutsim:0:0: error: --tolerance: nan is not between 0.0001 and 1 mm"),
     (["--format", "obj"], "cutsim:0:0: error: --format: 'obj' is not one of 'stl', '3mf', 'glb'"),
     (["--tolerance"], "cutsim:0:0: error: Option '--tolerance' requires an argument"),
     (["--bogus"], "cutsim:0:0: error: No such option '--bogus'"),

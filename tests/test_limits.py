@@ -221,12 +221,12 @@ def test_good_mesh_stock_loads_and_builds(tmp_path):
 
 
 def test_fine_tolerance_on_a_huge_bar_is_refused_at_its_key(tmp_path):
-    """A 200 m bar at 0.00001 mm: a circle of radius 1e5 needs pi / acos(1 - 1e-10) ~ 222k segments,
-    4 outline vertices -> ~1.8M triangles, over a limit of 1M."""
+    """A 200 m bar at 0.0001 mm (the finest tolerance): a circle of radius 1e5 needs
+    pi / acos(1 - 1e-9) ~ 70k segments, 4 outline vertices -> ~0.56M triangles, over a limit of 0.3M."""
     setup = tmp_path / "s.toml"
     setup.write_text((LATHE / "multipass.toml").read_text().split("[stock]")[0] +
                      '[stock]\nshape = "cylinder"\ndiameter = 200000.0\nz = [-10, 0]\n\n[[tool]]\nkind = "thread"\n'
-                     "\n[simulation]\ntolerance = 0.00001\nmax_triangles = 1000000\n")
+                     "\n[simulation]\ntolerance = 0.0001\nmax_triangles = 300000\n")
     with pytest.raises(CutsimError) as e:
         cutsim.load_setup(str(setup))
     assert "[stock] diameter" in e.value.message and "max_triangles" in e.value.message
