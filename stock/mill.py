@@ -268,12 +268,15 @@ def flute_message(tool: ToolSpec, z: float, top: float, vol: float) -> str:
             f"Z{top:g} above the flutes at tip Z{z:g} ({vol:.3f} mm^3 would meet the shank)")
 
 
-def sweep(path: SpatialPath, tol: float, cap: float) -> list[m3d.Manifold]:
+def sweep(path: SpatialPath, tol: float, cap: float, poses: list | None = None) -> list[m3d.Manifold]:
     """Solids whose union a milling tool sweeps on one move: the exact prism for a flat end mill
-    at constant Z (rapids too), else the hulls of ``hull_sweep`` below the height ``cap``."""
+    at constant Z (rapids too), else the hulls of ``hull_sweep`` below the height ``cap`` (with
+    ``poses``: one entry per solid appended, as ``hull_sweep`` does)."""
     if is_flat(path.tool) and is_constant_z(path):
+        if poses is not None:
+            poses.append(None)
         return [constant_z_solid(path, tol)]
-    return hull_sweep(path.points, path.tool, tol, cap)
+    return hull_sweep(path.points, path.tool, tol, cap, poses)
 
 
 # -- 3D moves: hulls of tool poses, merged where that is exact within the tolerance --------------
@@ -375,10 +378,12 @@ def runs(pts: np.ndarray, tol: float, mergeable: bool) -> list[tuple[int, int]]:
     return out
 
 
-def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> list[m3d.Manifold]:
+def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float,
+               poses: list | None = None) -> list[m3d.Manifold]:
     """Solids whose union is the mill swept along the tip polyline ``points``, below ``cap``: for a
     ball-end mill, mitred tubes along planar stretches (stock/tube.py) closed by the tool's body at
-    their ends; everything else hulls of merged runs of poses."""
+    their ends; everything else hulls of merged runs of poses. With ``poses`` (a list) one entry per
+    returned solid is appended to it: the ``Poses`` a hull is the hull of, None for a tube."""
     from . import tube
     from .tools import full_height, mill_body
 
@@ -393,7 +398,7 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> li
         hull of the whole bodies."""
         return max(cap, float(p[:, 2].max()) + rc)
 
-    out = []
+    out, keys = [], []
     for pts in below_cap(points, cap):
         h = cap - pts[:, 2]  # a single body needs no more than this
         closed = bool(np.all(pts[:, 2] + tool.length >= plane(pts)))  # flutes reach it at every pose
@@ -405,6 +410,7 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> li
                 # each tube's own top (no higher than the one checked): no coplanar tops to union
                 own = max(cap, float(pts[i:j + 1, 2].max()) + tool.diameter / 2.0 + 1e-3)
                 out.append(tube.tube(pts[i:j + 1], tool, tol, own))
+                keys.append(None)
                 ends.update((i, j))
                 if i > start:
                     pieces.append((start, i))
@@ -416,14 +422,125 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float) -> li
         ends -= {k for piece in pieces for k in piece}
         for k in sorted(ends):
             out.append(m3d.Manifold.hull_points(body(pts[k], h[k])))
+            keys.append(Poses.of(tool, tol, pts[k:k + 1], [h[k]]))
         for a, b in pieces:
             sub = pts[a:b + 1]
             for i, j in runs(sub, tol, closed):
                 run = sub[i:j + 1]
                 top = plane(run)
                 cut = bool(np.all(run[:, 2] + tool.length >= top))
-                out.append(m3d.Manifold.hull_points(np.vstack([body(p, top - p[2] if cut else None) for p in run])))
-    return [s for s in out if not s.is_empty()]
+                heights = [top - p[2] if cut else None for p in run]
+                vertical = len(run) > 1 and bool(np.all(run[1:, :2] == run[:-1, :2]))
+                if vertical and cut:
+                    # a plunge or a retract with its bodies cut off at one plane: the body at the lower
+                    # pose up to that plane holds the other; the hull of both bodies (the same ring at
+                    # the plane twice, an ulp apart) came out short (drilling.mpf: a peck's hull 0.007
+                    # mm^3 below the hull of its own vertices)
+                    low = run[int(np.argmin(run[:, 2]))]
+                    cloud = body(low, top - low[2])
+                else:
+                    cloud = np.vstack([body(p, hp) for p, hp in zip(run, heights)])
+                    if vertical:
+                        cloud = np.unique(cloud, axis=0)
+                out.append(m3d.Manifold.hull_points(cloud))
+                keys.append(Poses.of(tool, tol, run, heights))
+    kept = [k for k, s in enumerate(out) if not s.is_empty()]
+    if poses is not None:
+        poses.extend(keys[k] for k in kept)
+    return [out[k] for k in kept]
+
+
+# -- nested sweeps: a pass below another one on the same XY path ------------------------------------
+# A mill's body (tools.mill_body) is a stack of similar rings about its axis whose radius never
+# shrinks upwards: the body with its tip at z and cut off at t lies inside the body at the same XY
+# with its tip at z' <= z cut off at t' >= t (its section at every height is no smaller), provided
+# neither is cut off inside its corner (there the top section is the true circle, which may stand
+# out of the other's chords). So the hull of poses P lies inside the hull of poses Q when every pose
+# of P has such a pose in Q: bitwise the same XY (the same ring vertices), a tip no higher, a top no
+# lower. Above the stock's top there is no stock, so a top above it counts as the stock's top.
+# The passes a cycle lays at every depth step on one XY path (and their plunges and retracts) are
+# such hulls: the walls of their bodies' rings coincide exactly (same XY vertices, different heights
+# and triangulations), and the batch boolean cut such a shared wall into slivers (fuzz c41710:
+# CYCLE71 with a ball-end mill at 17 depth steps; the ~50 hulls starting at one point share the
+# wall of one ring edge there, and 741k of the 776k triangles of a reduced batch lay in that plane;
+# the whole run: 2.5M triangles, 132 s and 2.1 GB). A hull inside another removes nothing the other
+# does not: it is left out of the subtract (``nested``), the part is the same solid.
+NESTED_SCAN = 64  # most candidate hulls looked at per hull (the deepest first)
+
+
+@dataclass(frozen=True)
+class Poses:
+    """The tool poses a convex hull sweep is the hull of: the tool, the tolerance its body was built
+    at and one row (x, y, tip z, top z) per pose (top: where the body is cut off)."""
+    tool: ToolSpec
+    tol: float
+    rows: np.ndarray
+
+    @staticmethod
+    def of(tool: ToolSpec, tol: float, pts: np.ndarray, heights: list) -> "Poses":
+        """The poses ``pts`` with the heights above the tip their bodies are built to (None: the
+        flute length; tools._mill_cloud and _drill_body: never more than the flute length)."""
+        rows = np.empty((len(pts), 4))
+        rows[:, :3] = pts
+        rows[:, 3] = [p[2] + (tool.length if hp is None else min(tool.length, max(0.0, hp)))
+                      for p, hp in zip(pts, heights)]
+        return Poses(tool, tol, rows)
+
+
+def nested(poses: list, top: float) -> list[bool]:
+    """For each entry of ``poses`` (a ``Poses`` or None) whether its hull lies inside the hull of
+    another entry below the height ``top`` (see above: the stock's top), so leaving it out of the
+    union changes nothing below it. Of hulls inside each other (the same poses) the first is kept."""
+    from .tools import full_height
+
+    bodies: dict[tuple, int] = {}  # (tool, tolerance) -> a number: only the same body holds another
+    index: dict[tuple, list] = {}  # (body, x, y) -> [(tip z, top, entry)] of poses that can hold others
+    mine: dict[tuple, list] = {}  # (body, x, y, entry) -> [(tip z, top)]: the same, per entry
+    full, rows = [], []  # per entry: all its bodies cut off above their corner; its rows as lists
+    for k, ps in enumerate(poses):
+        if ps is None:
+            full.append(False)
+            rows.append(None)
+            continue
+        b = bodies.setdefault((ps.tool, ps.tol), len(bodies))
+        ok = (ps.rows[:, 3] - ps.rows[:, 2] >= full_height(ps.tool) - 1e-9).tolist()
+        rs = ps.rows.tolist()
+        full.append(all(ok))
+        rows.append((b, rs))
+        for (x, y, z, t), good in zip(rs, ok):
+            if good:
+                index.setdefault((b, x, y), []).append((z, t, k))
+                mine.setdefault((b, x, y, k), []).append((z, t))
+    for lst in index.values():
+        lst.sort()
+
+    def holds(a: int, b: int) -> bool:
+        """Every pose of ``b`` has a pose of ``a`` at its XY, tip no higher, top no lower (below ``top``)."""
+        body, rs = rows[b]
+        for x, y, z, t in rs:
+            t = min(t, top)
+            if not any(zq <= z and tq >= t for zq, tq in mine.get((body, x, y, a), ())):
+                return False
+        return True
+
+    out = [False] * len(poses)
+    for b, ps in enumerate(poses):
+        if not full[b]:
+            continue
+        body, rs = rows[b]
+        x, y, z, t = rs[0]
+        t = min(t, top)
+        seen = set()
+        for zq, tq, a in index.get((body, x, y), ())[:NESTED_SCAN]:
+            if zq > z:
+                break
+            if a == b or a in seen or tq < t:
+                continue
+            seen.add(a)
+            if holds(a, b) and (a < b or not full[a] or not holds(b, a)):
+                out[b] = True
+                break
+    return out
 
 
 class Chain:

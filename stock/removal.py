@@ -53,6 +53,7 @@ class _Cut:
     hi: np.ndarray
     near: Callable[[float, float], list] | None = None  # the solids restricted to heights z0..z1
     build: Callable[[], list] | None = None  # solids built when needed, not kept (long mill chains)
+    keys: list | None = None  # per solid its mill.Poses (a hull of tool poses) or None, as last built
 
     def get(self) -> list:
         return self.build() if self.build is not None else self.solids
@@ -95,6 +96,17 @@ class _Frame:
 
     def meets(self, lo, hi) -> bool:
         return _overlap(lo, hi, self.lo, self.hi)
+
+    def clip_keyed(self, solids: list[m3d.Manifold], keys: list) -> tuple[list[m3d.Manifold], list]:
+        """``clip`` with a key per solid kept beside it (a clipped hull still lies inside any hull
+        its whole lay in, up to what lies beyond the box, where there is no stock)."""
+        out, kept = [], []
+        for s, k in zip(solids, keys):
+            c = self.clip([s])
+            if c:
+                out.append(c[0])
+                kept.append(k)
+        return out, kept
 
     def clip(self, solids: list[m3d.Manifold]) -> list[m3d.Manifold]:
         """``solids`` cut off by the planes of the stock's box (plus the margin) they reach beyond by
@@ -218,12 +230,15 @@ class _Sweeper:
             self.bodies[tool.number] = lathe_body(tool, self.tol)  # mills: stock/mill.py builds its own
         return self.bodies[tool.number]
 
-    def add_cut(self, index: int, solids: list) -> _Cut | None:
-        solids = self.f.clip(solids)
+    def add_cut(self, index: int, solids: list, keys: list | None = None) -> _Cut | None:
+        if keys is not None:
+            solids, keys = self.f.clip_keyed(solids, keys)
+        else:
+            solids = self.f.clip(solids)
         if solids:
             lo, hi = _bbox(solids)
             if self.f.meets(lo, hi):
-                self.cuts.append(_Cut(index, solids, None, lo, hi))
+                self.cuts.append(_Cut(index, solids, None, lo, hi, keys=keys))
                 return self.cuts[-1]
         return None
 
@@ -271,7 +286,8 @@ class _Sweeper:
             if cut is not None:
                 self.checks.append((cut, path))
             return
-        cut = self.add_cut(i, mill.sweep(path, self.tol, self.cap))
+        keys: list = []
+        cut = self.add_cut(i, mill.sweep(path, self.tol, self.cap, keys), keys)
         if cut is not None:  # checked with the tool shrunk by a few tolerances (stock/mill.py)
             self.checks.append((_Cut(i, self.f.clip(mill.check_solids(path, self.tol, self.cap)), None, cut.lo, cut.hi),
                                 path))
@@ -302,12 +318,23 @@ class _Sweeper:
             for pts in self.chain.take(tol):
                 lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach + [0.0, 0.0, tool.length]
                 if self.f.meets(lo, hi):
-                    self.cuts.append(_Cut(index, [], None, lo, hi,
-                                          build=lambda pts=pts, tool=tool: clip(mill.hull_sweep(pts, tool, tol, cap))))
+                    cut = _Cut(index, [], None, lo, hi)
+                    cut.build = functools.partial(self._chain_piece, cut, pts, tool)
+                    self.cuts.append(cut)
         if self.arcs:
             index, p = self.arcs.pop()
             solids = helix.arc_sweep(p, tol, self.f.top)
-            self.add_cut(index, solids if solids is not None else mill.hull_sweep(p.points, p.tool, tol, cap))
+            if solids is not None:
+                self.add_cut(index, solids)
+            else:
+                keys: list = []
+                self.add_cut(index, mill.hull_sweep(p.points, p.tool, tol, cap, keys), keys)
+
+    def _chain_piece(self, cut: _Cut, pts: np.ndarray, tool: ToolSpec) -> list:
+        """The solids of one piece of a 3D mill chain (built when needed), their poses in ``cut.keys``."""
+        keys: list = []
+        solids, cut.keys = self.f.clip_keyed(mill.hull_sweep(pts, tool, self.tol, self.cap, keys), keys)
+        return solids
 
     def finish(self, n: int, work: "Work") -> None:
         """The held-back moves, the thread groups (at index n: never an "earlier cut" for the
@@ -389,25 +416,27 @@ def _subtract(stock: m3d.Manifold, cuts: list[_Cut], paths: list, frame: _Frame,
     after, so memory stays bounded however long the program is. Returns the part (debris
     dropped) and the number of solids subtracted."""
     regions = [c.region for c in cuts if c.region is not None]
-    part, pending, tris, count = stock, [], 0, 0
+    part, pending, keys, tris, count = stock, [], [], 0, 0
     if regions:
         union = m3d.CrossSection.batch_boolean(regions, m3d.OpType.Add)
         first = min(c.index for c in cuts if c.region is not None)
         work.add(2 * union.num_vert() * frame.nseg, paths[first].src, "the turning moves (one solid of revolution)")
         pending.append(frame.revolve(union))
+        keys.append(None)
     for k, c in enumerate(cuts):
         if progress:
             progress("subtracting", k, len(cuts))
-        for sol in (built.take(c) if built is not None else c.get()):  # swept for a check: not again
-            pending.append(sol)
-            tris += sol.num_tri()
+        sols = built.take(c) if built is not None else c.get()  # swept for a check: not again
+        pending.extend(sols)
+        keys.extend(c.keys if c.keys is not None and len(c.keys) == len(sols) else [None] * len(sols))
+        tris += sum(sol.num_tri() for sol in sols)
         if tris > CHUNK_TRIANGLES:
-            part = m3d.Manifold.batch_boolean([part] + pending, m3d.OpType.Subtract)
+            part = m3d.Manifold.batch_boolean([part] + _outermost(pending, keys, frame.top), m3d.OpType.Subtract)
             part.num_tri()  # evaluate now so the batch's solids can be freed
             count += len(pending)
-            pending, tris = [], 0
+            pending, keys, tris = [], [], 0
     if pending:
-        part = m3d.Manifold.batch_boolean([part] + pending, m3d.OpType.Subtract)
+        part = m3d.Manifold.batch_boolean([part] + _outermost(pending, keys, frame.top), m3d.OpType.Subtract)
         count += len(pending)
     part = drop_debris(part)
     if progress:
@@ -416,6 +445,17 @@ def _subtract(stock: m3d.Manifold, cuts: list[_Cut], paths: list, frame: _Frame,
 
 
 CHUNK_TRIANGLES = 1_000_000
+
+
+def _outermost(solids: list, keys: list, top: float) -> list:
+    """``solids`` without the hulls of tool poses that lie inside another one of them below the
+    stock's top ``top`` (``mill.nested``): a pass below another on the same XY path. The part is
+    the same solid, but the coinciding walls of nested passes made the batch boolean cut them into
+    slivers."""
+    if sum(k is not None for k in keys) < 2:
+        return solids
+    inside = mill.nested(keys, top)
+    return [s for s, drop in zip(solids, inside) if not drop]
 
 
 def _stock_rmax(outline: np.ndarray | None, zlo: float, zhi: float, default: float) -> float:

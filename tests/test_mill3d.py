@@ -233,3 +233,77 @@ def test_level_stretches_turn_until_the_mitre_is_too_far_out():
     assert tube.stretches(loop, BALL, 0.01, 5.0) == [(0, k // 2), (k // 2, k)]
     assert tube.stretches(loop[: k // 2 + 1], BALL, 0.01, 5.0) == [(0, k // 2)]
     assert tube.is_level(loop)
+
+
+NESTED_SETUP = """
+[machine]
+kind = "mill"
+dialect = "cnc8x6"
+start = [0.0, 0.0, 30.0]
+
+[stock]
+shape = "box"
+x = [0.0, 100.0]
+y = [0.0, 100.0]
+z = [-4.0, 0.0]
+
+[[tool]]
+number = 2
+kind = "ballmill"
+diameter = 6.0
+length = 20.0
+"""
+
+
+def test_nested_passes_on_one_path_are_one_solid(tmp_path, monkeypatch):
+    """Two passes of a ball-end mill along one XY path (plunge at P, line to Q), at Z-2 and at Z-8,
+    through a 4 mm plate (c41710: CYCLE71 at 17 depth steps gave 2.5M triangles of slivers on the
+    walls the passes share, 132 s): each body of the shallow pass and of both plunges lies in a body
+    of the deep pass (same XY, tip lower, flutes above the stock), so only the deep line's hull is
+    subtracted. The deep ball's equator (Z-5) is below the plate, so the part is the plate minus the
+    stadium prism of radius r around PQ: volume 4 (2 r L + pi r^2) within the tolerance over the
+    slot's walls, and the slot adds at most a bounded number of triangles to the plate's. (This
+    small case does not breed slivers without the fix; the solid count is what catches it.)"""
+    import manifold3d as m3d
+
+    from cutsim.stock import mill
+
+    tol, r = 0.01, 3.0
+    p, q = (20.0, 30.0), (70.0, 60.0)
+    lines = ["N10 T2 G00 X20 Y30 Z5", "G01 Z-2 F300", "X70 Y60", "G00 Z5", "X20 Y30",
+             "G01 Z-8", "X70 Y60", "G00 Z30"]
+    (tmp_path / "s.toml").write_text(NESTED_SETUP)
+    (tmp_path / "p.nc").write_text("\n".join(lines) + "\n")
+    seen = []
+    batch = m3d.Manifold.batch_boolean
+
+    def record(parts, op):
+        if op == m3d.OpType.Subtract:
+            seen.append(len(parts))
+        return batch(parts, op)
+
+    monkeypatch.setattr(m3d.Manifold, "batch_boolean", staticmethod(record))
+    res = cutsim.simulate(str(tmp_path / "p.nc"), str(tmp_path / "s.toml"), tolerance=tol)
+    monkeypatch.undo()
+    length = math.hypot(q[0] - p[0], q[1] - p[1])
+    exact = 4.0 * (2 * r * length + math.pi * r * r)
+    walls = 4.0 * (2 * length + 2 * math.pi * r)
+    assert res.report["removed_volume"] == pytest.approx(exact, abs=tol * walls)
+    assert res.report["warnings"] == []
+    assert seen[-1] == 2  # the plate and the deep line's hull: the other three lie inside it
+    # by geometry: below the plate's top the shallow line's hull lies inside the deep one's
+    tool = ToolSpec(2, "ballmill", diameter=6.0, length=20.0, corner_radius=3.0)
+    cap = mill.cap_height(0.0, tol)
+    keys: list = []
+    deep = mill.hull_sweep(np.array([[*p, -8.0], [*q, -8.0]]), tool, tol, cap, keys)
+    shallow = mill.hull_sweep(np.array([[*p, -2.0], [*q, -2.0]]), tool, tol, cap, keys)
+    assert len(deep) == len(shallow) == 1
+    below = shallow[0].trim_by_plane((0.0, 0.0, -1.0), 0.0)  # z <= 0
+    assert (below - deep[0]).volume() <= 1e-9 * below.volume()
+    assert mill.nested(keys, 0.0) == [False, True]
+    # the plate's faces (refined before the subtract) plus the slot: each of the prism's 2 (n + 2)
+    # vertices (its n-gon's two halves and the support points) adds at most a few triangles to the
+    # top, the bottom and the walls
+    n = max(8, math.ceil(2 * math.pi / (2 * math.acos(1 - tol / r))))
+    plate = mill.refined(m3d.Manifold.cube((100.0, 100.0, 4.0))).num_tri()
+    assert res.report["triangles"] <= plate + 16 * (n + 2)
