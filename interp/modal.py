@@ -17,7 +17,7 @@ AXES = ("X", "Y", "Z")
 PLANES = {17: "XY", 18: "ZX", 19: "YZ"}
 # Plane -> (first axis, second axis, normal axis) as indices into (X, Y, Z).
 PLANE_AXES = {"XY": (0, 1, 2), "ZX": (2, 0, 1), "YZ": (1, 2, 0)}
-MAX_BLOCKS = 5_000_000  # executed blocks before a program is treated as one that does not end
+MAX_BLOCKS = 1_000_000  # executed blocks before a program is treated as one that does not end (docs/setup.md)
 
 
 @dataclass

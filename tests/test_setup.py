@@ -100,7 +100,7 @@ def test_structure_errors(tmp_path):
 
 def test_max_blocks(tmp_path):
     s, _ = load(tmp_path, BASE)
-    assert s.max_blocks == 5_000_000
+    assert s.max_blocks == 1_000_000
     s, _ = load(tmp_path, BASE + "\n[simulation]\nmax_blocks = 1000\n")
     assert s.max_blocks == 1000
     for bad, why in (("0", "at least 1"), ("1e6", "whole number"), ('"many"', "whole number")):
