@@ -900,8 +900,8 @@ def load_setup(path: str) -> Setup:
         raise CutsimError(path, line, col, f"not valid TOML: {msg}") from None
     except ValueError as e:  # tomllib's int() of a number with more digits than Python converts
         line, col = huge_number_at(text)
-        raise CutsimError(path, line, col, f"not valid TOML: a number with too many digits ({e})"
-                          .split(";")[0] + ")") from None
+        reason = str(e).split(";")[0]  # without Python's advice (sys.set_int_max_str_digits)
+        raise CutsimError(path, line, col, f"not valid TOML: a number with too many digits ({reason})") from None
     except RecursionError:  # tomllib reads nested arrays and inline tables recursively
         raise CutsimError(path, 1, 1, "arrays or inline tables are nested too deeply") from None
     return _Loader(path, text).load(data)

@@ -200,7 +200,7 @@ class Isg(Interpreter):
         self.trc_linear = True  # G25 (default) / G26
         self.trc_method: tuple = (139, None)
         self.r_col = 1  # column of the R word of the block being converted (1: none there)
-        self.circle_r: tuple[float, int] | None = None  # R (circle radius, modal) and its column  # G139 indirect (default), G138 direct, or an unmodelled one
+        self.circle_r: float | None = None  # R (circle radius, modal)  # G139 indirect (default), G138 direct, or an unmodelled one
         # rotated and mirrored program coordinates (isg_commands.frame): #ROTATION, G20..G23/G351, #CS about Z
         self.rotation: tuple | None = None  # (angle, plane, centre 1, centre 2)
         self.mirror = [False, False, False]
@@ -960,7 +960,7 @@ class Isg(Interpreter):
             w = words.pop("R")
             if w.value == 0:
                 raise self.error(b.line, w.col, "circle radius R must not be 0")
-            self.circle_r = (w.value, w.col)
+            self.circle_r = w.value
         axis_words = {AXES.index(a): words.pop(a) for a in AXES if a in words}
         values = {i: w.value for i, w in axis_words.items()}
         cols = {i: w.col for i, w in axis_words.items()}
@@ -1290,7 +1290,7 @@ class Isg(Interpreter):
     def radius_centre(self, line: int, end, cw: bool):
         """The centre of a circle given by its radius R (modal): the shorter arc for R > 0, the
         longer one for R < 0 (manual: "Radius programming (R, G163)"); the chord in the plane."""
-        r, col = self.circle_r[0], self.r_col
+        r, col = self.circle_r, self.r_col
         a, c, _ = PLANE_AXES[self.plane]
         k = 0.5 if self.diameter else 1.0  # X as a diameter
 
