@@ -21,6 +21,7 @@ from __future__ import annotations
 import ast
 import inspect
 import os
+import shutil
 import types
 from pathlib import Path
 
@@ -35,6 +36,22 @@ REQUIRE_SHARED = os.environ.get("CUTSIM_REQUIRE_SHARED", "") not in ("", "0")
 SKIP_REASON = f"the shared folder's examples are not at {EXAMPLES} (a clone alone; set CUTSIM_SHARED)"
 
 needs_shared = pytest.mark.skipif(not HAVE_SHARED, reason=SKIP_REASON)
+REQUIRE_TOOLS = os.environ.get("CUTSIM_REQUIRE_TOOLS", "") not in ("", "0")
+
+
+def external_tool(*names: str, package: str) -> str:
+    """The path of the first of ``names`` on PATH (a Debian package's program the tests run).
+
+    Without it the test is skipped, or fails when ``CUTSIM_REQUIRE_TOOLS=1`` (CI installs them).
+    """
+    for name in names:
+        path = shutil.which(name)
+        if path:
+            return path
+    reason = f"no {names[0]} on PATH (apt-get install {package})"
+    if REQUIRE_TOOLS:
+        pytest.fail(f"CUTSIM_REQUIRE_TOOLS is set but {reason}")
+    pytest.skip(reason)
 
 
 @pytest.fixture(scope="session")

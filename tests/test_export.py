@@ -14,11 +14,9 @@ recomputed here from the part's bounding box, independently of cutsim's code.
 """
 from __future__ import annotations
 
-import importlib.util
 import io
 import json
 import math
-import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 
@@ -102,16 +100,6 @@ def grid_step(max_abs: float) -> float:
 
 def _load(data: bytes, fmt: str) -> trimesh.Trimesh:
     """The file read back with trimesh's default processing (vertices merged by position)."""
-    if fmt == "3mf" and importlib.util.find_spec("lxml") is None:
-        # trimesh's 3MF reader needs lxml (not a cutsim dependency): read the same arrays with
-        # ElementTree and give them the processing trimesh.load would
-        with zipfile.ZipFile(io.BytesIO(data)) as z:
-            root = ET.fromstring(z.read("3D/3dmodel.model"))
-        ns = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
-        assert root.get("unit") == "millimeter"
-        v = [[float(e.get(a)) for a in "xyz"] for e in root.iterfind(".//m:vertex", ns)]
-        f = [[int(e.get(a)) for a in ("v1", "v2", "v3")] for e in root.iterfind(".//m:triangle", ns)]
-        return trimesh.Trimesh(np.array(v, dtype=float).reshape(-1, 3), np.array(f, dtype=np.int64).reshape(-1, 3))
     return trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh")
 
 

@@ -5,7 +5,6 @@ import base64
 import io
 import os
 import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -15,6 +14,7 @@ import pytest
 
 import cutsim
 from cutsim.reports.html import report_html
+from conftest import external_tool
 
 HERE = Path(__file__).parent / "checks"
 
@@ -100,11 +100,7 @@ def test_html_escapes():
 
 # ---------------------------------------------------------------------------------------------
 def _chromium():
-    for name in ("chromium", "chromium-browser", "google-chrome", "chrome"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
+    return external_tool("chromium", "chromium-browser", "google-chrome", "chrome", package="chromium")
 
 
 def _headless(args, timeout=120):
@@ -127,9 +123,9 @@ window.addEventListener('load', function () {
 
 
 @pytest.mark.browser
-@pytest.mark.skipif(_chromium() is None, reason="no chromium binary (apt-get install chromium)")
 def test_report_in_chromium(tmp_path):
     pytest.importorskip("pyvista")
+    _chromium()
     out = tmp_path / "out"
     proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(HERE / "multipass.nc"), "--setup",
                            str(HERE / "multipass.toml"), "--out", str(out), "--images", "-q"],
