@@ -877,10 +877,10 @@ def run_batch(jobs, out: str | None = None, client=None, *, scheduler: str | Non
     timings: dict[str, dict] = {}
     todo = []
     for j, opts, key, payload in items:
-        rec = _resumable(out, records_dir, j.name, key) if resume else None
-        if rec is not None:
-            records[j.name] = rec
-            timings[j.name] = {"seconds": 0.0, "resumed": True}
+        stored = _resumable(out, records_dir, j.name, key) if resume else None
+        if stored is not None:  # the record, and the time and host of the run that made it
+            records[j.name], timing = stored
+            timings[j.name] = dict(timing, resumed=True)
         else:
             todo.append((j, opts, key, payload))
 
@@ -905,7 +905,8 @@ def run_batch(jobs, out: str | None = None, client=None, *, scheduler: str | Non
             records[j.name] = rec
             timings[j.name] = {"seconds": raw.get("seconds", 0.0), "host": raw.get("host"), "resumed": False}
             if rec["status"] != "interrupted":
-                _write_atomic(os.path.join(records_dir, j.name + ".json"), _dumps(rec))
+                timing = {"seconds": timings[j.name]["seconds"], "host": timings[j.name]["host"]}
+                _write_atomic(os.path.join(records_dir, j.name + ".json"), _dumps(dict(rec, timing=timing)))
             bar.update(j.name, rec)
 
     interrupted = False
@@ -934,21 +935,27 @@ def run_batch(jobs, out: str | None = None, client=None, *, scheduler: str | Non
                        "jobs": dict(sorted(timings.items()))}
     _write_atomic(os.path.join(out, "summary.json"), _dumps(dict(summary)))
     _write_atomic(os.path.join(out, "timings.json"), _dumps(summary.timings))
-    _write_atomic(os.path.join(out, "junit.xml"), _junit(summary, timings))
-    _write_atomic(os.path.join(out, "index.html"), _index_html(summary, timings, out))
+    _write_atomic(os.path.join(out, "junit.xml"), junit_xml(summary, timings))
+    _write_atomic(os.path.join(out, "index.html"), index_html(summary, timings, out))
     if interrupted:
         raise KeyboardInterrupt
     return summary
 
 
 def _resumable(out: str, records_dir: str, name: str, key: str):
-    """The stored record of ``name`` when it has ``key``, is a simulated result and its files are
-    still in DIR/<name>/ with the same bytes."""
+    """(record, timing) stored for ``name`` when it has ``key``, is a simulated result and its
+    files are still in DIR/<name>/ with the same bytes; ``timing``: the seconds and host of the run
+    that made it."""
     try:
         with open(os.path.join(records_dir, name + ".json"), "rb") as f:
             rec = json.load(f)
     except (OSError, ValueError):
         return None
+    if not isinstance(rec, dict) or not isinstance(rec.get("timing"), dict):
+        return None
+    t = rec.pop("timing")
+    timing = {"seconds": t.get("seconds") if isinstance(t.get("seconds"), (int, float)) else 0.0,
+              "host": t.get("host")}
     if rec.get("key") != key or rec.get("status") not in (PASSED, FAILED) or rec.get("exit") not in SIMULATED_EXITS:
         return None
     d = os.path.join(out, name)
@@ -957,7 +964,7 @@ def _resumable(out: str, records_dir: str, name: str, key: str):
     if rec.get("part_sha256") and not any(
             _file_sha(os.path.join(d, f"part.{x}")) == rec["part_sha256"] for x in ("stl", "3mf", "glb")):
         return None
-    return rec
+    return rec, timing
 
 
 def _summary(records: dict) -> dict:
@@ -1110,7 +1117,7 @@ def _attr(s) -> str:
     return _xml_escape(str(s), {'"': "&quot;"})
 
 
-def _junit(summary, timings) -> bytes:
+def junit_xml(summary, timings) -> bytes:
     jobs = summary["jobs"]
     failures = sum(j["status"] == FAILED for j in jobs)
     errors = sum(j["status"] in ERROR_STATUSES for j in jobs)
@@ -1139,9 +1146,11 @@ def _junit(summary, timings) -> bytes:
     return "\n".join(out).encode()
 
 
-def _index_html(summary, timings, out_dir) -> bytes:
+def index_html(summary, timings, out_dir) -> bytes:
     rows = []
     colours = {PASSED: "#1a7f37", FAILED: "#b35900"}
+    thumbs = any(j.get("images") for j in summary["jobs"])  # the thumbnail column only when a job has images
+    resumed = any(t.get("resumed") for t in timings.values())
     for j in summary["jobs"]:
         n = j["name"]
         t = timings.get(n, {})
@@ -1153,21 +1162,23 @@ def _index_html(summary, timings, out_dir) -> bytes:
             target = "report.html" if j.get("images") else "report.json"
             link = f'<a href="{html.escape(n)}/{target}">{html.escape(n)}</a>'
         rv = "" if j["removed_volume"] is None else f'{j["removed_volume"]:.3f}'
-        secs = f'{t.get("seconds", 0.0):.1f}' + (" (resumed)" if t.get("resumed") else "")
+        secs = f'{t.get("seconds", 0.0):.1f}' + (" (stored run)" if t.get("resumed") else "")
         rows.append(
-            f'<tr><td>{thumb}</td><td>{link}</td><td style="color:{colours.get(j["status"], "#cf222e")}">'
+            ('<tr>' + (f'<td>{thumb}</td>' if thumbs else "")) + f'<td>{link}</td><td style="color:{colours.get(j["status"], "#cf222e")}">'
             f'{html.escape(j["status"])}</td><td>{"" if j["exit"] is None else j["exit"]}</td>'
             f'<td class="n">{rv}</td><td class="n">{len(j["warnings"])}</td><td class="n">{secs}</td>'
             f'<td>{html.escape(j["message"])}</td></tr>')
     counts = ", ".join(f"{v} {k}" for k, v in summary["counts"].items())
+    note = ("\nResumed jobs were not run again: their time, marked (stored run), is that of the run that made "
+            "their result.") if resumed else ""
     doc = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>cutsim batch</title>
 <style>body{{font-family:sans-serif;margin:1em}}table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:3px 6px;vertical-align:middle}}td.n{{text-align:right}}</style></head>
 <body><h1>cutsim batch</h1><p>{summary["total"]} jobs: {html.escape(counts)}.
-Scheduler {html.escape(str(summary.timings.get("scheduler")))}, {summary.timings.get("wall_seconds", 0):.1f} s.
+Scheduler {html.escape(str(summary.timings.get("scheduler")))}, {summary.timings.get("wall_seconds", 0):.1f} s.{note}
 <a href="summary.json">summary.json</a>, <a href="junit.xml">junit.xml</a></p>
-<table><tr><th></th><th>job</th><th>status</th><th>exit</th><th>removed mm&sup3;</th><th>warnings</th>
+<table><tr>{"<th></th>" if thumbs else ""}<th>job</th><th>status</th><th>exit</th><th>removed mm&sup3;</th><th>warnings</th>
 <th>time s</th><th>message</th></tr>
 {chr(10).join(rows)}
 </table></body></html>
@@ -1184,11 +1195,11 @@ Scheduler {html.escape(str(summary.timings.get("scheduler")))}, {summary.timings
 @click.option("--out", "out_dir", required=True, type=click.Path(),
               help="Output directory: DIR/<job>/, summary.json, timings.json, junit.xml, index.html.")
 @click.option("--jobs", "-j", "n_jobs", type=click.IntRange(1, 4096), default=None,
-              help="Jobs at a time on the local pool (default: the number of cores).")
+              help="Jobs at a time on the local pool (default: the number of cores; ignored with --scheduler).")
 @click.option("--scheduler", default=None, help="Run on a Dask cluster: the scheduler's address, tcp://HOST:8786.")
 @click.option("--images", is_flag=True, help="Also write PNG views and report.html per job (thumbnails in index.html).")
 @click.option("--resume", is_flag=True, help="Skip jobs with a finished result of the same inputs, cutsim and options.")
-@click.option("--tolerance", type=float, default=None, help="Chordal tolerance (mm) for jobs that set none.")
+@click.option("--tolerance", type=float, default=None, help="Chordal tolerance in mm, 0.0001 to 1, for jobs that set none (else the setup's).")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
               help=f"Time limit per job in s for jobs that set none (default {DEFAULT_TIMEOUT:g}).")
 @click.option("--memory", type=click.IntRange(min=0), default=None,
@@ -1197,11 +1208,13 @@ Scheduler {html.escape(str(summary.timings.get("scheduler")))}, {summary.timings
               help="Regression mode: compare each part with REFDIR/<job>/part.stl (an earlier batch's DIR).")
 @click.option("--reference-tol", type=click.FloatRange(min=0), default=None,
               help=f"Regression mode: allowed symmetric difference in mm^3 (default {DEFAULT_REFERENCE_TOL:g}).")
-@click.option("--quiet", "-q", is_flag=True, help="No progress and no summary line.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress and no closing summary.")
 @click.pass_context
 def batch_command(ctx, manifest, out_dir, n_jobs, scheduler, images, resume, tolerance, timeout, memory,
                   reference_dir, reference_tol, quiet):
-    """Verify every job of MANIFEST (a TOML or CSV list, or a folder of PROGRAM + PROGRAM.toml)."""
+    """Verify every job of MANIFEST (a TOML or CSV list, or a folder of PROGRAM + PROGRAM.toml).
+
+    The closing summary goes to stdout; progress and errors go to stderr (docs/batch.md)."""
     try:
         if tolerance is not None and not (MIN_TOLERANCE <= tolerance <= 1.0):
             raise CutsimError("cutsim", 0, 0, f"--tolerance: {tolerance:g} is not between 0.0001 and 1 mm")
@@ -1222,10 +1235,10 @@ def batch_command(ctx, manifest, out_dir, n_jobs, scheduler, images, resume, tol
     if not quiet:
         c = summary["counts"]
         click.echo(f"cutsim batch: {summary['total']} jobs, " + ", ".join(f"{v} {k}" for k, v in c.items())
-                   + f" in {summary.timings['wall_seconds']:.1f} s -> {out_dir}/index.html", err=True)
+                   + f" in {summary.timings['wall_seconds']:.1f} s -> {out_dir}/index.html")
         for j in summary["jobs"]:
             if j["status"] != PASSED:
-                click.echo(f"  {j['name']}: {j['status']}: {j['message']}", err=True)
+                click.echo(f"  {j['name']}: {j['status']}: {j['message']}")
     ctx.exit(summary.exit_status)
 
 

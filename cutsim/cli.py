@@ -24,6 +24,7 @@ from cutsim.interp.errors import CutsimError
 from cutsim.setup import MIN_TOLERANCE
 
 FORMATS = ("stl", "3mf", "glb")
+SETUP_HELP = "Setup TOML (docs/setup.md): machine and dialect, stock, tools, checks, [simulation] tolerance."
 PROG = "cutsim"
 _NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())  # () matches nothing (click 8.1)
 # errors of the machine or the file system, not of cutsim: exit status 2
@@ -231,18 +232,22 @@ def main():
 
 @main.command()
 @click.argument("program", type=click.Path(), callback=_nonempty)
-@click.option("--setup", "setup_path", required=True, type=click.Path(), callback=_nonempty,
-              help="Setup TOML: machine, stock, tools, tolerance.")
+@click.option("--setup", "setup_path", required=True, type=click.Path(), callback=_nonempty, help=SETUP_HELP)
 @click.option("--out", "out_dir", required=True, type=click.Path(),
-              help="Output directory for part.stl and report.json (replaced as a whole when the run "
-                   "succeeds; left as it was when it fails).")
-@click.option("--tolerance", type=float, default=None, help="Chordal tolerance in mm (overrides the setup).")
+              help="Output directory (created when missing) for the part and report.json. Written as one "
+                   "transaction when the run succeeds: cutsim's files of an earlier run are replaced or "
+                   "removed, other files in DIR are kept; when the run fails DIR is left as it was.")
+@click.option("--tolerance", type=float, default=None,
+              help="Chordal tolerance in mm, 0.0001 to 1 (overrides the setup's [simulation] tolerance).")
 @click.option("--images", is_flag=True, help="Also write off-screen PNG views and report.html.")
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="stl", show_default=True,
               help="File format of the part: DIR/part.stl, part.3mf or part.glb.")
-@click.option("--quiet", "-q", is_flag=True, help="No progress and no summary.")
+@click.option("--quiet", "-q", is_flag=True,
+              help="No progress and no summary line (warnings, failed checks and errors are still printed).")
 def simulate(program, setup_path, out_dir, tolerance, images, fmt, quiet):
-    """Simulate PROGRAM and write DIR/part.stl and DIR/report.json."""
+    """Simulate PROGRAM and write DIR/part.<format> and DIR/report.json.
+
+    The summary line goes to stdout; warnings, failed checks, errors and progress go to stderr."""
     return run_simulate(program, setup_path, out_dir, tolerance, images, quiet, fmt)
 
 
@@ -287,8 +292,7 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
             click.echo(format_failures(failed), err=True)
         if not quiet:
             click.echo(f"{rep['program']}: {rep['blocks']} blocks, {rep['moves']} moves, removed "
-                       f"{rep['removed_volume']:.3f} mm^3, {len(rep['warnings'])} warning(s) -> {out_dir}",
-                       err=True)
+                       f"{rep['removed_volume']:.3f} mm^3, {len(rep['warnings'])} warning(s) -> {out_dir}")
         if failed or (result.setup.fail_on_warning and rep["warnings"]):
             return 1
         return 0
@@ -304,9 +308,13 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
 
 @main.command()
 @click.argument("program", type=click.Path(), callback=_nonempty)
-@click.option("--setup", "setup_path", required=True, type=click.Path(), callback=_nonempty)
+@click.option("--setup", "setup_path", required=True, type=click.Path(), callback=_nonempty,
+              help="Setup TOML (docs/setup.md): the dialect and what the program reads from the machine "
+                   "(kind, diameter programming, start position, parameters, variables, work offsets, tools).")
 def moves(program, setup_path):
-    """Print the canonical moves of PROGRAM (the interpreter's transcript)."""
+    """Print the canonical moves of PROGRAM (the interpreter's transcript) on stdout.
+
+    Nothing is swept and nothing is written; errors go to stderr."""
     try:
         import cutsim
         from cutsim.interp import interpret

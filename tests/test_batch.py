@@ -292,3 +292,94 @@ def test_a_subprogram_on_the_setup_search_path_is_part_of_the_job_key(tmp_path):
     assert _referenced_files(str(prog), str(setup)) == [str(tmp_path / "subs" / "HOLE.spf")]
     (tmp_path / "HOLE.spf").write_text("PROC HOLE\nM17\n")
     assert _referenced_files(str(prog), str(setup)) == [str(tmp_path / "HOLE.spf")]
+
+
+def test_resume_keeps_the_stored_runs_times(work, local_run):
+    """A resumed job was not run again: junit.xml, timings.json and index.html give the time of the
+    run that made its result (not 0), and the index says so."""
+    _, local_out = local_run
+    out = work / "resume-times"
+    shutil.copytree(local_out, out)
+    stored = json.loads((local_out / "timings.json").read_text())["jobs"]
+    s = run_batch(str(work / "jobs.toml"), str(out), resume=True, progress=False)
+    assert {n: (t["seconds"], t["host"], t["resumed"]) for n, t in s.timings["jobs"].items()} == {
+        n: (t["seconds"], t["host"], True) for n, t in stored.items()}
+    assert all(t["seconds"] > 0 for t in stored.values())
+    suite = ET.parse(out / "junit.xml").getroot().find("testsuite")
+    assert {c.get("name"): c.get("time") for c in suite.findall("testcase")} == {
+        n: f"{t['seconds']:.3f}" for n, t in stored.items()}
+    html = (out / "index.html").read_text()
+    assert "0.0 (resumed)" not in html and html.count(" (stored run)</td>") == len(JOBS)
+    assert "is that of the run that made their result" in html
+    for n, t in stored.items():
+        assert f'<td class="n">{t["seconds"]:.1f} (stored run)</td>' in html
+
+
+class _Cells(__import__("html.parser").parser.HTMLParser):
+    """The cells of every table row: [[(tag, text), ...], ...]."""
+
+    def __init__(self):
+        super().__init__()
+        self.rows, self.cell = [], None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "tr":
+            self.rows.append([])
+        elif tag in ("td", "th"):
+            self.cell = [tag, ""]
+            self.rows[-1].append(self.cell)
+        elif tag == "img" and self.cell is not None:
+            self.cell[1] += "<img>"
+
+    def handle_data(self, data):
+        if self.cell is not None:
+            self.cell[1] += data
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th"):
+            self.cell = None
+
+
+def _table(html: str) -> list[list[tuple[str, str]]]:
+    p = _Cells()
+    p.feed(html)
+    return [[tuple(c) for c in row] for row in p.rows]
+
+
+def test_index_without_images_has_no_thumbnail_column(local_run):
+    _, out = local_run
+    rows = _table((out / "index.html").read_text())
+    assert [t for _, t in rows[0]] == ["job", "status", "exit", "removed mm³", "warnings", "time s", "message"]
+    assert [row[0][1] for row in rows[1:]] == JOBS and all(len(r) == 7 for r in rows)
+
+
+def test_index_with_images_has_thumbnails(tmp_path):
+    """A job that wrote images gets its thumbnail, linked to its report.html; one that did not (its
+    own images = false) an empty cell in the column."""
+    from cutsim.batch import BatchSummary, index_html
+
+    (tmp_path / "a").mkdir()
+    for f in ("iso.png", "report.json", "report.html"):
+        (tmp_path / "a" / f).write_bytes(b"x")
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "report.json").write_bytes(b"{}")
+    job = {"status": "passed", "exit": 0, "removed_volume": 1.0, "warnings": [], "message": ""}
+    summary = BatchSummary({"jobs": [dict(job, name="a", images=True), dict(job, name="b", images=False)],
+                            "counts": {"passed": 2}, "total": 2})
+    summary.timings = {"scheduler": "local:1", "wall_seconds": 1.0}
+    rows = _table(index_html(summary, {"a": {"seconds": 1.0}, "b": {"seconds": 2.0}}, str(tmp_path)).decode())
+    assert [t for _, t in rows[0]][:2] == ["", "job"] and all(len(r) == 8 for r in rows)
+    assert [r[0][1] for r in rows[1:]] == ["<img>", ""]
+    assert [r[1][1] for r in rows[1:]] == ["a", "b"]
+    html = index_html(summary, {"a": {"seconds": 1.0}, "b": {"seconds": 2.0}}, str(tmp_path)).decode()
+    assert '<a href="a/report.html"><img src="a/iso.png"' in html and 'href="b/report.json"' in html
+
+
+def test_closing_summary_on_stdout_progress_on_stderr(work, local_run):
+    _, local_out = local_run
+    out = work / "resume-streams"
+    shutil.copytree(local_out, out)
+    r = CliRunner().invoke(batch_command, [str(work / "jobs.toml"), "--out", str(out), "--resume"])
+    assert r.exit_code == 0, r.output
+    assert r.stdout.startswith("cutsim batch: 3 jobs, 3 passed in ") and r.stdout.count("\n") == 1
+    assert r.stderr == "cutsim batch: 3 of 3 jobs resumed\n"

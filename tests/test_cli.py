@@ -10,7 +10,7 @@ import pytest
 import trimesh
 from click.testing import CliRunner
 
-from conftest import EXAMPLES
+from conftest import EXAMPLES, REPO_EXAMPLES
 from cutsim.cli import main
 
 LATHE = EXAMPLES / "cnc8x6-lathe"
@@ -221,3 +221,58 @@ def test_moves_into_a_closed_pipe_is_quiet(tmp_path):
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) in (0, 1, 141)
     assert "Traceback" not in err and "Exception" not in err, err
+
+
+# ---- streams and help: results on stdout, diagnostics on stderr; every --help true to the code
+
+
+def test_summary_on_stdout_warnings_on_stderr(tmp_path):
+    """`cutsim simulate ... > log` keeps the summary; the warning (runout-constant's N50 rapids into
+    the bar) stays on the terminal. With -q stdout is empty and the warning still shows."""
+    prog = LATHE / "runout-constant.nc"
+    for quiet in (False, True):
+        out = tmp_path / f"out{quiet}"
+        proc = subprocess.run([sys.executable, "-m", "cutsim", "simulate", str(prog), "--setup",
+                               str(prog.with_suffix(".toml")), "--out", str(out), "--tolerance", "0.05"]
+                              + (["-q"] if quiet else []), capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stderr
+        rep = json.loads((out / "report.json").read_text())
+        warning = f"{prog}:5:1: warning: rapid (G00) cuts the stock"
+        assert warning in proc.stderr and "warning:" not in proc.stdout
+        if quiet:
+            assert proc.stdout == ""
+        else:
+            assert proc.stdout == (f"runout-constant.nc: {rep['blocks']} blocks, {rep['moves']} moves, removed "
+                                   f"{rep['removed_volume']:.3f} mm^3, {len(rep['warnings'])} warning(s) -> {out}\n")
+            assert "blocks" not in proc.stderr
+
+
+def _help(*cmd):
+    res = CliRunner().invoke(main, [*cmd, "--help"], terminal_width=200)
+    assert res.exit_code == 0, res.output
+    return " ".join(res.output.split())
+
+
+def test_every_option_of_every_command_has_help():
+    import click
+
+    for name, cmd in main.commands.items():
+        for p in cmd.params:
+            if isinstance(p, click.Option) and "--help" not in p.opts:
+                assert p.help and p.help.strip(), (name, p.opts)
+    assert "--setup PATH Setup TOML" in _help("moves")
+
+
+def test_out_help_says_what_the_code_does(tmp_path):
+    """--out: other files in DIR are kept, cutsim's own files of an earlier run are removed (not
+    "replaced as a whole")."""
+    text = _help("simulate")
+    assert "replaced as a whole" not in text and "other files in DIR are kept" in text
+    assert "cutsim's files of an earlier run are replaced or removed" in text
+    prog = REPO_EXAMPLES / "cnc8x6-lathe" / "m16x2.nc"
+    out = tmp_path / "out"
+    args = ["simulate", prog, "--setup", prog.with_suffix(".toml"), "--out", out, "--tolerance", "0.05", "-q"]
+    assert cli(*args, "--format", "3mf").exit_code in (0, 1)  # 1: its checks want a finer tolerance
+    (out / "notes.txt").write_text("mine")
+    assert cli(*args).exit_code in (0, 1)
+    assert sorted(p.name for p in out.iterdir()) == [".cutsim-output.json", "notes.txt", "part.stl", "report.json"]

@@ -273,7 +273,8 @@ def test_cli_progress_in_a_log(tmp_path):
     assert "\r" not in proc.stderr and "\x1b" not in proc.stderr
     lines = proc.stderr.splitlines()
     assert re.fullmatch(r"cutsim: images 3/3 done \(\d+\.\d s\)", [ln for ln in lines if "images" in ln][-1])
-    assert all(re.fullmatch(r"cutsim: \w[\w ]* \d+/\d+( done \(\d+\.\d s\))?", ln) for ln in lines[:-1]), lines
+    assert all(re.fullmatch(r"cutsim: \w[\w ]* \d+/\d+( done \(\d+\.\d s\))?", ln) for ln in lines), lines
+    assert proc.stdout.startswith("multipass.nc: ") and proc.stdout.count("\n") == 1  # the summary: stdout
 
 
 def test_nearest_on_triangles_is_exact():
