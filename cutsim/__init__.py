@@ -28,7 +28,7 @@ def __getattr__(name):  # the pytest helpers, loaded on first use (cutsim.testin
         import cutsim.testing
 
         return getattr(cutsim.testing, name)
-    if name == "batch":  # a callable module: cutsim.batch(jobs, out=None, client=None, **options)
+    if name == "batch":  # the batch runner, imported on first use: cutsim.batch.run_batch(jobs, out, ...)
         import cutsim.batch
 
         return cutsim.batch

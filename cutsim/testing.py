@@ -20,13 +20,12 @@ from cutsim.reports.checks import check_design, evaluate, format_failures
 def make_check_spec(result, spec: dict, kind: str | None = None) -> dict:
     """Validate ``spec`` (keys as in a [[check]] table) for ``result``'s machine; returns the
     normalised spec dict. Raises CutsimError for bad keys or values."""
-    from cutsim.setup import _Loader, _Reader
+    from cutsim.setup import check_spec
 
     table = {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.items() if v is not None}
     if kind is not None:
         table["kind"] = kind
-    loader = _Loader("<check>", "")
-    return loader.check(_Reader(loader, table, "check", 0), 0, result.setup.machine.kind)
+    return check_spec(table, result.setup.machine.kind)
 
 
 def _fail_if(record: dict) -> dict:

@@ -2,7 +2,7 @@
 
 The one registry of dialects: ``DIALECTS`` maps a dialect's name (``[machine] dialect`` in a setup)
 to its ``Dialect`` entry: the module that interprets it (``interpret(name, text, cfg)``) and the
-setup defaults that belong to it. The setup loader (cutsim/setup.py) and the CLI read this table;
+setup defaults that belong to it. The setup loader (cutsim/setup/) and the CLI read this table;
 a new dialect is one module plus one line here (docs/architecture.md, "How to add a dialect").
 """
 from __future__ import annotations
@@ -17,6 +17,24 @@ from .modal import InterpConfig
 
 
 @dataclass(frozen=True)
+class WorkOffsets:
+    """The settable work offsets of a dialect's controller, as a setup's [work_offsets] names them.
+
+    ``names``: the G codes a setup may give; ``known``: how messages list them;
+    ``not_settable``: (G code, why a setup cannot give it) for codes that mean something else on
+    this controller."""
+
+    names: tuple[str, ...] = tuple(f"G{n}" for n in range(54, 60))
+    known: str = "G54 to G59"
+    not_settable: tuple[tuple[str, str], ...] = ()
+
+
+_SINUMERIK_WORK_OFFSETS = WorkOffsets(
+    tuple(f"G{n}" for n in (*range(54, 58), *range(505, 600))), "G54 to G57 and G505 to G599",
+    tuple((g, f"on Sinumerik {g} is a programmable axial offset written in the program") for g in ("G58", "G59")))
+
+
+@dataclass(frozen=True)
 class Dialect:
     """One registry entry.
 
@@ -25,12 +43,14 @@ class Dialect:
     ``diameter_programming``: on a lathe, whether X values are diameters when the setup does not
     say (``[machine] diameter_programming``); mills always program radii.
     ``extensions``: the file extensions its programs and subprograms usually have.
+    ``work_offsets``: the settable work offsets a setup may give ([work_offsets]).
     """
 
     module: str
     diameter_programming: bool
     extensions: tuple[str, ...]
     title: str
+    work_offsets: WorkOffsets = WorkOffsets()
 
 
 DIALECTS: dict[str, Dialect] = {
@@ -38,7 +58,8 @@ DIALECTS: dict[str, Dialect] = {
     # switch in the program.
     "cnc8x6": Dialect(".cnc8x6", True, (".nc",), "MEFI CNC8x6"),
     "isg": Dialect(".isg", False, (".nc",), "Beckhoff TwinCAT CNC (ISG kernel)"),
-    "sinumerik": Dialect(".sinumerik", False, (".mpf", ".spf", ".nc"), "Siemens Sinumerik 840D"),
+    "sinumerik": Dialect(".sinumerik", False, (".mpf", ".spf", ".nc"), "Siemens Sinumerik 840D",
+                         _SINUMERIK_WORK_OFFSETS),
 }
 
 
@@ -68,5 +89,5 @@ def interpret(name: str, text: str, cfg: InterpConfig) -> Program:
             gc.enable()
 
 
-__all__ = ["CutsimError", "Dialect", "DIALECTS", "InterpConfig", "Program", "interpret", "transcript",
+__all__ = ["CutsimError", "Dialect", "DIALECTS", "WorkOffsets", "InterpConfig", "Program", "interpret", "transcript",
            "available_dialects", "dialect_module"]

@@ -32,6 +32,8 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cutsim.batch.process import cpu_seconds, set_limits
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("CUTSIM_SHARED", ROOT.parent / "shared"))
 
@@ -1674,9 +1676,9 @@ def _trace_signature(text: str) -> str:
 
 
 class _Worker:
-    def __init__(self, ctx, mem_bytes: int, tmp: str):
+    def __init__(self, ctx, mem_mib: int, tmp: str):
         self.parent, child = ctx.Pipe()
-        self.proc = ctx.Process(target=_worker_main, args=(child, mem_bytes, tmp), daemon=True)
+        self.proc = ctx.Process(target=_worker_main, args=(child, mem_mib, tmp), daemon=True)
         self.proc.start()
         child.close()
         self.case: dict | None = None
@@ -1695,10 +1697,9 @@ class _Worker:
         self.parent.close()
 
 
-def _worker_main(conn, mem_bytes: int, tmp: str) -> None:
+def _worker_main(conn, mem_mib: int, tmp: str) -> None:
     try:
-        if mem_bytes:
-            resource.setrlimit(resource.RLIMIT_AS, (mem_bytes, mem_bytes))
+        set_limits(mem_mib)  # the limits of a batch job (cutsim.batch.process)
     except (ValueError, OSError):
         pass
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -1855,7 +1856,7 @@ class Runner:
 
         warm_imports()
         self.ctx = multiprocessing.get_context("fork")
-        self.jobs, self.timeout, self.mem = jobs, timeout, mem_mb * 1024 * 1024
+        self.jobs, self.timeout, self.mem = jobs, timeout, mem_mb
         self.trace_timeout = trace_timeout if trace_timeout is not None else max(5.0, timeout / 2)
         self.tmp = tmp or tempfile.mkdtemp(prefix="cutsim-fuzz-")
         os.makedirs(self.tmp, exist_ok=True)
@@ -1904,7 +1905,7 @@ class Runner:
                     shutil.rmtree(d, ignore_errors=True)
                     write_case_files(c, d)
                     w.case, w.t0, w.phase, w.result = _case_dict(c), time.monotonic(), "run", None
-                    w.cpu0 = _cpu_seconds(w.proc.pid)
+                    w.cpu0 = cpu_seconds(w.proc.pid)
                     w.parent.send((w.case, d))
                     busy[slot] = (w, c, d)
                 if not busy:
@@ -1945,7 +1946,7 @@ class Runner:
                                 w.done += 1
                     elif time.monotonic() >= w.t0 + (self.timeout if w.phase == "run" else self.trace_timeout):
                         wall = time.monotonic() - w.t0
-                        cpu = _cpu_seconds(w.proc.pid) - w.cpu0
+                        cpu = cpu_seconds(w.proc.pid) - w.cpu0
                         if w.phase == "run" and cpu < 0.9 * self.timeout and wall < 4 * self.timeout:
                             w.t0 += min(self.timeout - cpu, 5.0)  # a loaded machine: wait for CPU time, not wall time
                             continue
@@ -1974,16 +1975,6 @@ class Runner:
                 w.kill()
                 self.workers[slot] = self._new()
                 shutil.rmtree(d, ignore_errors=True)
-
-
-def _cpu_seconds(pid: int) -> float:
-    """User + system CPU time of a process (all its threads), from /proc; 0 where unavailable."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            fields = f.read().rsplit(b")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-    except (OSError, ValueError, IndexError):
-        return 0.0
 
 
 def _read(p: str) -> str:

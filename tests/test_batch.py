@@ -225,9 +225,9 @@ def test_regression_mode_reports_changed_solids(tmp_path):
     # the same part against an earlier batch's parts (--reference-dir): unchanged
     ref_dir = tmp_path / "out"
     plain = {k: v for k, v in jobs[0].items() if k != "expect"}
-    import cutsim.batch  # the public spelling: cutsim.batch(jobs, out, client=None, **options)
+    import cutsim  # the public spelling: cutsim.batch.run_batch(jobs, out, client=None, **options)
 
-    s2 = cutsim.batch([plain], str(tmp_path / "again"), reference_dir=str(ref_dir), progress=False)
+    s2 = cutsim.batch.run_batch([plain], str(tmp_path / "again"), reference_dir=str(ref_dir), progress=False)
     assert s2["jobs"][0]["regression"]["symmetric_difference"] == 0.0 and s2["changed"] == []
 
 
@@ -280,7 +280,7 @@ def test_batch_is_a_cutsim_command():
 def test_a_subprogram_on_the_setup_search_path_is_part_of_the_job_key(tmp_path):
     """A job's key covers the subprogram files it calls from [machine] subprogram_path, so editing one
     makes the stored result stale; a file of the same name beside the program is the one used."""
-    from cutsim.batch import _referenced_files
+    from cutsim.batch import referenced_files
 
     (tmp_path / "subs").mkdir()
     (tmp_path / "subs" / "HOLE.spf").write_text("PROC HOLE\nG1 Z-1 F100\nM17\n")
@@ -289,9 +289,9 @@ def test_a_subprogram_on_the_setup_search_path_is_part_of_the_job_key(tmp_path):
     prog.write_text("G0 X0 Y0 Z5\nHOLE\nM30\n")
     setup = tmp_path / "s.toml"
     setup.write_text('[machine]\nkind = "mill"\ndialect = "sinumerik"\nsubprogram_path = ["subs"]\n')
-    assert _referenced_files(str(prog), str(setup)) == [str(tmp_path / "subs" / "HOLE.spf")]
+    assert referenced_files(str(prog), str(setup)) == [str(tmp_path / "subs" / "HOLE.spf")]
     (tmp_path / "HOLE.spf").write_text("PROC HOLE\nM17\n")
-    assert _referenced_files(str(prog), str(setup)) == [str(tmp_path / "HOLE.spf")]
+    assert referenced_files(str(prog), str(setup)) == [str(tmp_path / "HOLE.spf")]
 
 
 def test_resume_keeps_the_stored_runs_times(work, local_run):

@@ -39,6 +39,8 @@ RANKS = {
     "cutsim.stock": 3,
     "cutsim.reports": 4,
     "cutsim": 5,  # the public API, setup loader, CLI, batch runner, testing helpers
+    "cutsim.setup": 5,  # the setup loader
+    "cutsim.batch": 5,  # the batch runner
 }
 
 # Third-party modules that may be imported inside a function: optional or heavy libraries a run

@@ -286,6 +286,27 @@ def test_bad_work_offsets(tmp_path, dialect, line, needle, fragments):
     cli_error(tmp_path, text, needle, fragments)
 
 
+def test_work_offsets_come_from_the_registry_entry(tmp_path, monkeypatch):
+    """A dialect's settable offsets are its registry entry's (interp.WorkOffsets), not a branch of
+    the setup loader: a registered dialect with its own list gets exactly that list and messages."""
+    from cutsim.interp import DIALECTS, Dialect, WorkOffsets
+
+    offsets = WorkOffsets(("G54", "G154"), "G54 and G154", (("G55", "on Toy G55 is a tool offset"),))
+    monkeypatch.setitem(DIALECTS, "toy", Dialect("toy_dialect", False, (".toy",), "toy", offsets))
+    setup = tmp_path / "setup.toml"
+    toy = BASE.replace('"sinumerik"', '"toy"') + "\n[work_offsets]\n"
+    setup.write_text(toy + "G154 = [1, 2, 3]\n")
+    assert cutsim.load_setup(str(setup)).work_offsets == {"G154": (1.0, 2.0, 3.0)}
+    for line, message in (("G55 = [0, 0, 0]", "[work_offsets] G55: on Toy G55 is a tool offset; the settable "
+                                              "offsets are G54 and G154"),
+                          ("G56 = [0, 0, 0]", "[work_offsets] G56: the work offsets of toy are G54 and G154")):
+        setup.write_text(toy + line + "\n")
+        with pytest.raises(cutsim.CutsimError) as e:
+            cutsim.load_setup(str(setup))
+        assert e.value.message == message and (e.value.line, e.value.col) == _at(toy + line, line[:3])
+    assert DIALECTS["isg"].work_offsets == WorkOffsets()  # G54 to G59, nothing refused
+
+
 # -- [[tool]] name ------------------------------------------------------------------------------------
 def test_tool_names_reach_the_interpreter(tmp_path):
     text = BASE + '\n[[tool]]\nnumber = 7\nkind = "drill"\ndiameter = 8.5\nname = "DRILL 8.5"\n' \

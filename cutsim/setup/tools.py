@@ -1,0 +1,105 @@
+"""The [[tool]] tables: lathe tools (thread, turning, profile) and mill tools (endmill, ballmill,
+drill), their numbers and names (docs/setup.md). Types are checked here; ranges in stock/tools.py,
+shared with tools built in Python."""
+from __future__ import annotations
+
+from cutsim.base.specs import ToolSpec
+from cutsim.interp.errors import CutsimError
+
+from .reader import Locator, Reader
+
+TOOL_KEYS = {
+    "thread": {"angle", "tip_radius", "height", "thickness"},
+    "turning": {"angle", "tip_radius", "height", "thickness"},
+    "profile": {"points", "thickness"},
+    "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
+    "ballmill": {"diameter", "length"},
+    "drill": {"diameter", "length", "point_angle"},
+}
+TOOL_COMMON = {"number", "kind", "name"}  # keys of every [[tool]]
+TOOL_NAME_MAX = 32  # characters (a Sinumerik tool name is a STRING[32])
+DRILL_LENGTH_FACTOR = 10.0  # a drill's default length: 10 x its diameter (a jobber drill's flutes)
+
+
+def read_tools(loc: Locator, raw_tools, kind: str) -> tuple[list[ToolSpec], dict[str, int]]:
+    """The [[tool]] tables of a ``kind`` machine: the tools, and their names (as written) -> numbers.
+    Numbers and names (case-insensitive) are unique; each tool must fit the machine."""
+    if not isinstance(raw_tools, list):
+        raise CutsimError(loc.path, *loc.locate("tool", None, None), "tools are written [[tool]] (an array of tables)")
+    tools = []
+    numbers = set()
+    tool_names: dict[str, int] = {}
+    folded: dict[str, str] = {}  # casefolded name -> the name as first written
+    for i, t in enumerate(raw_tools):
+        tool = read_tool(loc, Reader(loc, t, "tool", i), i)
+        if tool.number in numbers:
+            raise Reader(loc, t, "tool", i).fail("number", f"tool {tool.number} is defined twice")
+        numbers.add(tool.number)
+        if tool.name:
+            other = folded.get(tool.name.casefold())
+            if other is not None:
+                same = "names" if other == tool.name else f"differs only in case from {other!r}, which names"
+                raise Reader(loc, t, "tool", i).fail(
+                    "name", f"{tool.name!r} {same} tool {tool_names[other]} already")
+            folded[tool.name.casefold()] = tool.name
+            tool_names[tool.name] = tool.number
+        tools.append(tool)
+    if not tools:
+        raise CutsimError(loc.path, 1, 1, "the setup needs at least one [[tool]]")
+    for t in tools:
+        if kind == "lathe" and not t.is_lathe_tool or kind == "mill" and t.is_lathe_tool:
+            i = tools.index(t)
+            raise Reader(loc, raw_tools[i], "tool", i).fail("kind", f"a {t.kind} tool does not fit a {kind}")
+    return tools, tool_names
+
+
+def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
+    """One [[tool]] table (the ``i``-th)."""
+    number = t.get("number", int, i + 1, check=lambda v: v >= 0, why="must not be negative")
+    kind = t.get("kind", str, check=lambda v: v in TOOL_KEYS, why=f"must be one of {', '.join(TOOL_KEYS)}")
+    allowed = TOOL_KEYS[kind]
+    for k in t.table:
+        if k not in allowed | TOOL_COMMON:
+            raise t.fail(k, f"unknown key for a {kind} tool (known: {', '.join(sorted(allowed | {'name'}))})")
+    name = t.get("name", str, "", check=_tool_name_ok,
+                 why=f"must be 1 to {TOOL_NAME_MAX} characters without quotes, control characters or "
+                     "spaces at either end")
+    # types here; ranges (docs/setup.md) in stock/tools.py, shared with tools built in Python
+    from cutsim.stock.tools import SIZE_MAX, tool_problem
+
+    kw: dict = {}
+    if kind in ("thread", "turning"):
+        kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0)
+        kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4)
+        kw["height"] = t.get("height", float, 10.0)
+    if kind == "profile":
+        kw["points"] = t.points("points")
+    if kind in ("thread", "turning", "profile"):
+        kw["thickness"] = t.get("thickness", float, 5.0)
+    if kind in ("endmill", "ballmill"):
+        kw["diameter"] = t.get("diameter", float)
+        kw["length"] = t.get("length", float, min(4.0 * kw["diameter"], SIZE_MAX))
+        if kind == "endmill":
+            kw["corner_radius"] = t.get("corner_radius", float, 0.0)
+            kw["center_cutting"] = t.get("center_cutting", bool, True)
+        else:
+            kw["corner_radius"] = kw["diameter"] / 2
+    if kind == "drill":
+        kw["diameter"] = t.get("diameter", float)
+        kw["length"] = t.get("length", float, min(DRILL_LENGTH_FACTOR * kw["diameter"], SIZE_MAX))
+        kw["point_angle"] = t.get("point_angle", float, 118.0)
+    t.done()
+    line, col = loc.locate("tool", None, i)
+    spec = ToolSpec(number, kind, **kw, name=name, source=loc.path, line=line, col=col)
+    bad = tool_problem(spec)
+    if bad is not None:
+        key, why = bad
+        raise t.fail(key, why)  # at the key's line, or the table's when the key is a default
+    return spec
+
+
+
+def _tool_name_ok(v: str) -> bool:
+    return (0 < len(v) <= TOOL_NAME_MAX and v == v.strip() and '"' not in v
+            and all(c.isprintable() for c in v))
+
