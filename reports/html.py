@@ -11,19 +11,41 @@ from __future__ import annotations
 
 import base64
 import io
+import math
 import os
+from decimal import Decimal
 
 from .report import called_from
 
 
-def _fmt(v, nd: int = 6) -> str:
+def decimals(tol) -> int:
+    """The decimals a number (a tolerance) is written with: 0.02 -> 2, 0.005 -> 3, 2 -> 0,
+    1e-05 -> 5; 3 for no number."""
+    if tol is None or not math.isfinite(float(tol)):
+        return 3
+    if float(tol) == 0:
+        return 0
+    return max(0, -Decimal(repr(abs(float(tol)))).normalize().as_tuple().exponent)
+
+
+def _fixed(v: float, nd: int, sep: bool = False) -> str:
+    """``v`` to ``nd`` decimals with a true minus sign; a value that rounds to zero has no sign."""
+    r = round(float(v), nd)
+    s = f"{0.0 if r == 0 else r:{',' if sep else ''}.{nd}f}"
+    return s.replace("-", "\u2212")
+
+
+def _fmt(v, nd: int = 3) -> str:
+    """A value of the report: None as a dash, booleans as yes/no, integers as they are (thousands
+    separated), floats to ``nd`` decimals; anything else as text."""
     if v is None:
         return "\u2014"
     if isinstance(v, bool):
         return "yes" if v else "no"
-    if isinstance(v, (int, float)):
-        s = f"{v:.{nd}g}" if isinstance(v, float) else str(v)
-        return s.replace("-", "\u2212")  # a true minus sign, as in the images
+    if isinstance(v, int):
+        return f"{v:,}".replace("-", "\u2212")
+    if isinstance(v, float):
+        return _fixed(v, nd)
     return str(v)
 
 
@@ -31,8 +53,29 @@ def _num(v, nd: int = 3) -> str:
     """A fixed-point number with thousands separators and a true minus sign."""
     if v is None:
         return "\u2014"
-    s = f"{float(v):,.{nd}f}"
-    return s.replace("-", "\u2212")
+    return _fixed(v, nd, sep=True)
+
+
+def _item_row(it: dict, default_nd: int) -> dict:
+    """One check item as table cells. Expected, measured and their difference share one format:
+    one decimal more than the tolerance is written with (the measuring resolution a tenth of the
+    band: +-0.02 -> 3 decimals, +-0.005 -> 4, +-2 deg -> 1), more when the expected value is written
+    with more (up to 6), and more again (up to 6) while the rounded difference would read against
+    the item's verdict (a failed item never shows a difference inside its tolerance)."""
+    e, m, tol = it["expected"], it["measured"], it.get("tolerance")
+    numeric = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (e, m))
+    nd = default_nd if tol is None else decimals(tol) + 1
+    if isinstance(e, float):
+        nd = max(nd, min(6, decimals(e)))
+    diff = None
+    if numeric and tol is not None:
+        diff = float(m) - float(e)
+        while nd < 6 and (abs(round(diff, nd)) > float(tol)) == bool(it["passed"]):
+            nd += 1
+    return {"quantity": it["quantity"], "expected": _fmt(e, nd), "measured": _fmt(m, nd),
+            "diff": "" if diff is None else _fixed(diff, nd),
+            "tolerance": "" if tol is None else f"\u00b1{float(tol):g}".replace("-", "\u2212"),
+            "unit": it["unit"].replace("mm^3", "mm\u00b3"), "passed": it["passed"]}
 
 
 def rel_path(path: str, start: str | None = None) -> str:
@@ -52,28 +95,34 @@ def _clock(seconds: float) -> str:
 
 
 def _summary(report: dict) -> list[tuple[str, str, str]]:
+    """The summary rows (quantity, value, unit). Volumes and positions are written to the chordal
+    tolerance's decimals (0.005 -> 3): the part is not made finer than that. A lathe's positions
+    say whether X is a diameter or a radius (program values, as the controller shows them)."""
     m = report.get("machine") or {}
+    nd = decimals(report.get("tolerance"))
     rows = [("program", report.get("program", ""), ""), ("dialect", report.get("dialect", ""), "")]
+    x_word = "X"
     if m:
         kind = m.get("kind", "")
         if kind == "lathe":
             kind += ", X in diameters" if m.get("diameter_programming") else ", X in radii"
+            x_word = "X (diameter)" if m.get("diameter_programming") else "X (radius)"
         rows.append(("machine", kind, ""))
     rows += [("blocks", _fmt(report.get("blocks")), ""), ("moves", _fmt(report.get("moves")), ""),
-             ("stock volume", _num(report.get("stock_volume")), "mm\u00b3"),
-             ("part volume", _num(report.get("part_volume")), "mm\u00b3"),
-             ("removed volume", _num(report.get("removed_volume")), "mm\u00b3")]
+             ("stock volume", _num(report.get("stock_volume"), nd), "mm\u00b3"),
+             ("part volume", _num(report.get("part_volume"), nd), "mm\u00b3"),
+             ("removed volume", _num(report.get("removed_volume"), nd), "mm\u00b3")]
     ct = report.get("cycle_time_s")
     if ct is not None:
         rows.append(("cycle time", f"{_num(ct)} ({_clock(ct)} min:s)", "s"))
     if report.get("tolerance") is not None:
-        rows.append(("chordal tolerance", _fmt(report["tolerance"]), "mm"))
+        rows.append(("chordal tolerance", f"{float(report['tolerance']):g}", "mm"))
     if report.get("triangles") is not None:
-        rows.append(("part triangles", f"{report['triangles']:,}", ""))
-    for key, label in (("final_position", "final position X Y Z"), ("last_cut_position", "last cut position X Y Z")):
+        rows.append(("part triangles", _fmt(report["triangles"]), ""))
+    for key, label in (("final_position", "final position"), ("last_cut_position", "last cut position")):
         p = report.get(key)
         if p:
-            rows.append((label, "  ".join(_num(v) for v in p), "mm"))
+            rows.append((f"{label} {x_word} Y Z", "\u2003".join(_num(v, nd) for v in p), "mm"))
     return rows
 
 
@@ -159,20 +208,11 @@ def report_html(report: dict, images: dict[str, bytes] | None = None, *, caption
                            + ", ".join(c["name"] for c in failed) + ")"}
     else:
         verdict = {"cls": "pass", "word": "passed", "text": f"PASS: all {len(checks)} check(s) passed"}
+    nd = decimals(report.get("tolerance")) + 1
     rows = []
     for c in checks:
-        items = []
-        for it in c["items"] or [{"quantity": "", "expected": None, "measured": None, "tolerance": None,
-                                  "unit": "", "passed": False}]:
-            e, m = it["expected"], it["measured"]
-            diff = None
-            if isinstance(e, (int, float)) and isinstance(m, (int, float)) and not isinstance(e, bool) \
-                    and it.get("tolerance") is not None:
-                diff = float(m) - float(e)
-            items.append({"quantity": it["quantity"], "expected": _fmt(e), "measured": _fmt(m),
-                          "diff": "" if diff is None else _fmt(round(diff, 6)),
-                          "tolerance": "" if it["tolerance"] is None else f"\u00b1{_fmt(it['tolerance'])}",
-                          "unit": it["unit"].replace("mm^3", "mm\u00b3"), "passed": it["passed"]})
+        items = [_item_row(it, nd) for it in c["items"] or [{"quantity": "", "expected": None, "measured": None,
+                                                              "tolerance": None, "unit": "", "passed": False}]]
         rows.append({"name": c["name"], "kind": c["kind"], "line": c.get("line", 0), "rows": items})
     warnings = [f"{rel_path(w['program'])}:{w['line']}:{w['column']}: warning: {w['message']}"
                 + called_from(w).replace(w["program"], rel_path(w["program"])) for w in report.get("warnings", [])]

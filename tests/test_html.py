@@ -56,7 +56,7 @@ def test_summary_setup_checks_warnings(tmp_path, monkeypatch):
     # verdict and units
     assert "FAIL: 1 of 1 check(s) failed (M27 thread)" in html
     assert re.search(r"<td>cycle time</td><td[^>]*>1\.657 \(0:01\.7 min:s\)</td><td>s</td>", html)
-    assert re.search(r"<td>removed volume</td><td[^>]*>100\.250</td><td>mm\u00b3</td>", html)
+    assert re.search(r"<td>removed volume</td><td[^>]*>100\.25</td><td>mm\u00b3</td>", html)  # tolerance 0.01
     assert re.search(r"<td>chordal tolerance</td><td[^>]*>0\.01</td><td>mm</td>", html)
     # setup: stock, tools, tolerance; the setup file's lines with anchors, the check links to its line
     assert "revolved profile (r, z) mm: (0, 0), (13.5, 0), (13.5, \u22128)" in html
@@ -155,4 +155,74 @@ def test_report_in_chromium(tmp_path):
     assert sorted(row.split()[0] for row in rows) == names
     for row in rows:
         name, complete, size = row.split()
-        assert complete == "1" and size == "1024x768", row
+        with Image.open(out / name) as im:
+            assert complete == "1" and size == "%dx%d" % im.size, row
+
+
+# ---------------------------------------------------------------------------------------------
+# numbers: one documented format (docs/checks.md "Numbers in report.html")
+# ---------------------------------------------------------------------------------------------
+def _item(quantity, expected, measured, tol, passed=None, unit="mm"):
+    if passed is None:
+        passed = abs(measured - expected) <= tol
+    return {"quantity": quantity, "expected": expected, "measured": measured, "tolerance": tol, "unit": unit,
+            "passed": passed}
+
+
+def _cells(html, quantity):
+    m = re.search(rf"<td>{re.escape(quantity)}</td>" + r'<td class="num">([^<]*)</td>' * 4, html)
+    assert m, quantity
+    return m.groups()
+
+
+def test_check_numbers_to_the_tolerance_decimals():
+    """Expected, measured and difference share one format per row: one decimal finer than the
+    tolerance is written with, more when the expected value is written with more; never
+    exponent notation, a true minus sign, no signed zero."""
+    items = [_item("root_diameter", 13.546, 13.539765, 0.02), _item("lead", 2.0, 1.999967, 0.005),
+             _item("depth", -6.0, -6.006297, 0.05), _item("phase", 0.0, -3.3e-05, 2.0, unit="deg"),
+             _item("width", 40.0, 33.5397, 0.1, passed=False), _item("floor", -3.0, -3.0000004, 0.01)]
+    rep = _report(None, "x", [{"name": "c", "kind": "thread", "line": 3, "passed": False, "details": {},
+                               "items": items}])
+    html = report_html(rep).decode()
+    assert _cells(html, "root_diameter") == ("13.546", "13.540", "\u22120.006", "\u00b10.02")
+    assert _cells(html, "lead") == ("2.0000", "2.0000", "0.0000", "\u00b10.005")  # -3.3e-05 rounds to 0
+    assert _cells(html, "depth") == ("\u22126.000", "\u22126.006", "\u22120.006", "\u00b10.05")
+    assert _cells(html, "phase") == ("0.0", "0.0", "0.0", "\u00b12")
+    assert _cells(html, "width") == ("40.00", "33.54", "\u22126.46", "\u00b10.1")
+    assert _cells(html, "floor") == ("\u22123.000", "\u22123.000", "0.000", "\u00b10.01")
+    table = html[html.index('<table class="checks">'):html.index("</table>", html.index('<table class="checks">'))]
+    assert not re.search(r"\d[eE][\u2212+-]?\d", table) and "-" not in re.sub(r"<[^>]*>", "", table)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_difference_never_reads_against_the_verdict(seed):
+    """Random items near their tolerance (passed = |difference| <= tolerance, the difference a
+    whole number of micrometres at least 1 um from the tolerance): the difference shown is beyond
+    the tolerance exactly when the item failed."""
+    rng = np.random.default_rng(seed)
+    items = []
+    for k in range(200):
+        tol = float(rng.choice([0.5, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001]))
+        off = int(rng.integers(1, 40)) * float(rng.choice([-1, 1]))
+        diff = round(float(rng.choice([-1, 1])) * (round(tol * 1e6) + off) * 1e-6, 6)
+        e = round(float(rng.uniform(-50, 50)), int(rng.integers(0, 4)))
+        items.append(_item(f"q{k}", e, e + diff, tol, passed=abs(diff) <= tol))
+    rep = _report(None, "x", [{"name": "c", "kind": "diameter", "line": 3, "passed": False, "details": {},
+                               "items": items}])
+    html = report_html(rep).decode()
+    for it in items:
+        shown = float(_cells(html, it["quantity"])[2].replace("\u2212", "-"))
+        assert (abs(shown) > it["tolerance"]) == (not it["passed"]), (it, shown)
+
+
+@pytest.mark.parametrize("machine,label", [
+    ({"kind": "lathe", "diameter_programming": True, "m03": "ccw"}, "final position X (diameter) Y Z"),
+    ({"kind": "lathe", "diameter_programming": False, "m03": "ccw"}, "final position X (radius) Y Z"),
+    ({"kind": "mill", "diameter_programming": False, "m03": "cw"}, "final position X Y Z"),
+])
+def test_final_position_says_what_x_is(machine, label):
+    rep = dict(_report(None, "x"), machine=machine, final_position=[30.0, 0.0, -5.25], tolerance=0.005)
+    html = report_html(rep).decode()
+    assert re.search(rf"<td>{re.escape(label)}</td><td[^>]*>30\.000\u20030\.000\u2003\u22125\.250</td><td>mm</td>",
+                     html)

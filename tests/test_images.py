@@ -22,6 +22,7 @@ from PIL import Image  # noqa: E402
 
 import cutsim  # noqa: E402
 from cutsim.reports import images as I  # noqa: E402
+from cutsim.reports import views3d as V  # noqa: E402
 from cutsim.reports.images import HEIGHT, WIDTH  # noqa: E402
 
 
@@ -31,9 +32,12 @@ def _run(nc, toml, out):
     return proc
 
 
-def _check_png(data):
+def _check_png(data, section=False):
     img = np.asarray(Image.open(io.BytesIO(data) if isinstance(data, bytes) else data).convert("RGB"), dtype=float)
-    assert img.shape == (HEIGHT, WIDTH, 3)
+    if section or getattr(data, "name", "") == "section.png":  # as high as the part needs, within a range
+        assert img.shape[1:] == (WIDTH, 3) and I.SECTION_MIN_HEIGHT <= img.shape[0] <= HEIGHT
+    else:
+        assert img.shape == (HEIGHT, WIDTH, 3)
     nonwhite = np.mean(np.any(img < 245, axis=2))
     assert 0.05 < nonwhite < 0.95, f"{nonwhite:.3f} of the pixels are drawn"
     assert img.std() > 10
@@ -133,7 +137,7 @@ def test_section_in_workpiece_coordinates(multipass):
         assert _tick_labels(view, z, 0) == z
         assert _tick_labels(view, r, 1) == r
         rc_part, rc_air, rc_undercut = view.pixel(-20.3, 6.3), view.pixel(-20.3, 16.3), view.pixel(-10.3, 13.1)
-        img = _check_png(view.png())
+        img = _check_png(view.png(), section=True)
     except BaseException:
         view.plotter.close()
         raise
@@ -291,7 +295,7 @@ def test_nearest_on_triangles_is_exact():
     pts = np.concatenate([on, on + rng.normal(0, 0.01, on.shape), rng.uniform(-30, 80, (200, 3))])
     ref = _point_triangle_distance(pts, tri)[0]
     assert len(pts) * len(tri) <= 500_000  # the reference tries every triangle
-    got = I._nearest_on_triangles(pts, tri)[0]
+    got = V._nearest_on_triangles(pts, tri)[0]
     assert np.allclose(got, ref, rtol=0, atol=1e-12)
     assert np.all(got[:300] < 1e-12)
 
@@ -322,3 +326,171 @@ def test_top_view_many_levels_is_continuous():
         view.plotter.close()
         raise
     assert np.abs(img[rc_deep] - img[rc_shallow]).max() > 60
+
+
+# ---------------------------------------------------------------------------------------------
+# one camera convention: the same feature on the same side in every view; axes span the stock
+# ---------------------------------------------------------------------------------------------
+def _plate_result(pocket_depth=4.0):
+    """A 100 x 60 x 10 plate (top Z0) with a 25 x 20 pocket at its back left (X10..35, Y35..55)."""
+    import types
+
+    from manifold3d import Manifold
+
+    stock = Manifold.cube((100, 60, 10)).translate((0, 0, -10))
+    part = stock - Manifold.cube((25, 20, pocket_depth + 1)).translate((10, 35, -pocket_depth))
+    setup = cutsim.load_setup(str(HERE / "slot.toml"))
+    return types.SimpleNamespace(setup=setup, part=part, stock=stock, report={"program": "plate", "tolerance": 0.01})
+
+
+def _lathe_result():
+    """A Ø40 bar Z-60..0 turned to Ø20 over Z-20..0: the thin end at the face (+Z)."""
+    import types
+
+    from manifold3d import Manifold
+
+    stock = Manifold.cylinder(60, 20, 20, 96).translate((0, 0, -60))
+    part = stock - (Manifold.cylinder(21, 25, 25, 96) - Manifold.cylinder(21, 10, 10, 96)).translate((0, 0, -20))
+    setup = cutsim.load_setup(str(HERE / "multipass.toml"))
+    return types.SimpleNamespace(setup=setup, part=part, stock=stock, report={"program": "bar", "tolerance": 0.01})
+
+
+def _render(view):
+    try:
+        return np.asarray(Image.open(io.BytesIO(view.png())).convert("RGB"), dtype=float)
+    except BaseException:
+        view.plotter.close()
+        raise
+
+
+def _centroid(mask):
+    rows, cols = np.nonzero(mask)
+    assert len(rows) > 200, len(rows)
+    return rows.mean(), cols.mean()
+
+
+def test_pocket_on_the_same_side_in_top_iso_and_deviation():
+    """Found by colour alone: the pocket's floor (dark viridis blue, or the deviation map's gouge
+    blue) lies left of and above the plate's top face (yellow-green, or pale green) in all three
+    views, as it does on the plate (X10..35 of 0..100, Y35..55 of 0..60)."""
+    res = _plate_result()
+    top = _render(I.top_view(res))
+    iso = _render(I.iso_view(res))
+    design = _plate_result(3.0).part  # the pocket 1 mm shallower on the design: its floor a gouge
+    dev = _render(I.deviation_view(res, design, {"name": "d", "max_deviation": 0.01}))
+    for img in (top, iso):
+        r, g, b = (img[..., k] for k in range(3))
+        floor = _centroid((b - g > 30) & (r < 120))  # viridis' dark end
+        face = _centroid((g - b > 60) & (g > 150))  # viridis' yellow-green end
+        assert floor[1] < face[1] - 40, (floor, face)  # left
+        if img is top:
+            assert floor[0] < face[0] - 10  # and behind: up in the top view
+    r, g, b = (dev[..., k] for k in range(3))
+    gouge = _centroid((b - r > 60) & (b > 60))
+    within = _centroid((g > 150) & (g - b > 12) & (g - r > 5))  # the pale green band, lit
+    assert gouge[1] < within[1] - 40, (gouge, within)
+
+
+def test_lathe_face_end_on_the_right_in_iso_and_section():
+    """The thin end (Z-20..0 turned to Ø20) is on the right in both lathe views: fewer pixels of
+    the part per column in the right third of the bar than in the left."""
+    res = _lathe_result()
+    for view in (I.iso_view(res), I.section_view(res)):
+        img = _render(view)
+        drawn = np.any(img < 235, axis=2)
+        part = np.abs(img - _rgb(I.PART_COLOR)).max(axis=2) < 60  # the part's grey, lit or flat
+        cols = np.flatnonzero(part.sum(axis=0) > 5)
+        c0, c1 = cols.min(), cols.max()
+        third = (c1 - c0) // 3
+        solid = part if view.name == "section.png" else drawn  # the section draws the removed ring too
+        left = solid[:, c0 + 5:c0 + third].sum(axis=0).mean()
+        right = solid[:, c1 - third:c1 - 5].sum(axis=0).mean()
+        assert right < 0.75 * left, (view.name, left, right)
+
+
+def _labels(plotter):
+    """(value, world position) of every numeric world-anchored label."""
+    out = []
+    for text, pos in I.text_actors(plotter):
+        try:
+            out.append((_value(text), np.array(pos)))
+        except ValueError:
+            pass
+    return out
+
+
+def _axis_labels(labels, k, fixed):
+    """The labels of the axis along coordinate k: placed at their own value on that axis and
+    outside the stock box next to the edge at ``fixed`` ({coordinate: value})."""
+    return sorted(v for v, pos in labels if abs(pos[k] - v) < 1e-9
+                  and all(abs(pos[j] - c) > 1e-6 for j, c in fixed.items()))
+
+
+@pytest.mark.parametrize("make,edges", [
+    (_plate_result, {"X mm": (0, {1: 0.0, 2: -10.0}), "Y mm": (1, {0: 0.0, 2: -10.0}), "Z mm": (2, {0: 100.0, 1: 0.0})}),
+    (_lathe_result, {"Z mm": (2, {0: -20.0, 1: 20.0}), "X mm": (0, {1: 20.0, 2: -60.0}), "Y mm": (1, {0: -20.0, 2: 0.0})}),
+])
+def test_iso_axes_span_the_stock(make, edges):
+    """Read back from the plotter: each axis line runs exactly along a stock box edge from the
+    stock's minimum to its maximum (the plate's X ends at 100, not at a rounder 125), its labels sit
+    at their values, all inside the stock's range and at most one step from its ends; no two text
+    labels overlap on screen."""
+    from vtkmodules.vtkRenderingCore import vtkTextActor
+
+    res = make()
+    b = res.stock.bounding_box()
+    lo, hi = np.array(b[:3]), np.array(b[3:])
+    view = I.iso_view(res)
+    try:
+        p = view.plotter
+        labels = _labels(p)
+        for title, (k, fixed) in edges.items():
+            lb = p.renderer.actors[f"axis-{title}"].GetBounds()
+            assert lb[2 * k] == pytest.approx(lo[k], abs=1e-9) and lb[2 * k + 1] == pytest.approx(hi[k], abs=1e-9)
+            for j, c in fixed.items():
+                assert lb[2 * j] <= c <= lb[2 * j + 1]
+            vals = _axis_labels(labels, k, fixed)
+            assert len(vals) >= 2, title
+            step = vals[1] - vals[0]
+            assert lo[k] - 1e-9 <= vals[0] <= lo[k] + step and hi[k] - step <= vals[-1] <= hi[k] + 1e-9, (title, vals)
+            assert vals == view.ticks[title]
+        p.render()
+        boxes = []
+        for a in p.renderer.actors.values():
+            if isinstance(a, vtkTextActor) and a.GetInput().strip():
+                bb = [0.0] * 4
+                a.GetBoundingBox(p.renderer, bb)
+                x, y = a.GetPositionCoordinate().GetComputedDoubleDisplayValue(p.renderer)
+                boxes.append((a.GetInput(), x + bb[0], x + bb[1], y + bb[2], y + bb[3]))
+        for i, (ta, a0, a1, b0, b1) in enumerate(boxes):
+            assert 0 <= a0 and a1 <= WIDTH and 0 <= b0 and b1 <= HEIGHT, ta
+            for tb, c0, c1, d0, d1 in boxes[i + 1:]:
+                assert a1 <= c0 or c1 <= a0 or b1 <= d0 or d1 <= b0, (ta, tb)
+    finally:
+        view.plotter.close()
+
+
+def test_top_view_ticks_span_the_stock():
+    res = _plate_result()
+    view = I.top_view(res)
+    try:
+        x, y = view.ticks["X mm"], view.ticks["Y mm"]
+        assert _tick_labels(view, x, 0) == x and _tick_labels(view, y, 1) == y
+        assert x[0] == 0.0 and x[-1] == 100.0 and y[0] == 0.0 and y[-1] == 60.0
+    finally:
+        view.plotter.close()
+
+
+def test_section_fills_its_image(multipass):
+    """A slender part (30 long, radius 13.5): the image is lower than HEIGHT and drawn over most of
+    its height."""
+    view = I.section_view(multipass)
+    img = _render(view)
+    assert I.SECTION_MIN_HEIGHT <= img.shape[0] < HEIGHT and img.shape[1] == WIDTH
+    rows = np.flatnonzero(np.any(img < 200, axis=2).sum(axis=1) > 3)
+    assert (rows.max() - rows.min()) / img.shape[0] > 0.8
+
+
+def test_3d_views_are_deterministic():
+    res = _plate_result()
+    assert I.iso_view(res).png() == I.iso_view(res).png()
