@@ -37,10 +37,11 @@ import math
 
 import numpy as np
 
-from .plot import (DEV_K, HEIGHT, MAX_FLOORS, PART_COLOR, REMOVED_COLOR, STOCK_COLOR,  # noqa: F401 - API
-                   WALL_COLOR, WIDTH, View, _arrays, _Chart, _face_floor_index, _floor_colors, _mesh, _num, _polydata,
-                   _plotter, _pv, _rgb, _stock_outline, floor_levels, nice_step, nice_ticks, text_actors)
-from .views3d import deviation_view, face_deviation, iso_view  # noqa: F401 - the views' API
+from .plot import (HEIGHT, MAX_FLOORS, PART_COLOR, REMOVED_COLOR, STOCK_COLOR, WALL_COLOR, WIDTH, View, _arrays,
+                   _Chart, _face_floor_index, _floor_colors, _mesh, _num, _polydata, _plotter, _pv, _rgb,
+                   _stock_outline, floor_levels)
+from .plot import DEV_K, nice_step, nice_ticks, text_actors  # noqa: F401 - re-exported: the images' API
+from .views3d import deviation_view, face_deviation, iso_view  # noqa: F401 - re-exported: the images' API
 
 SECTION_MIN_HEIGHT = 360  # px: section.png is at least this high, at most HEIGHT
 

@@ -21,9 +21,9 @@ import math
 
 import numpy as np
 
-from .plot import (DEV_K, HEIGHT, MAX_FLOORS, PART_COLOR, WALL_COLOR, WIDTH, View, _arrays, _face_floor_index,
+from .plot import (DEV_K, HEIGHT, MAX_FLOORS, PART_COLOR, WALL_COLOR, View, _arrays, _face_floor_index,
                    _floor_colors, _fmt_tick, _num, _plotter, _polydata, _pv, _rgb, _stock_outline, floor_levels,
-                   nice_step, nice_ticks)
+                   nice_ticks)
 
 MILL_VIEW = (-1.0, -2.0, 1.5)  # from the part towards the camera; Z up
 LATHE_VIEW = (0.45, 1.0, 0.35)  # from the part towards the camera; X up
@@ -221,6 +221,10 @@ def iso_view(result) -> View:
         p.add_mesh(part, color=PART_COLOR, smooth_shading=False, specular=0.3, ambient=0.3, reset_camera=False)
         cap = ("Isometric view of the part as it sits in the lathe (Z to the right, X up, seen from the operator's "
                "side) with the stock's outline.")
+    where = ("as it sits in the lathe: Z to the right, X up, from the operator's side"
+             if result.setup.machine.kind == "lathe" else "from the front left above: X to the right, Y away, Z up")
+    p.add_text(f"{result.report.get('program', '')}: view {where}", position=(12, HEIGHT - 28), font_size=11,
+               color="black")
     view = _iso(p, result, part, cap)
     view.mesh = part
     return view

@@ -426,9 +426,11 @@ def _axis_labels(labels, k, fixed):
                   and all(abs(pos[j] - c) > 1e-6 for j, c in fixed.items()))
 
 
-@pytest.mark.parametrize("make,edges", [
-    (_plate_result, {"X mm": (0, {1: 0.0, 2: -10.0}), "Y mm": (1, {0: 0.0, 2: -10.0}), "Z mm": (2, {0: 100.0, 1: 0.0})}),
-    (_lathe_result, {"Z mm": (2, {0: -20.0, 1: 20.0}), "X mm": (0, {1: 20.0, 2: -60.0}), "Y mm": (1, {0: -20.0, 2: 0.0})}),
+@pytest.mark.parametrize("make,edges", [  # {axis title: (its coordinate, the edge's other coordinates)}
+    (_plate_result, {"X mm": (0, {1: 0.0, 2: -10.0}), "Y mm": (1, {0: 0.0, 2: -10.0}),
+                     "Z mm": (2, {0: 100.0, 1: 0.0})}),
+    (_lathe_result, {"Z mm": (2, {0: -20.0, 1: 20.0}), "X mm": (0, {1: 20.0, 2: -60.0}),
+                     "Y mm": (1, {0: -20.0, 2: 0.0})}),
 ])
 def test_iso_axes_span_the_stock(make, edges):
     """Read back from the plotter: each axis line runs exactly along a stock box edge from the
