@@ -343,14 +343,15 @@ def _plate_result(pocket_depth=4.0):
     return types.SimpleNamespace(setup=setup, part=part, stock=stock, report={"program": "plate", "tolerance": 0.01})
 
 
-def _lathe_result():
-    """A Ø40 bar Z-60..0 turned to Ø20 over Z-20..0: the thin end at the face (+Z)."""
+def _lathe_result(thin_end=-20.0):
+    """A Ø40 bar Z-60..0 turned to Ø20 over 20 mm from Z ``thin_end`` (-20: the face end)."""
     import types
 
     from manifold3d import Manifold
 
     stock = Manifold.cylinder(60, 20, 20, 96).translate((0, 0, -60))
-    part = stock - (Manifold.cylinder(21, 25, 25, 96) - Manifold.cylinder(21, 10, 10, 96)).translate((0, 0, -20))
+    ring = Manifold.cylinder(20, 25, 25, 96) - Manifold.cylinder(20, 10, 10, 96)
+    part = stock - ring.translate((0, 0, thin_end))
     setup = cutsim.load_setup(str(HERE / "multipass.toml"))
     return types.SimpleNamespace(setup=setup, part=part, stock=stock, report={"program": "bar", "tolerance": 0.01})
 
@@ -392,20 +393,17 @@ def test_pocket_on_the_same_side_in_top_iso_and_deviation():
 
 
 def test_lathe_face_end_on_the_right_in_iso_and_section():
-    """The thin end (Z-20..0 turned to Ø20) is on the right in both lathe views: fewer pixels of
-    the part per column in the right third of the bar than in the left."""
-    res = _lathe_result()
-    for view in (I.iso_view(res), I.section_view(res)):
+    """+Z is to the right in both lathe views: the part's pixels (its greys, lit or flat) lie
+    further left when the thin end is at the face (Z-20..0) than when it is at the chuck
+    (Z-60..-40); the same bar otherwise."""
+    def centre(view):
         img = _render(view)
-        drawn = np.any(img < 235, axis=2)
-        part = np.abs(img - _rgb(I.PART_COLOR)).max(axis=2) < 60  # the part's grey, lit or flat
-        cols = np.flatnonzero(part.sum(axis=0) > 5)
-        c0, c1 = cols.min(), cols.max()
-        third = (c1 - c0) // 3
-        solid = part if view.name == "section.png" else drawn  # the section draws the removed ring too
-        left = solid[:, c0 + 5:c0 + third].sum(axis=0).mean()
-        right = solid[:, c1 - third:c1 - 5].sum(axis=0).mean()
-        assert right < 0.75 * left, (view.name, left, right)
+        grey = (np.ptp(img, axis=2) < 40) & (img.mean(axis=2) > 90) & (img.mean(axis=2) < 235)
+        return _centroid(grey)[1]
+
+    for make in (I.iso_view, I.section_view):
+        at_face, at_chuck = centre(make(_lathe_result(-20.0))), centre(make(_lathe_result(-60.0)))
+        assert at_face < at_chuck - 40, (make.__name__, at_face, at_chuck)
 
 
 def _labels(plotter):
