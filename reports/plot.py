@@ -105,6 +105,32 @@ def text_actors(plotter) -> list[tuple[str, tuple[float, float, float]]]:
     return out
 
 
+def world_text(p, pos, s, size=14, color="black", halign="center", valign="center", bold=False, name=None):
+    """A text actor of plotter ``p`` anchored at the world point ``pos``, justified about it; bold
+    text (annotations) on a white box so it stays readable over the drawing."""
+    from vtkmodules.vtkRenderingCore import vtkTextActor
+
+    a = vtkTextActor()
+    a.SetInput(s)
+    tp = a.GetTextProperty()
+    tp.SetFontSize(size)
+    tp.SetColor(*_rgb(color))
+    tp.SetFontFamilyToArial()
+    tp.SetBold(bold)
+    if bold:
+        tp.SetBackgroundColor(1.0, 1.0, 1.0)
+        tp.SetBackgroundOpacity(0.85)
+    {"left": tp.SetJustificationToLeft, "center": tp.SetJustificationToCentered,
+     "right": tp.SetJustificationToRight}[halign]()
+    {"top": tp.SetVerticalJustificationToTop, "center": tp.SetVerticalJustificationToCentered,
+     "bottom": tp.SetVerticalJustificationToBottom}[valign]()
+    c = a.GetPositionCoordinate()
+    c.SetCoordinateSystemToWorld()
+    c.SetValue(*(float(v) for v in pos))
+    p.add_actor(a, reset_camera=False, name=name)
+    return a
+
+
 def nice_step(span: float, n: int = 6) -> float:
     """A round step (1, 2, 2.5 or 5 x 10^k) giving about ``n`` intervals over ``span``."""
     if not span > 0:
@@ -192,28 +218,8 @@ class _Chart:
         return (float(u), float(v), self.z + dz)
 
     def text(self, u, v, s, size=14, color="black", halign="center", valign="center", bold=False, dz=2.0):
-        from vtkmodules.vtkRenderingCore import vtkTextActor
-
-        a = vtkTextActor()
-        a.SetInput(s)
-        tp = a.GetTextProperty()
-        tp.SetFontSize(size)
-        tp.SetColor(*_rgb(color))
-        tp.SetFontFamilyToArial()
-        tp.SetBold(bold)
-        if bold:  # annotations stay readable over the drawing
-            tp.SetBackgroundColor(1.0, 1.0, 1.0)
-            tp.SetBackgroundOpacity(0.85)
-        {"left": tp.SetJustificationToLeft, "center": tp.SetJustificationToCentered,
-         "right": tp.SetJustificationToRight}[halign]()
-        {"top": tp.SetVerticalJustificationToTop, "center": tp.SetVerticalJustificationToCentered,
-         "bottom": tp.SetVerticalJustificationToBottom}[valign]()
-        c = a.GetPositionCoordinate()
-        c.SetCoordinateSystemToWorld()
-        c.SetValue(*self.pt(u, v, dz))
         self.n_text += 1
-        self.p.add_actor(a, reset_camera=False, name=f"text-{self.n_text}")
-        return a
+        return world_text(self.p, self.pt(u, v, dz), s, size, color, halign, valign, bold, name=f"text-{self.n_text}")
 
     def lines(self, segs, color="black", width=1.0, dz=1.0, dashed=False):
         """Line segments ((u0, v0), (u1, v1)) (or polylines given as (n, 2) arrays)."""

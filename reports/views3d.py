@@ -23,7 +23,7 @@ import numpy as np
 
 from .plot import (DEV_K, HEIGHT, MAX_FLOORS, PART_COLOR, WALL_COLOR, View, _arrays, _face_floor_index,
                    _floor_colors, _fmt_tick, _num, _plotter, _polydata, _pv, _rgb, _stock_outline, floor_levels,
-                   nice_ticks)
+                   nice_ticks, world_text)
 
 MILL_VIEW = (-1.0, -2.0, 1.5)  # from the part towards the camera; Z up
 LATHE_VIEW = (0.45, 1.0, 0.35)  # from the part towards the camera; X up
@@ -76,27 +76,6 @@ class Camera3D:
         """(row, column) in the PNG of the world point (x, y, z)."""
         sx, sy = self.screen((x, y, z))
         return int(round(self.H / 2 - sy)), int(round(self.W / 2 + sx))
-
-
-def _text(p, pos, s, size=12, halign="center", valign="center", bold=False, name=None):
-    from vtkmodules.vtkRenderingCore import vtkTextActor
-
-    a = vtkTextActor()
-    a.SetInput(s)
-    tp = a.GetTextProperty()
-    tp.SetFontSize(size)
-    tp.SetColor(0.0, 0.0, 0.0)
-    tp.SetFontFamilyToArial()
-    tp.SetBold(bold)
-    {"left": tp.SetJustificationToLeft, "center": tp.SetJustificationToCentered,
-     "right": tp.SetJustificationToRight}[halign]()
-    {"top": tp.SetVerticalJustificationToTop, "center": tp.SetVerticalJustificationToCentered,
-     "bottom": tp.SetVerticalJustificationToBottom}[valign]()
-    c = a.GetPositionCoordinate()
-    c.SetCoordinateSystemToWorld()
-    c.SetValue(*(float(v) for v in pos))
-    p.add_actor(a, reset_camera=False, name=name)
-    return a
 
 
 def _align(n) -> tuple[str, str]:
@@ -157,8 +136,8 @@ def _axis3d(p, cam, k: int, fixed: dict, title: str) -> list[float]:
     h, v = _align(n)
     step = ticks[1] - ticks[0] if len(ticks) > 1 else 1.0
     for t in ticks:
-        _text(p, base + t * e + 10.0 * w, _fmt_tick(t, step), size=12, halign=h, valign=v)
-    _text(p, mid + (40.0 if abs(n[1]) > 0.5 else 50.0) * w, title, size=13, halign=h, valign=v, bold=True)
+        world_text(p, base + t * e + 10.0 * w, _fmt_tick(t, step), size=12, halign=h, valign=v)
+    world_text(p, mid + (40.0 if abs(n[1]) > 0.5 else 50.0) * w, title, size=13, halign=h, valign=v, bold=True)
     return [float(t) for t in ticks]
 
 
