@@ -12,6 +12,7 @@ import numpy as np
 
 WIDTH, HEIGHT = 1024, 768
 MAX_FLOORS = 12  # more flat levels than this: continuous colours with contour lines
+MIN_FLOOR_AREA = 0.01  # mm^2 (0.1 x 0.1 mm): a flat level smaller than this in all is no floor
 DEV_K = 3.0  # the deviation scale runs over +-DEV_K x the tolerance
 PART_COLOR = "#b8c4cc"
 REMOVED_COLOR = "#f5c48a"
@@ -321,13 +322,16 @@ class _Chart:
 # ------------------------------------------------------------------------------------------------
 def floor_levels(v: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per face: whether it faces up (a floor or the top) and the distinct Z of the floors (to
-    0.001 mm, from the highest down)."""
+    0.001 mm, from the highest down). A level of less than MIN_FLOOR_AREA in all is a sliver left
+    between passes, not a floor: its faces take the colour of the next floor below."""
     t = v[f]
     n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
     ln = np.linalg.norm(n, axis=1)
     up = (ln > 0) & (n[:, 2] > 0.999 * np.where(ln > 0, ln, 1.0))
     zc = np.round(t[:, :, 2].mean(axis=1), 3)
-    return up, np.unique(zc[up])[::-1]
+    levels, inv = np.unique(zc[up], return_inverse=True)
+    area = np.bincount(inv.ravel(), weights=0.5 * ln[up], minlength=len(levels))
+    return up, levels[area >= MIN_FLOOR_AREA][::-1]
 
 
 def _floor_colors(levels: np.ndarray, ztop: float, zbot: float):

@@ -494,3 +494,20 @@ def test_section_fills_its_image(multipass):
 def test_3d_views_are_deterministic():
     res = _plate_result()
     assert I.iso_view(res).png() == I.iso_view(res).png()
+
+
+def test_a_sliver_is_no_floor():
+    """A flat level of 0.05 x 0.05 mm (0.0025 mm^2, under MIN_FLOOR_AREA) left at Z-2 beside a
+    Z-4 pocket is not listed as a floor; the pocket's floor (100 mm^2) is."""
+    import types
+
+    from manifold3d import Manifold
+
+    stock = Manifold.cube((40, 30, 10)).translate((0, 0, -10))
+    part = stock - Manifold.cube((10, 10, 5)).translate((10, 10, -4)) - \
+        Manifold.cube((0.05, 0.05, 3)).translate((20, 10, -2))
+    res = types.SimpleNamespace(setup=cutsim.load_setup(str(HERE / "slot.toml")), part=part, stock=stock,
+                                report={"program": "sliver", "tolerance": 0.01})
+    view = I.top_view(res)
+    view.plotter.close()
+    assert view.notes == ["floor Z 0.000", "floor Z \u22124.000"]
