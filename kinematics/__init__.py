@@ -60,7 +60,9 @@ class _Planner:
                     self.tool = None
                 elif rec.tool not in self.tools:
                     known = ", ".join(f"T{n}" for n in sorted(self.tools))
-                    raise self.err(rec.src, f"tool T{rec.tool} is not in the setup (tools: {known})")
+                    hint = ("; T0 empties the spindle only on a Sinumerik (T0 M6), elsewhere it selects the [[tool]] "
+                            "with number = 0" if rec.tool == 0 else "")
+                    raise self.err(rec.src, f"tool T{rec.tool} is not in the setup (tools: {known}){hint}")
                 else:
                     self.tool = self.tools[rec.tool]
             elif isinstance(rec, canon.MOTIONS):

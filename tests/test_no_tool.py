@@ -153,3 +153,43 @@ def test_inside_length_is_the_segment_clipped_by_the_box():
         checked += 1
         assert got == pytest.approx((span[1] - span[0]) * float(np.linalg.norm(b - a)), abs=1e-6)
     assert checked > 50
+
+
+LATHE = """[machine]
+kind = "lathe"
+dialect = "{dialect}"
+diameter_programming = true
+
+[stock]
+shape = "cylinder"
+diameter = 40.0
+z = [-50.0, 0.0]
+
+[[tool]]
+number = {number}
+kind = "turning"
+angle = 55.0
+tip_radius = 0.0
+"""
+
+
+@pytest.mark.parametrize("dialect", ["cnc8x6", "isg"])
+def test_t0_elsewhere_is_the_tool_numbered_0(tmp_path, dialect):
+    """CNC8x6 and ISG define no empty spindle: T0 without a tool 0 in the setup is exit 2 at its
+    block; with [[tool]] number = 0 it is that tool, which cuts (a 0.5 mm deep pass from Z2 to Z-10)."""
+    prog = tmp_path / "p.nc"
+    prog.write_text("N10 G00 X50 Z2 T0 M03 S500\nN20 X38\nN30 G01 Z-10 F0.2\nN40 G00 X50\nN50 M30\n")
+    for number, code in ((1, 2), (0, 0)):
+        setup = tmp_path / "s.toml"
+        setup.write_text(LATHE.format(dialect=dialect, number=number))
+        out = tmp_path / f"out{number}"
+        res = CliRunner().invoke(main, ["simulate", str(prog), "--setup", str(setup), "--out", str(out), "-q"])
+        assert res.exit_code == code, res.output
+        if code == 2:
+            assert res.output.startswith(f"{prog}:1:1: error: tool T0 is not in the setup (tools: T1)")
+            assert "only on a Sinumerik" in res.output
+        else:
+            # the ring r 19..20 over Z0..-10 and what the leading flank takes below Z-10
+            flank = 2 * math.pi * math.tan(math.radians(27.5)) * ((20 ** 3 - 19 ** 3) / 3 - 19 * (20 ** 2 - 19 ** 2) / 2)
+            removed = json.loads((out / "report.json").read_text())["removed_volume"]
+            assert removed == pytest.approx(math.pi * (20 ** 2 - 19 ** 2) * 10 + flank, rel=3e-3)
