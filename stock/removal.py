@@ -11,6 +11,7 @@ i.e. from the stock minus the earlier cuts that overlap it.
 """
 from __future__ import annotations
 
+import bisect
 import functools
 import math
 from dataclasses import dataclass, field, fields
@@ -420,17 +421,27 @@ def _collisions(stock: m3d.Manifold, sweeper: _Sweeper, progress: Progress | Non
 
 def _gauge_warnings(stock: m3d.Manifold, sweeper: _Sweeper, tol: float, built: "_Built") -> list:
     """(src, message) for each move with no tool whose gauge point runs inside the material still
-    there when it moves (stock/gauge.py)."""
-    warnings = []
+    there when it moves (stock/gauge.py). Only a move inside the stock as it came can be; the moves
+    between two cuts (one stretch without a tool) all meet the same material, taken once."""
+    inside: dict[int, list] = {}  # cuts before the move -> [(index, path)] inside the stock as it came
+    starts = sorted(c.index for c in sweeper.cuts)
     for i, path in sweeper.gauges:
-        box = gauge.probe(path.points)
+        lo, hi = path.points.min(axis=0), path.points.max(axis=0)
+        if sweeper.f.meets(lo, hi) and gauge.inside_length(stock, path.points, tol) > tol:
+            inside.setdefault(bisect.bisect_left(starts, i), []).append((i, path))
+    warnings = []
+    for run in inside.values():
+        pts = np.concatenate([p.points for _, p in run])
+        box = gauge.probe(pts)
         lo, hi = _bbox([box])
-        if not sweeper.f.meets(lo, hi):
-            continue
-        material = _fresh(stock, _Cut(i, [box], None, lo, hi), sweeper.cuts, sweeper.f.revolve, built)
-        length = 0.0 if material is None else gauge.inside_length(material, path.points, tol)
-        if length > tol:
-            warnings.append((path.src, gauge.message(length)))
+        i = run[0][0]
+        material = stock
+        if any(c.index < i and _overlap(c.lo, c.hi, lo, hi) for c in sweeper.cuts):
+            material = _fresh(stock, _Cut(i, [box], None, lo, hi), sweeper.cuts, sweeper.f.revolve, built)
+        for _, path in run:
+            length = 0.0 if material is None else gauge.inside_length(material, path.points, tol)
+            if length > tol:
+                warnings.append((path.src, gauge.message(length)))
     return warnings
 
 
