@@ -17,6 +17,7 @@ What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinu
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import os
 import re
@@ -1239,8 +1240,9 @@ class Sinumerik(ModalMachine):
                                      f"{'is an array: pass an array' if p.array else 'is no array: pass one element'}")
                 scope[p.name] = held if p.array else self.slot(arg.value, line, write=True)
                 continue
-            v = self.ev(arg.value, line, arg.col) if given else (
-                self.ev(p.default, line, col) if p.default is not None else ("" if p.type in ("STRING", "AXIS") else 0.0))
+            value = self.ev if p.type != "AXIS" else functools.partial(axes.axis_of, self)  # PROC P(AXIS A): P(X)
+            v = value(arg.value, line, arg.col) if given else (
+                value(p.default, line, col) if p.default is not None else ("" if p.type in ("STRING", "AXIS") else 0.0))
             slot = Slot(p.type, "" if p.type in ("STRING", "AXIS") else 0.0)
             if not slot.set(v):
                 raise self.error(line, arg.col if given else col,

@@ -86,3 +86,15 @@ def test_trans_and_system_variables_take_axis_expressions():
 def test_bad_axis_expressions(text, line, col, fragment):
     e = err(text)
     assert (e.line, e.col) == (line, col) and fragment in e.message, e.message
+
+
+def test_an_axis_parameter_of_a_proc(tmp_path):
+    """PROC MOVEAX(AXIS AXP, REAL POS): the caller passes an axis bare, by AXNAME or by $P_AXN3."""
+    (tmp_path / "MOVEAX.spf").write_text("PROC MOVEAX(AXIS AXP, REAL POS)\nAX[AXP]=POS\nRET\n")
+    cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0), tool_radii={1: 5.0})
+    text = HEAD + 'G1 F100\nMOVEAX(Y, 7)\nMOVEAX(AXNAME("X"), 4)\nMOVEAX($P_AXN3, 25)\nMOVEAX(Q, 1)\nM30\n'
+    with pytest.raises(CutsimError) as e:
+        Sinumerik(str(tmp_path / "main.mpf"), cfg).run(text)
+    assert (e.value.line, e.value.col) == (7, 8) and "axis Q is not on this machine" in e.value.message
+    p = Sinumerik(str(tmp_path / "main.mpf"), cfg).run(text.replace("MOVEAX(Q, 1)\n", ""))
+    assert [r.end for r in p.moves[1:]] == [(1.0, 7.0, 30.0), (4.0, 7.0, 30.0), (4.0, 7.0, 25.0)]
