@@ -392,7 +392,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     if progress:
         progress("sweeping", n, n)
     built = _Built(BUILT_TRIANGLES)
-    warnings = _collisions(stock, sweeper, progress, built) + _gauge_warnings(stock, sweeper, tol, built)
+    warnings = _collisions(stock, sweeper, progress, built) + _gauge_warnings(stock, sweeper, tol, built, progress)
     if sweeper.millb or any(is_mill_move(p) for p in paths):
         warnings += mill.flute_warnings(sweeper.millb, paths, frame.top, tol, lambda idx, sol: _fresh_volume(
             stock, _Cut(idx, sol, None, *_bbox(sol)), sweeper.cuts, frame.revolve, built), float(frame.lo[2]))
@@ -419,13 +419,16 @@ def _collisions(stock: m3d.Manifold, sweeper: _Sweeper, progress: Progress | Non
     return warnings
 
 
-def _gauge_warnings(stock: m3d.Manifold, sweeper: _Sweeper, tol: float, built: "_Built") -> list:
+def _gauge_warnings(stock: m3d.Manifold, sweeper: _Sweeper, tol: float, built: "_Built",
+                    progress: Progress | None = None) -> list:
     """(src, message) for each move with no tool whose gauge point runs inside the material still
     there when it moves (stock/gauge.py). Only a move inside the stock as it came can be; the moves
     between two cuts (one stretch without a tool) all meet the same material, taken once."""
     inside: dict[int, list] = {}  # cuts before the move -> [(index, path)] inside the stock as it came
     starts = sorted(c.index for c in sweeper.cuts)
-    for i, path in sweeper.gauges:
+    for k, (i, path) in enumerate(sweeper.gauges):
+        if progress:
+            progress("checking moves without a tool", k, len(sweeper.gauges))
         lo, hi = path.points.min(axis=0), path.points.max(axis=0)
         if sweeper.f.meets(lo, hi) and gauge.inside_length(stock, path.points, tol) > tol:
             inside.setdefault(bisect.bisect_left(starts, i), []).append((i, path))
