@@ -71,6 +71,12 @@ def test_trans_and_system_variables_take_axis_expressions():
         (4, (10.0, 0.0, 30.0)), (5, (13.0, 0.0, 30.0))]
 
 
+def test_rot_and_mirror_take_axis_expressions():
+    # ROT Z90: X10 is (0, 10); MIRROR X0 (replacing the rotation): X10 is (-10, 0)
+    assert ends('ROT AX[AXNAME("Z")]=90\nG0 X10 Y0\nMIRROR AX[$P_AXN1]=0\nG0 X10 Y0') == [
+        (4, (0.0, 10.0, 30.0)), (6, (-10.0, 0.0, 30.0))]
+
+
 @pytest.mark.parametrize("text, line, col, fragment", [
     ('G1 F100 AX[AXNAME("Q1")]=5', 3, 9, "axis Q1 is not on this machine"),
     ("G1 F100 AX[Q]=5", 3, 9, "axis Q is not on this machine"),
