@@ -118,8 +118,11 @@ class Spindle:
 
 @dataclass(frozen=True, slots=True)
 class ToolChange:
+    """The tool ``tool`` goes into the spindle; ``tool`` None empties it (Sinumerik ``T0 M6``):
+    the moves after it carry no tool and remove nothing until the next change."""
+
     src: Src
-    tool: int
+    tool: int | None
     offset: int | None = None
 
 
@@ -215,7 +218,7 @@ def describe(rec) -> str:
     elif isinstance(rec, Spindle):
         body = f"SPINDLE {({1: 'M03', -1: 'M04', 0: 'M05'})[rec.direction]} S{_fmt(rec.speed)}"
     elif isinstance(rec, ToolChange):
-        body = f"TOOL T{rec.tool}" + ("" if rec.offset is None else f" D{rec.offset}")
+        body = ("TOOL none" if rec.tool is None else f"TOOL T{rec.tool}") + ("" if rec.offset is None else f" D{rec.offset}")
     elif isinstance(rec, ProgramEnd):
         body = "END"
     else:  # pragma: no cover - every record type is listed above

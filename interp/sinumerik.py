@@ -17,6 +17,7 @@ What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinu
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import os
 import re
@@ -26,6 +27,7 @@ from dataclasses import dataclass, field
 from . import canon
 from .canon import Src
 from .core import MOTION, Code, arc_centre
+from . import sinumerik_axes as axes
 from . import sinumerik_machine as machine
 from .errors import CutsimError
 from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
@@ -34,7 +36,7 @@ from . import sinumerik_drill as drill
 from . import sinumerik_fast
 from .sinumerik_cycles import ANGLES, CYCLES, DRILLING, RUNNERS, SPECS, _spec, compensate_records, run_cycle
 from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
-from .sinumerik_lang import STRING_FUNCS
+from .sinumerik_lang import R_NAME, STRING_FUNCS
 from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, KNOWN_M, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
                              BinOp, Branch, Call, Case, Command, Def, Frame, FuncCall, Goto, Index, Line, Neg, Not,
                              Num, Repeat, Ret, RIndex, Stmt, Str, SubCall, SubprogramMissing, Unit, Var, Word,
@@ -86,7 +88,6 @@ ARCHIVE_NAME = re.compile(r"_N_([A-Z0-9_]+)_(?:SPF|MPF)")
 MAX_ARRAY = 1_000_000  # elements of one array (DEF REAL A[1000, 1000])
 MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
 MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
-R_NAME = re.compile(r"R[0-9]+")
 AXIS_LETTER = {0: "I", 1: "J", 2: "K"}  # the centre address of each axis
 
 
@@ -291,6 +292,8 @@ class Sinumerik(ModalMachine):
         if isinstance(node, RIndex):
             i = self.num(self._ev(node.index, line, col), line, node.col)
             return self.params.get(self.r_index(i, line, node.col), 0.0)
+        if isinstance(node, FuncCall) and node.name in axes.AXIS_FUNCS:
+            return axes.function(self, node, line, col)
         if isinstance(node, FuncCall) and node.name in STRING_FUNCS:
             return self.string_fn(node, self._ev(node.args[0], line, col), line)
         if isinstance(node, FuncCall):
@@ -730,8 +733,10 @@ class Sinumerik(ModalMachine):
                 self.define(st, line)
             elif isinstance(st, Word) and st.address in self.vars and st.mode is None:
                 self.assign(Assign(st.col, st.address, st.value), line)  # PROC P(REAL B): B=B+1
+            elif isinstance(st, Word) and st.address == "AX":
+                self.axis_word(st, ln, blk)
             elif isinstance(st, Word):
-                self.word(self.axis_word(st, line) if st.address == "AX" else st, line, blk)
+                self.word(st, line, blk)
             elif isinstance(st, (Goto, Repeat, Case, Branch)):
                 blk.jumps.append(st)
             elif isinstance(st, Command):
@@ -744,19 +749,19 @@ class Sinumerik(ModalMachine):
             self.dwell(blk, line)
         return blk
 
-    def axis_word(self, st: Word, line: int) -> Word:
-        """AX[name]=value: the word of the axis the expression names (an axis letter, or an AXIS
-        variable holding one)."""
-        node = st.axis
-        if isinstance(node, Var) and node.name not in self.vars:
-            name = node.name
-        elif node is not None:
-            name = self.ev(node, line, st.col)
-        else:
-            raise self.error(line, st.col, "AX[..] takes one axis name")
-        if not isinstance(name, str) or not re.fullmatch(r"[A-Z][0-9]*", name.upper()):
-            raise self.error(line, st.col, "AX[..] needs an axis name (X, Y, Z or a declared axis)")
-        return Word(st.col, name.upper(), st.value, st.mode)
+    def axis_word(self, st: Word, ln: Line, blk: Block) -> None:
+        """AX[axis]=value: the word of the axis the AXIS expression names (an axis name, an AXIS
+        variable, AXNAME(..), SPI(..): interp/sinumerik_axes.py); an axis the machine does not have
+        is an error at the word. A spindle (AX[SPI(1)]=90) is positioned: one warning, as SPOS."""
+        if st.axis is None:
+            raise self.error(ln.line, st.col, "AX[..] takes one axis name")
+        name = axes.axis_of(self, st.axis, ln.line, st.col)
+        if axes.spindle_number(name) is not None:
+            self.ev(st.value, ln.line, st.col)
+            self.note(Src(self.unit_program, ln.line, st.col, ln.nlabel or ln.label), "SPOS",
+                      f"AX[{name}]= positions spindle {name[1:]}: changes nothing on the tool path")
+            return
+        self.word(Word(st.col, name, st.value, st.mode), ln.line, blk)
 
     def command(self, st: Command, ln: Line, blk: Block) -> None:
         """A bare keyword: language commands without effect on the tool path get one warning per
@@ -816,7 +821,10 @@ class Sinumerik(ModalMachine):
         blk.gs = [(code, c) for code, c in blk.gs if code != 4]
 
     def assign(self, st: Assign, line: int) -> None:
-        v = self.ev(st.value, line, st.col)
+        if getattr(self.vars.get(st.name), "type", None) == "AXIS":  # AXN=Y, AXN=AXNAME("Y"): an axis of this machine
+            v = axes.axis_of(self, st.value, line, st.col)
+        else:
+            v = self.ev(st.value, line, st.col)
         target = Index(st.name, st.index, st.col) if st.index else Var(st.name, st.col)
         slot = self.slot(target, line, write=True)
         if not slot.set(v):
@@ -833,9 +841,10 @@ class Sinumerik(ModalMachine):
             slot = Slot(st.type, blank, d.length)
             if d.init is not None:
                 init = d.init
-                if st.type == "AXIS" and isinstance(init, Var) and init.name not in self.vars:
-                    init = Str(init.name)  # DEF AXIS AXN=X: the axis name
-                val = self.ev(init, line, d.col)
+                if st.type == "AXIS":  # DEF AXIS AXN=X: an axis of this machine
+                    val = axes.axis_of(self, init, line, d.col)
+                else:
+                    val = self.ev(init, line, d.col)
                 if not slot.set(val):
                     raise self.error(line, d.col, f"{d.name} ({st.type}) takes a number, not the string \"{val}\"")
             self.vars[d.name] = slot
@@ -1231,8 +1240,9 @@ class Sinumerik(ModalMachine):
                                      f"{'is an array: pass an array' if p.array else 'is no array: pass one element'}")
                 scope[p.name] = held if p.array else self.slot(arg.value, line, write=True)
                 continue
-            v = self.ev(arg.value, line, arg.col) if given else (
-                self.ev(p.default, line, col) if p.default is not None else ("" if p.type in ("STRING", "AXIS") else 0.0))
+            value = self.ev if p.type != "AXIS" else functools.partial(axes.axis_of, self)  # PROC P(AXIS A): P(X)
+            v = value(arg.value, line, arg.col) if given else (
+                value(p.default, line, col) if p.default is not None else ("" if p.type in ("STRING", "AXIS") else 0.0))
             slot = Slot(p.type, "" if p.type in ("STRING", "AXIS") else 0.0)
             if not slot.set(v):
                 raise self.error(line, arg.col if given else col,

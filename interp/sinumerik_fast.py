@@ -133,8 +133,8 @@ def plain_block(m, ln: Line, src) -> bool:
     """``Sinumerik.block(ln, ...)`` for a block of plain constant G0/G1 X Y Z F words (as
     ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.iso), no
     modal call (MCALL), radius compensation off, no chamfer or rounding waiting or modal (RNDM), the machine state (interp/sinumerik_machine.py)
-    without inch units, programmable frame, work offset, pending warnings or deferred cycles, a
-    tool in the spindle; one motion code (or none) and G0/G1 active; F > 0; the end point within
+    without inch units, programmable frame, work offset, pending warnings or deferred cycles; one
+    motion code (or none) and G0/G1 active; F > 0; the end point within
     COORD_LIMIT. Then each hook of the long way does nothing but what is done here: clear the
     block's G53 suppression and arc flip, make F and the motion modal, emit the Rapid or Feed
     (through m.rapid / m.linear). False (nothing done) otherwise: the block goes the long way,
@@ -145,7 +145,7 @@ def plain_block(m, ln: Line, src) -> bool:
     if cs is not None and (cs.hold is not None or cs.modal_r > 0.0):
         return False
     ms = m.__dict__.get("_machine")
-    if ms is None or ms.pending or ms.deferred or ms.no_tool:
+    if ms is None or ms.pending or ms.deferred:
         return False
     modal = m.machine_modal
     if modal.inch or modal.inch_feed or modal.offset != ZERO or not modal.frame.identity():

@@ -65,7 +65,8 @@ SETTING_WORDS = {"SPOS", "SPOSA", "LIMS", "ADIS", "ADISPOS", "SOFTA", "BRISKA", 
 SYNC_WORDS = {"WHEN", "WHENEVER", "EVERY", "FROM", "DO"}  # synchronized actions: the rest of the block
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
          "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2, "LN": 1, "EXP": 1, "ROUNDUP": 1,
-         "BOUND": 3, "STRLEN": 1, "NUMBER": 1, "ISNUMBER": 1, "TOUPPER": 1, "TOLOWER": 1}
+         "BOUND": 3, "STRLEN": 1, "NUMBER": 1, "ISNUMBER": 1, "TOUPPER": 1, "TOLOWER": 1,
+         "AXNAME": 1, "AXSTRING": 1, "SPI": 1, "AXTOSPI": 1}  # the axis functions: interp/sinumerik_axes.py
 STRING_FUNCS = {"STRLEN", "NUMBER", "ISNUMBER", "TOUPPER", "TOLOWER"}  # take a string argument
 LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
 EXT_RE = re.compile(r"([MSL])([0-9]+)\s*([=(])", re.I)  # M1=3, S1=1000, L140(2)
@@ -73,6 +74,7 @@ SYS_RE = re.compile(r"\$[A-Za-z_][A-Za-z0-9_]*")  # a system variable ($P_TOOLNO
 EXP_RE = re.compile(r"EX[+\-]?[0-9]+", re.I)  # 10EX-5: the manuals' exponent
 NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 R_ASSIGN_RE = re.compile(r"[Rr]([0-9]+)\s*=")
+R_NAME = re.compile(r"R[0-9]+")  # an R parameter by name
 AC_IC_RE = re.compile(r"(ACP|ACN|AC|IC|DC)\s*\(", re.I)  # DC/ACP/ACN: absolute (rotary direction)
 HEADER_RE = re.compile(r"\s*%_N_([A-Za-z0-9_]+?)_(SPF|MPF)")
 NUMBER_RE = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)")  # [0-9], not \d: that matches every script's digits

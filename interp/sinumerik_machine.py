@@ -186,7 +186,6 @@ class Machine:
     axis_pos: dict[str, float] = field(default_factory=dict)
     warned: set = field(default_factory=set)
     pending: list = field(default_factory=list)  # warnings of the block waiting for its Src
-    no_tool: bool = False  # T0 M6
     master: int = 1  # SETMS
     traori: bool = False
     arc_flip: bool = False  # the arc being programmed turns the other way in the machine (mirror)
@@ -655,12 +654,6 @@ def move(m, src, words: dict, run_cycle) -> None:
     if m.cfg.axes:  # only axes the setup declares are taken from the words
         extra_axes(m, ms, src, words)
     arc = m.motion in (2, 3)
-    cutting = ms.no_tool and m.motion in (1, 2, 3) and (any(a in words for a in AXES) or arc and
-                                          any(k in words for k in ("I", "J", "K", "CR")))
-    if cutting and ms.no_tool:
-        col = min(w.col for k, w in words.items() if k in AXES or k in ("I", "J", "K", "CR"))
-        raise m.error(line, col, f"G{m.motion} cuts with no tool in the spindle (T0 M6 removed it): change to a tool "
-                      "with T.. M6 first")
     if ms.identity() or ms.sandbox:
         return
     if getattr(m, "mcall", None) is not None and any(a in words for a in AXES) and not MODAL_CYCLES_IN_WCS:
@@ -725,14 +718,16 @@ def extra_axes(m, ms: Machine, src, words: dict) -> None:
 
 # -- hook: change_tool (M6) ----------------------------------------------------------------------------
 def change_tool(m, src) -> bool:
-    """T0 M6 empties the spindle (no record: there is no tool 0); True when handled here."""
-    ms = state(m)
-    if m.tool_pre == 0:
-        m.tool_no = None
-        ms.no_tool = True
-        return True
-    ms.no_tool = False
-    return False
+    """T0 M6 empties the spindle (there is no tool 0): a tool change to no tool, after which the
+    moves carry none and remove nothing; True when handled here."""
+    if m.tool_pre != 0:
+        return False
+    if 0 in m.cfg.tool_radii:
+        raise m.error(src.line, 1, "T0 M6 empties the spindle on a Sinumerik (there is no tool 0): the setup's "
+                      "[[tool]] number = 0 cannot be selected; give it a number from 1")
+    m.tool_no = None
+    m.tool(src, None, None)
+    return True
 
 
 __all__ = ["state", "Machine", "word", "g_codes", "settings", "move", "change_tool", "axis_message"]

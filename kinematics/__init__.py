@@ -10,9 +10,9 @@ from cutsim.base.specs import MachineSpec, ToolSpec
 from cutsim.interp import canon
 from cutsim.interp.errors import CutsimError
 
-from .paths import ArcGeom, PlanarPath, RampGeom, ScrewPath, SpatialPath, arc_geom, arc_points
+from .paths import ArcGeom, GaugePath, PlanarPath, RampGeom, ScrewPath, SpatialPath, arc_geom, arc_points
 
-__all__ = ["ArcGeom", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
+__all__ = ["ArcGeom", "GaugePath", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
 
 
 @dataclass
@@ -56,10 +56,15 @@ class _Planner:
             if isinstance(rec, canon.Spindle):
                 self.spindle_dir, self.speed = rec.direction, rec.speed
             elif isinstance(rec, canon.ToolChange):
-                if rec.tool not in self.tools:
+                if rec.tool is None:  # the spindle is emptied: the moves carry no tool (GaugePath)
+                    self.tool = None
+                elif rec.tool not in self.tools:
                     known = ", ".join(f"T{n}" for n in sorted(self.tools))
-                    raise self.err(rec.src, f"tool T{rec.tool} is not in the setup (tools: {known})")
-                self.tool = self.tools[rec.tool]
+                    hint = ("; T0 empties the spindle only on a Sinumerik (T0 M6), elsewhere it selects the [[tool]] "
+                            "with number = 0" if rec.tool == 0 else "")
+                    raise self.err(rec.src, f"tool T{rec.tool} is not in the setup (tools: {known}){hint}")
+                else:
+                    self.tool = self.tools[rec.tool]
             elif isinstance(rec, canon.MOTIONS):
                 self.motion(rec)
                 last_end = rec
@@ -81,6 +86,9 @@ class _Planner:
     # -- motions ---------------------------------------------------------------------------------
     def motion(self, rec) -> None:
         t = type(rec)
+        if self.tool is None:
+            self.gauge(rec)
+            return
         if (t is canon.Rapid or t is canon.Feed) and not self.lathe:  # most moves: no numpy until the path
             s, e = rec.start, rec.end
             if rec.diameter:
@@ -118,6 +126,29 @@ class _Planner:
                 self.out.paths.append(SpatialPath(rec.src, self.tool, pts * [1, 0, 1], rapid))
         else:
             self.out.paths.append(SpatialPath(rec.src, self.tool, pts, rapid, arc=arc))
+
+    def gauge(self, rec) -> None:
+        """A move with no tool in the spindle: the gauge point's path (an arc as its chords, a thread
+        move along its ramps), timed as the move would be; it removes nothing."""
+        p0, p1 = self.phys(rec.start, rec.diameter), self.phys(rec.end, rec.diameter)
+        if isinstance(rec, canon.Arc):
+            pts = arc_points(p0, p1, self.phys(rec.center, rec.diameter), rec.plane, rec.clockwise, rec.full_turn,
+                             self.tol)
+        elif isinstance(rec, canon.SyncedFeed):
+            pts = np.vstack([p0, self.phys(rec.tool_end, rec.diameter)])
+            travel = np.abs(pts[1] - pts[0])
+            axis = "XYZ".index(rec.lead_axis) if rec.lead_axis else int(np.argmax(travel))
+            if self.speed > 0 and rec.lead > 0:
+                self.out.cycle_time += 60.0 * float(travel[axis]) / rec.lead / self.speed
+        else:
+            pts = np.vstack([p0, p1])
+        rapid = isinstance(rec, canon.Rapid)
+        if not isinstance(rec, canon.SyncedFeed):
+            length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+            self.out.cycle_time += 60.0 * length / (self.m.rapid if rapid else self.feed_rate(rec))
+        if self.lathe:
+            pts = pts * [1, 0, 1]
+        self.out.paths.append(GaugePath(rec.src, pts, rapid))
 
     def synced(self, rec: canon.SyncedFeed, p0, p1) -> None:
         if not self.lathe:

@@ -8,6 +8,9 @@
   spindle stopped), as a 3D polyline of the control point; ``angle`` turns the tool body about +Z.
   A circular or helical move in the XY plane on a mill also carries its exact description
   (``ArcGeom``), so the sweep can be built directly instead of from the chords.
+- GaugePath: a move with no tool in the spindle, as a 3D polyline of the gauge point (the spindle
+  nose, where a tool's control point would be): it removes nothing; where it runs inside the
+  stock the geometry warns.
 """
 from __future__ import annotations
 
@@ -121,6 +124,13 @@ class SpatialPath:
     rapid: bool
     angle: float = 0.0  # degrees about +Z applied to the tool body
     arc: ArcGeom | None = None  # the exact circle/helix ``points`` are chords of (XY plane only)
+
+
+@dataclass(frozen=True)
+class GaugePath:
+    src: Src
+    points: np.ndarray  # (k, 3): the gauge point, physical coordinates
+    rapid: bool
 
 
 # Start and end radius of an arc agree when they differ by at most this fraction of the radius

@@ -11,6 +11,7 @@ i.e. from the stock minus the earlier cuts that overlap it.
 """
 from __future__ import annotations
 
+import bisect
 import functools
 import math
 from dataclasses import dataclass, field, fields
@@ -20,9 +21,9 @@ import manifold3d as m3d
 import numpy as np
 
 from cutsim.interp.errors import CutsimError
-from cutsim.kinematics.paths import PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
+from cutsim.kinematics.paths import GaugePath, PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
 
-from . import helix, mill, threads, tube
+from . import gauge, helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from cutsim.base.specs import StockSpec, ToolSpec
 from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, planar_region, screw_sweep,
@@ -196,7 +197,11 @@ def sweep_kind(path) -> str:
     - ``level``: a flat end mill at constant Z: one 2D offset per Z level, extruded (stock/mill.py);
     - ``helix``: a mill on an arc or helix, consecutive arcs on one helix joined (stock/helix.py);
     - ``tube``: any other 3D mill feed, joined with the moves it continues: tubes along a ball-end
-      mill's planar stretches (stock/tube.py), merged hulls of poses elsewhere."""
+      mill's planar stretches (stock/tube.py), merged hulls of poses elsewhere;
+    - ``gauge``: a move with no tool in the spindle: nothing swept, its gauge point checked
+      against the stock as it is then (stock/gauge.py)."""
+    if isinstance(path, GaugePath):
+        return "gauge"
     if isinstance(path, ScrewPath):
         return "screw"
     if isinstance(path, PlanarPath):
@@ -224,6 +229,7 @@ class _Sweeper:
         self.chain = mill.Chain()
         self.arcs: list = []  # [index, path]: consecutive arcs on one helix, joined (stock/helix.py)
         self.screws = threads.ScrewGroups(tol)  # thread cuts, swept grouped by helix in finish()
+        self.gauges: list = []  # (index, GaugePath): moves with no tool, checked by stock/gauge.py
 
     def body(self, tool: ToolSpec) -> list:
         if tool.number not in self.bodies:
@@ -294,6 +300,10 @@ class _Sweeper:
 
     def level(self, i: int, path: SpatialPath) -> None:
         self.millb.take(i, path)
+
+    def gauge(self, i: int, path: GaugePath) -> None:
+        self.millb.cut_run()  # no 2.5D level spans it: the earlier cuts are those before it
+        self.gauges.append((i, path))
 
     def helix(self, i: int, path: SpatialPath) -> None:
         joined = helix.merge_arcs([self.arcs[0][1], path]) if self.arcs else []
@@ -382,7 +392,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     if progress:
         progress("sweeping", n, n)
     built = _Built(BUILT_TRIANGLES)
-    warnings = _collisions(stock, sweeper, progress, built)
+    warnings = _collisions(stock, sweeper, progress, built) + _gauge_warnings(stock, sweeper, tol, built, progress)
     if sweeper.millb or any(is_mill_move(p) for p in paths):
         warnings += mill.flute_warnings(sweeper.millb, paths, frame.top, tol, lambda idx, sol: _fresh_volume(
             stock, _Cut(idx, sol, None, *_bbox(sol)), sweeper.cuts, frame.revolve, built), float(frame.lo[2]))
@@ -406,6 +416,35 @@ def _collisions(stock: m3d.Manifold, sweeper: _Sweeper, progress: Progress | Non
             else:
                 msg = f"cutting with the spindle stopped: only the tool's own swept volume is removed ({vol:.3f} mm^3)"
             warnings.append((path.src, msg))
+    return warnings
+
+
+def _gauge_warnings(stock: m3d.Manifold, sweeper: _Sweeper, tol: float, built: "_Built",
+                    progress: Progress | None = None) -> list:
+    """(src, message) for each move with no tool whose gauge point runs inside the material still
+    there when it moves (stock/gauge.py). Only a move inside the stock as it came can be; the moves
+    between two cuts (one stretch without a tool) all meet the same material, taken once."""
+    inside: dict[int, list] = {}  # cuts before the move -> [(index, path)] inside the stock as it came
+    starts = sorted(c.index for c in sweeper.cuts)
+    for k, (i, path) in enumerate(sweeper.gauges):
+        if progress:
+            progress("checking moves without a tool", k, len(sweeper.gauges))
+        lo, hi = path.points.min(axis=0), path.points.max(axis=0)
+        if sweeper.f.meets(lo, hi) and gauge.inside_length(stock, path.points, tol) > tol:
+            inside.setdefault(bisect.bisect_left(starts, i), []).append((i, path))
+    warnings = []
+    for run in inside.values():
+        pts = np.concatenate([p.points for _, p in run])
+        box = gauge.probe(pts)
+        lo, hi = _bbox([box])
+        i = run[0][0]
+        material = stock
+        if any(c.index < i and _overlap(c.lo, c.hi, lo, hi) for c in sweeper.cuts):
+            material = _fresh(stock, _Cut(i, [box], None, lo, hi), sweeper.cuts, sweeper.f.revolve, built)
+        for _, path in run:
+            length = 0.0 if material is None else gauge.inside_length(material, path.points, tol)
+            if length > tol:
+                warnings.append((path.src, gauge.message(length)))
     return warnings
 
 
@@ -613,10 +652,17 @@ BUILT_TRIANGLES = 1_000_000  # triangles of lazily swept cuts kept between check
 def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve, built: _Built | None = None) -> float:
     """Volume ``cut`` removes from the stock as it is when the cut happens (``built``: the lazily
     swept earlier cuts already built for other checks)."""
+    hit = _fresh(stock, cut, cuts, revolve, built)
+    return 0.0 if hit is None else float(hit.volume())
+
+
+def _fresh(stock, cut: _Cut, cuts: list[_Cut], revolve, built: _Built | None = None) -> m3d.Manifold | None:
+    """The part of the stock, as it is when ``cut`` happens, that ``cut``'s solids cover; None when
+    that is no more than MIN_COLLISION_VOLUME."""
     mine = cut.get() if cut.region is None else [revolve(cut.region)]
     hit = m3d.Manifold.batch_boolean([stock, m3d.Manifold.batch_boolean(mine, m3d.OpType.Add)], m3d.OpType.Intersect)
     if hit.volume() <= MIN_COLLISION_VOLUME:
-        return 0.0
+        return None
     b = hit.bounding_box()
     hlo, hhi = np.array(b[:3]), np.array(b[3:])
     earlier = [c for c in cuts if c.index < cut.index and _overlap(c.lo, c.hi, hlo, hhi)]
@@ -665,9 +711,9 @@ def _fresh_volume(stock, cut: _Cut, cuts: list[_Cut], revolve, built: _Built | N
             break
         hit = m3d.Manifold.batch_boolean([hit] + batch, m3d.OpType.Subtract)
         if hit.volume() <= MIN_COLLISION_VOLUME:
-            return 0.0
+            return None
         size = min(2 * size, FRESH_BATCH)
-    return float(hit.volume())
+    return hit
 
 
 FRESH_BATCH = 16  # most earlier sweeps taken off a check's hit per boolean
@@ -763,6 +809,9 @@ class Work:
     def level(self, i: int, path: SpatialPath) -> None:
         pass  # counted exactly from the level's 2D outline before it is extruded (_Sweeper.finish)
 
+    def gauge(self, i: int, path: GaugePath) -> None:
+        pass  # nothing swept
+
     def hull(self, i: int, path: SpatialPath) -> None:
         tool = path.tool
         if tool.is_lathe_tool:  # spindle stopped: a hull per segment and convex piece of the plate
@@ -822,6 +871,7 @@ STRATEGIES = {
     "level": (_Sweeper.level, Work.level, False),
     "helix": (_Sweeper.helix, Work.helix, False),
     "tube": (_Sweeper.tube, Work.tube, False),
+    "gauge": (_Sweeper.gauge, Work.gauge, True),
 }
 
 

@@ -27,6 +27,7 @@ RULES = {  # every limit of docs/dialects/sinumerik.md ("Limits") has its progra
     "slot1-inda-over-range", "slot1-num-over-range", "pocket1-rad-over-range", "pocket1-path-out-of-range",
     "pocket2-tiny-tool-too-many-moves", "pocket1-mid-too-many-moves", "pocket3-helix-too-many-moves",
     "cycle71-mida-too-many-moves", "cycle72-contour-bottleneck", "cycle72-contour-concave-arc",
+    "axis-spi-not-whole",
 }
 
 

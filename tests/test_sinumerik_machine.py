@@ -209,10 +209,16 @@ def test_tool_by_name():
 
 
 def test_t0_empties_the_spindle():
-    _, p = run(HEAD + "T0 M6\nG0 Z100\nM30\n")
-    assert not [r for r in p.records if isinstance(r, canon.ToolChange) and r.tool == 0]
-    e = err(HEAD + "T0 M6\nG1 X10\nM30\n")
-    assert e.line == 4 and "no tool" in e.message
+    """T0 M6 is a change to no tool (ToolChange None), never to a tool 0; the moves after it run
+    (tests/test_no_tool.py: what they remove); a setup tool numbered 0 cannot be reached."""
+    _, p = run(HEAD + "T0 M6\nG1 X10\nG2 X20 I5\nM30\n")
+    changes = [r.tool for r in p.records if isinstance(r, canon.ToolChange)]
+    assert changes == [1, None]
+    assert close(p.moves[-1].end, (20.0, 0.0, 5.0))
+    with pytest.raises(CutsimError) as e:
+        Sinumerik("t.mpf", InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0),
+                                        tool_radii={0: 1.0, 1: 5.0})).run(HEAD + "T0 M6\nM30\n")
+    assert e.value.line == 3 and "number = 0" in e.value.message
 
 
 # -- spindle and M functions ----------------------------------------------------------------------------

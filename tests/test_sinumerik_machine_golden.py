@@ -16,7 +16,7 @@ Regenerate with CUTSIM_UPDATE_GOLDEN=1 after checking the diff. Checked by hand:
   on top: X10 Y10 -> (-10, -10); TRANS alone: (10, 10).
 - axes-tools: A, B and W move (one warning each, no motion of their own); M20 passes (declared);
   COMPOF, CYCLE832, CYCLE800 with zeros, G64 warn once; T="DRILL 8.5" M6 is T2; S2=/M2=3 address
-  spindle 2 (a warning, and M2=3 is no program end); after T0 M6 the G0 still runs, in G54:
+  spindle 2 (a warning, and M2=3 is no program end); after T0 M6 (TOOL none) the G0 still runs, in G54:
   (0, 0, 100) -> (100, 50, 90).
 - cycle-frame: POCKET2 of radius 8 with a 10 mm tool about (0, 0) runs its radius-3 circle; under
   TRANS X50 Y60 and AROT Z90 its start (0, -3) becomes (53, 60) and the circle runs about (50, 60),
