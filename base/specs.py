@@ -43,7 +43,7 @@ class StockSpec:
 @dataclass(frozen=True)
 class ToolSpec:
     number: int
-    kind: str  # "thread" | "turning" | "profile" | "endmill" | "ballmill" | "drill"
+    kind: str  # "thread" | "turning" | "grooving" | "profile" | "endmill" | "ballmill" | "drill"
     angle: float = 60.0  # thread/turning: included angle of the V, degrees
     tip_radius: float = 0.0  # thread/turning: nose radius
     height: float = 10.0  # lathe tools: how far the profile reaches out from the tip, mm
@@ -54,6 +54,14 @@ class ToolSpec:
     corner_radius: float = 0.0  # mills: bull-nose corner radius (ballmill: diameter / 2)
     center_cutting: bool = True  # mills: can plunge (an end mill without centre cutting edges cannot)
     point_angle: float = 118.0  # drill: included angle of the point, degrees (180 = flat)
+    side: str = "outside"  # thread/turning/grooving: "outside" (towards -X) | "inside" (+X) | "face" (-Z)
+    hand: str = "R"  # turning insert/grooving: "R" (cuts towards -Z) | "L" (+Z) | "N" (neutral)
+    insert: str = ""  # turning: ISO insert shape C D T V W S R ("" = the symmetric V of ``angle``)
+    size: float = 12.7  # turning insert: inscribed circle diameter, mm
+    approach: float = 0.0  # turning insert: holder approach angle kappa_r, degrees (0 = the default)
+    form: str = "partial"  # thread: "partial" (the V) | "full" (ISO metric 60 degree profile of ``pitch``)
+    pitch: float = 0.0  # thread, full form: the pitch the insert is ground for, mm
+    width: float = 0.0  # grooving: width of the cutting edge, mm (corner radii: ``corner_radius``)
     name: str = field(default="", compare=False)  # [[tool]] name (T="DRILL 8.5"); not part of the shape
     # where the tool is defined: the setup file and the line/column of its [[tool]] header, for
     # errors about the tool's shape found when it is built (not part of the tool's identity)
@@ -63,4 +71,29 @@ class ToolSpec:
 
     @property
     def is_lathe_tool(self) -> bool:
-        return self.kind in ("thread", "turning", "profile")
+        return self.kind in ("thread", "turning", "grooving", "profile")
+
+    @property
+    def tip_direction(self) -> tuple[int, int]:
+        """Where the tool's point lies from the centre of its nose, as signs (dx, dz) in the
+        workpiece's X-Z plane: what the cutting edge position (``edge_position``) encodes. The
+        outside tool of hand R points to -X and -Z, hand L to -X and +Z, a neutral tool to -X;
+        an inside tool mirrors X, a face tool swaps X and Z. A profile tool has no direction."""
+        if self.kind == "profile":
+            return (0, 0)
+        dz = {"R": -1, "L": 1}.get(self.hand, 0) if self.kind in ("turning", "grooving") and (
+            self.kind == "grooving" or self.insert) else 0
+        dx = 1 if self.side == "inside" else -1
+        return (dz, dx) if self.side == "face" else (dx, dz)
+
+    @property
+    def edge_position(self) -> int:
+        """The cutting edge position (1-9) a control's nose radius compensation needs, from
+        ``tip_direction`` (docs/setup.md has the figure): 3 outside R, 4 outside L, 2 inside R,
+        1 inside L, 8 straight to -X, 6 to +X, 7 to -Z, 5 to +Z, 9 a profile tool (centre)."""
+        return EDGE_POSITIONS[self.tip_direction]
+
+
+# (dx, dz) signs of the tool's point from its nose centre -> cutting edge position (X up, Z right)
+EDGE_POSITIONS = {(1, 1): 1, (1, -1): 2, (-1, -1): 3, (-1, 1): 4, (0, 1): 5, (1, 0): 6, (0, -1): 7,
+                  (-1, 0): 8, (0, 0): 9}

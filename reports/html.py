@@ -145,8 +145,18 @@ def _stock_words(stock, setup_dir: str) -> str:
 
 
 def _tool_geometry(t) -> str:
+    where = "" if t.side == "outside" else f", {t.side}"
+    if t.kind == "turning" and t.insert:
+        from cutsim.stock.inserts import approach_of
+
+        return (f"ISO insert {t.insert} {t.size:g} mm, nose radius {t.tip_radius:g} mm, approach "
+                f"{approach_of(t):g}\u00b0, hand {t.hand}{where}")
+    if t.kind == "thread" and t.form == "full":
+        return f"full-profile ISO metric insert P {t.pitch:g} mm, root radius {t.tip_radius:g} mm{where}"
+    if t.kind == "grooving":
+        return f"grooving insert {t.width:g} mm wide, corner radius {t.corner_radius:g} mm, hand {t.hand}{where}"
     if t.kind in ("thread", "turning"):
-        return f"included angle {t.angle:g}\u00b0, nose radius {t.tip_radius:g} mm"
+        return f"included angle {t.angle:g}\u00b0, nose radius {t.tip_radius:g} mm{where}"
     if t.kind == "profile":
         return f"profile of {len(t.points)} points"
     out = f"\u00d8{t.diameter:g} mm"

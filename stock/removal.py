@@ -26,8 +26,8 @@ from cutsim.kinematics.paths import GaugePath, PlanarPath, ScrewPath, SpatialPat
 from . import gauge, helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from cutsim.base.specs import StockSpec, ToolSpec
-from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, planar_region, screw_sweep,
-                     screw_twist, spatial_hulls)
+from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, inner_trim, planar_region,
+                     screw_sweep, screw_twist, spatial_hulls)
 from .tools import check_tool, lathe_body, lathe_profile, mill_body, tool_error
 
 # A collision smaller than this is numerical noise between two discretisations of one surface.
@@ -251,7 +251,7 @@ class _Sweeper:
     def screw(self, i: int, path: ScrewPath) -> None:
         parts = []
         for s0, s1, h in self.screw_parts.pop(i):
-            prof = clipped_profile(self.profile(path.tool), h)
+            prof = clipped_profile(self.profile(path.tool, path), h)
             if not prof.is_empty():
                 parts.append((s0, s1, prof))
         if not parts:
@@ -270,7 +270,7 @@ class _Sweeper:
         h = self.f.r_clip - float(path.points[:, 0].min())
         if h <= 0:
             return
-        prof = clipped_profile(self.profile(path.tool), h)
+        prof = clipped_profile(self.profile(path.tool, path), h)
         if prof.is_empty():
             return
         region = m3d.CrossSection.batch_boolean([planar_region(path, p) for p in prof.to_polygons()],
@@ -367,9 +367,11 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     frame = _frame(stock, spec, tol)
     profiles: dict[int, np.ndarray] = {}
 
-    def profile(tool: ToolSpec) -> np.ndarray:
+    def profile(tool: ToolSpec, path=None) -> np.ndarray:
         if tool.number not in profiles:
             profiles[tool.number] = lathe_profile(tool, tol)
+        if path is not None and tool.side == "inside":  # a boring tool: only what can reach the bore
+            return inner_trim(profiles[tool.number], *_path_rz(path), frame.outline_cs, frame.margin)
         return profiles[tool.number]
 
     for tool in {id(p.tool): p.tool for p in paths if getattr(p, "tool", None) is not None}.values():
@@ -591,6 +593,14 @@ def drop_repeats(paths: list) -> list:
     return out
 
 
+def _path_rz(path) -> tuple[np.ndarray, np.ndarray]:
+    """Radii and heights of a lathe path's tool point at its corners (a screw path's kinks)."""
+    if isinstance(path, PlanarPath):
+        return path.points[:, 0], path.points[:, 1]
+    r, z, _ = path.pose(np.asarray(path.breakpoints(), dtype=float))
+    return r, z
+
+
 def _check_axis(path: ScrewPath, profile: np.ndarray) -> None:
     """A spindle-synchronised cut keeps the whole tool on one side of the spindle axis: a tool that
     reaches the axis (a lead-in ramping past it, a profile reaching behind its control point)
@@ -773,7 +783,7 @@ class Work:
         return self.screw_pieces
 
     def screw(self, i: int, path: ScrewPath) -> None:
-        prof = self.profile(path.tool)
+        prof = self.profile(path.tool, path)
         _check_axis(path, prof)
         f = self.frame
         # a groupable path whose profile is wider than its lead is folded onto one turn with its

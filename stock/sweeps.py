@@ -38,8 +38,40 @@ def clipped_profile(profile: np.ndarray, height: float) -> m3d.CrossSection:
     """The profile cut off at u = ``height``: the part of the tool that can reach the stock."""
     cs = profile_region(profile)
     lo, hi = profile[:, 1].min() - 1.0, profile[:, 1].max() + 1.0
-    box = m3d.CrossSection([np.array([[-1.0, lo], [height, lo], [height, hi], [-1.0, hi]])])
+    u0 = min(-1.0, float(profile[:, 0].min()) - 1.0)  # below the whole profile (an inside tool's too)
+    box = m3d.CrossSection([np.array([[u0, lo], [height, lo], [height, hi], [u0, hi]])])
     return cs ^ box
+
+
+def inner_trim(profile: np.ndarray, r: np.ndarray, z: np.ndarray, outline: m3d.CrossSection | None,
+               margin: float) -> np.ndarray:
+    """An inside tool's profile (reaching from its point towards the axis) cut off where it can
+    no longer meet the stock on a path through the tool points at radii ``r``, heights ``z``:
+    below the stock's smallest radius over the heights the tool reaches, less ``margin`` (a boring
+    bar's insert in a bore: the part of the tool in the free bore only costs triangles, and a
+    tall V would reach over many turns of a thread). A sliver at the point always stays; the
+    profile is unchanged where the stock reaches the axis, where the tool reaches across the axis
+    to the stock beyond it (a revolved sweep holds that side too), or for a stock that is not a
+    solid of revolution."""
+    if outline is None:
+        return profile
+    vlo, vhi = float(profile[:, 1].min()), float(profile[:, 1].max())
+    zlo, zhi = float(np.min(z)) + vlo - margin, float(np.max(z)) + vhi + margin
+    b = outline.bounds()
+    band = m3d.CrossSection([np.array([[b[0] - 1.0, zlo], [b[2] + 1.0, zlo], [b[2] + 1.0, zhi], [b[0] - 1.0, zhi]])])
+    inside = outline ^ band
+    rmin = float(inside.bounds()[0]) if not inside.is_empty() else float(b[2])
+    umin, umax = float(profile[:, 0].min()), float(profile[:, 0].max())
+    free = rmin - margin  # no stock within this radius
+    if free <= 0.0 or float(np.min(r)) + umin < -free:  # the tool reaches across the axis into the stock
+        return profile
+    low = min(free - float(np.max(r)), umax - 1e-3 * (umax - umin))  # (a sliver of the point stays)
+    if low <= umin:
+        return profile
+    box = m3d.CrossSection([np.array([[low, vlo - 1.0], [umax + 1.0, vlo - 1.0], [umax + 1.0, vhi + 1.0],
+                                      [low, vhi + 1.0]])])
+    polys = (profile_region(profile) ^ box).to_polygons()
+    return counter_clockwise(polys[0]) if len(polys) == 1 else profile
 
 
 # The side faces between two stations are twisted quads, split by one diagonal that always runs

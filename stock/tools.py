@@ -37,7 +37,9 @@ MIN_WIDTH = 1e-6  # mm
 # points closer than a fraction of the cloud's size) lose its roundness.
 MAX_FLUTE_RATIO = 1000.0
 
-LATHE_KINDS = ("thread", "turning", "profile")
+LATHE_KINDS = ("thread", "turning", "grooving", "profile")
+SIDES = ("outside", "inside", "face")
+HANDS = ("R", "L", "N")
 MILL_KINDS = ("endmill", "ballmill")
 POINT_ANGLE_MAX = 180.0  # degrees: a drill's included point angle (180: a flat end)
 
@@ -52,9 +54,83 @@ def _size(tool: ToolSpec, key: str, zero_ok: bool = False) -> tuple[str, str] | 
     return None
 
 
+def _choice(tool: ToolSpec, key: str, options: tuple[str, ...]) -> tuple[str, str] | None:
+    v = getattr(tool, key)
+    if v not in options:
+        return key, f"must be one of {', '.join(repr(o) for o in options)} (got {v!r})"
+    return None
+
+
+def _insert_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
+    """Ranges of an ISO turning insert (docs/setup.md): shape, size, nose radius below half the
+    inscribed circle, approach between 90 and 180 - the corner angle (the imaginary tip then lies
+    on the nose: the main edge leaves it no lower than the feed and the minor edge clears the
+    face)."""
+    from .inserts import INSERT_SHAPES, corner_angle
+
+    if tool.insert not in INSERT_SHAPES:
+        return "insert", f"must be one of {', '.join(INSERT_SHAPES)} (got {tool.insert!r})"
+    for key, zero_ok in (("size", False), ("tip_radius", True), ("thickness", False)):
+        p = _size(tool, key, zero_ok)
+        if p:
+            return p
+    if tool.insert != "R" and not tool.tip_radius < tool.size / 2.0:
+        return "tip_radius", f"must be below half the insert's size ({tool.size / 2.0:g} mm) (got {tool.tip_radius!r})"
+    eps = corner_angle(tool.insert)
+    hi = 180.0 - eps if eps < 360.0 else 180.0
+    a = tool.approach
+    if a != 0 and not (math.isfinite(a) and 90.0 <= a <= hi):
+        return "approach", (f"must be between 90 and {hi:g} degrees for a {tool.insert} insert (180 - its {eps:g} "
+                            f"degree corner) (got {a!r})")
+    return None
+
+
+def _lathe_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
+    """Side and hand of a thread, turning or grooving tool; a turning insert, a grooving insert
+    or a full-profile thread insert in range (the V of thread and turning tools: ``tool_problem``)."""
+    p = _choice(tool, "side", SIDES) or _choice(tool, "hand", HANDS)
+    if p:
+        return p
+    if tool.kind == "turning" and tool.insert:
+        return _insert_problem(tool) or ("", "")
+    if tool.kind == "grooving":
+        for key, zero_ok in (("width", False), ("height", False), ("thickness", False), ("corner_radius", True)):
+            p = _size(tool, key, zero_ok)
+            if p:
+                return p
+        if not tool.corner_radius <= min(tool.width / 2.0, tool.height):
+            return "corner_radius", (f"must be at most half the width ({tool.width / 2.0:g} mm) and the height "
+                                     f"(got {tool.corner_radius!r})")
+        return ("", "")
+    if tool.kind == "thread" and tool.form != "partial":
+        if tool.form != "full":
+            return "form", f"must be 'partial' or 'full' (got {tool.form!r})"
+        for key, zero_ok in (("pitch", False), ("tip_radius", True), ("height", False), ("thickness", False)):
+            p = _size(tool, key, zero_ok)
+            if p:
+                return p
+        if tool.angle != 60.0:
+            return "angle", f"a full-profile insert is the ISO metric 60 degree profile (got {tool.angle!r})"
+        from .inserts import full_thread_depths
+
+        h = math.sqrt(3.0) / 2.0 * tool.pitch
+        if not tool.tip_radius <= h / 4.0:
+            return "tip_radius", (f"must be at most H/4 = {h / 4.0:g} mm for pitch {tool.pitch:g} (the root's "
+                                  f"rounding) (got {tool.tip_radius!r})")
+        uc = full_thread_depths(tool)[2]
+        if not tool.height > uc:
+            return "height", f"must reach beyond the crest level, {uc:g} mm from the tip (got {tool.height!r})"
+        return ("", "")
+    return None
+
+
 def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
     """The first key of ``tool`` outside its documented range and why, or None. (key None: the
     tool as a whole.)"""
+    if tool.kind in ("thread", "turning", "grooving"):
+        p = _lathe_problem(tool)
+        if p is not None:
+            return p if p[0] else None
     if tool.kind in ("thread", "turning"):
         a = tool.angle
         if not (math.isfinite(a) and ANGLE_MIN <= a <= ANGLE_MAX):
@@ -191,10 +267,20 @@ def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
     """Counter-clockwise simple polygon (k, 2) of a lathe tool's cutting profile, with positive
     area (a CutsimError at the tool's [[tool]] table otherwise)."""
     check_tool(tool)
+    from . import inserts
+
     if tool.kind == "profile":
         poly = np.array(tool.points, dtype=float)
+    elif tool.kind == "turning" and tool.insert:
+        poly = inserts.orient(inserts.insert_profile(tool, tol), tool)
+    elif tool.kind == "grooving":
+        poly = inserts.orient(inserts.groove_profile(tool, tol), tool)
+    elif tool.kind == "thread" and tool.form == "full":
+        poly = inserts.orient(inserts.full_thread_profile(tool, tol), tool)
     elif tool.kind in ("thread", "turning"):
         poly = v_profile(tool.angle, tool.tip_radius, tool.height, tol)
+        if tool.side != "outside":
+            poly = inserts.orient(poly, tool)
     else:
         raise tool_error(tool, f"a {tool.kind} is not a lathe tool")
     poly = counter_clockwise(poly)

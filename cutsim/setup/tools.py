@@ -1,4 +1,4 @@
-"""The [[tool]] tables: lathe tools (thread, turning, profile) and mill tools (endmill, ballmill,
+"""The [[tool]] tables: lathe tools (thread, turning, grooving, profile) and mill tools (endmill, ballmill,
 drill), their numbers and names (docs/setup.md). Types are checked here; ranges in stock/tools.py,
 shared with tools built in Python."""
 from __future__ import annotations
@@ -9,8 +9,9 @@ from cutsim.interp.errors import CutsimError
 from .reader import Locator, Reader
 
 TOOL_KEYS = {
-    "thread": {"angle", "tip_radius", "height", "thickness"},
-    "turning": {"angle", "tip_radius", "height", "thickness"},
+    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch"},
+    "turning": {"angle", "tip_radius", "height", "thickness", "side", "insert", "size", "approach", "hand"},
+    "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand"},
     "profile": {"points", "thickness"},
     "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
     "ballmill": {"diameter", "length"},
@@ -69,12 +70,18 @@ def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
 
     kw: dict = {}
     if kind in ("thread", "turning"):
-        kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0)
-        kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4)
+        kw.update(_lathe_keys(t, kind))
+    if kind == "grooving":
+        kw["width"] = t.get("width", float, 3.0)
+        kw["corner_radius"] = t.get("corner_radius", float, 0.2)
         kw["height"] = t.get("height", float, 10.0)
+    if kind in ("thread", "turning", "grooving"):
+        kw["side"] = t.get("side", str, "outside")
+        if kind != "thread":
+            kw["hand"] = t.get("hand", str, "R")
     if kind == "profile":
         kw["points"] = t.points("points")
-    if kind in ("thread", "turning", "profile"):
+    if kind in LATHE_KINDS:
         kw["thickness"] = t.get("thickness", float, 5.0)
     if kind in ("endmill", "ballmill"):
         kw["diameter"] = t.get("diameter", float)
@@ -97,6 +104,36 @@ def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
         raise t.fail(key, why)  # at the key's line, or the table's when the key is a default
     return spec
 
+
+
+LATHE_KINDS = ("thread", "turning", "grooving", "profile")
+
+
+def _lathe_keys(t: Reader, kind: str) -> dict:
+    """The V (``angle``, ``tip_radius``, ``height``) of a thread or turning tool, or what replaces
+    it: an ISO insert (``insert``, ``size``, ``approach``), a full-profile thread insert (``form``,
+    ``pitch``). The angle of an insert is its shape's: writing one is an error."""
+    kw: dict = {}
+    insert = t.get("insert", str, "") if kind == "turning" else ""
+    form = t.get("form", str, "partial") if kind == "thread" else "partial"
+    if insert:
+        if "angle" in t.table or "height" in t.table:
+            key = "angle" if "angle" in t.table else "height"
+            raise t.fail(key, f"an ISO insert's shape gives its angle and size: {key} is for the plain V "
+                              "(insert not given)")
+        kw["insert"], kw["size"] = insert, t.get("size", float, 12.7)
+        kw["approach"] = t.get("approach", float, 0.0)
+    elif "size" in t.table or "approach" in t.table:
+        key = "size" if "size" in t.table else "approach"
+        raise t.fail(key, "is a key of an ISO insert: give its shape (insert = \"C\", ...)")
+    if form != "partial":
+        kw["form"], kw["pitch"] = form, t.get("pitch", float)
+    elif "pitch" in t.table:
+        raise t.fail("pitch", 'is a key of a full-profile insert (form = "full")')
+    kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0)
+    kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4)
+    kw["height"] = t.get("height", float, 10.0)
+    return kw
 
 
 def _tool_name_ok(v: str) -> bool:

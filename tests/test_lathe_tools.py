@@ -1,0 +1,255 @@
+"""Lathe inserts in holders, grooving and full-profile thread inserts, inside and face tools:
+removed volumes against closed-form geometry (docs/setup.md, ``[[tool]]``).
+
+Expected numbers come from the tool's definition and the program, never from cutsim's sweep code.
+Turned volumes are Pappus's: a region of area A whose centroid lies at radius r_c turned about
+the axis sweeps 2 pi r_c A. The stock and every revolved cut share one polygon of n segments, so
+every revolved volume is the true one times k = n sin(2 pi / n) / (2 pi); k is read from the
+simulated stock's own volume against the true cylinder's (the report's ``stock_volume``).
+A helical groove of cross-section A (in a half-plane through the axis) at centroid radius r_c and
+lead P holds 2 pi r_c A / P of material per mm of length (the screw form of Pappus's theorem:
+every point of the section moves 2 pi r per turn at right angles to the half-plane).
+
+The square-shoulder test: a tool with a hand turns along Z to a shoulder and leaves it feeding
+straight out; with its imaginary tip programmed, the material left in the corner is the spandrel
+of the nose radius rn, a square rn x rn less a quarter circle, area (1 - pi/4) rn^2, its centroid
+c rn = (10 - 3 pi) / (12 - 3 pi) rn from both sides of the corner.
+"""
+from __future__ import annotations
+
+import math
+
+import manifold3d as m3d
+import numpy as np
+import pytest
+
+import cutsim
+from cutsim.base.specs import ToolSpec
+
+SPANDREL = (10.0 - 3.0 * math.pi) / (12.0 - 3.0 * math.pi)
+TOL = 0.002
+
+
+def _setup(tmp_path, stock: str, tool: str, machine: str = "") -> str:
+    path = tmp_path / "s.toml"
+    path.write_text(f'[machine]\nkind = "lathe"\ndialect = "cnc8x6"\n{machine}\n[stock]\n{stock}\n\n[[tool]]\n{tool}\n')
+    return str(path)
+
+
+def _run(tmp_path, stock: str, tool: str, program: str, tol: float = TOL, machine: str = ""):
+    return cutsim.simulate("p.nc", _setup(tmp_path, stock, tool, machine), text=program + "M30\n", tolerance=tol)
+
+
+def _k(result, true_volume: float) -> float:
+    """The polygon factor of the revolved stock (module docstring)."""
+    return result.report["stock_volume"] / true_volume
+
+
+def _slab(part: m3d.Manifold, z0: float, z1: float, r: float) -> float:
+    """Volume of ``part`` between the heights z0 < z1."""
+    box = m3d.Manifold.cube((4 * r, 4 * r, z1 - z0)).translate((-2 * r, -2 * r, z0))
+    return (part ^ box).volume()
+
+
+# -- ISO inserts in a holder: a square shoulder ---------------------------------------------------
+SHAPES = ["C", "D", "T", "V", "W", "S", "R"]
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+@pytest.mark.parametrize("rn", [0.0, 0.8, 1.6])
+@pytest.mark.parametrize("side,hand", [("outside", "R"), ("outside", "L"), ("inside", "R"), ("inside", "L")])
+def test_insert_turns_a_square_shoulder(tmp_path, shape, rn, side, hand):
+    """Turn a diameter to a shoulder and leave it straight out: the part is the annulus less the
+    spandrel the nose leaves in the corner, at any shape, nose radius, hand and side."""
+    if shape == "R":
+        if rn == 0.0:
+            pytest.skip("a round insert's nose is the insert")
+        nose = 2.2 + rn  # a round insert is its own nose: between half the depth of cut (4 mm inside, 5
+        # outside) and the whole (its diameter reaches the surface, its corner lies below it)
+        size = 2.0 * nose
+        tool = f'kind = "turning"\ninsert = "R"\nsize = {size}\nside = "{side}"\nhand = "{hand}"'
+    else:
+        nose = rn
+        tool = f'kind = "turning"\ninsert = "{shape}"\ntip_radius = {rn}\nside = "{side}"\nhand = "{hand}"'
+    s = 1 if hand == "R" else -1  # R cuts towards -Z from above the bar, L towards +Z from below
+    z_out, z_shoulder = (2.0, -20.0) if hand == "R" else (-52.0, -30.0)
+    if side == "outside":
+        stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+        r_cut, r_out, r_stock = 15.0, 21.0, 20.0
+        true = math.pi * 20.0 ** 2 * 50.0
+        length = 20.0
+        annulus = math.pi * (r_stock ** 2 - r_cut ** 2) * length
+        corner = r_cut + SPANDREL * nose
+    else:
+        # a bore the inserts fit in (a 35 degree V of 12.7 reaches 36 mm back from its point)
+        stock = "shape = \"revolve\"\nprofile = [[25, 0], [40, 0], [40, -50], [25, -50]]"
+        r_cut, r_out = 29.0, 24.0
+        true = math.pi * (40.0 ** 2 - 25.0 ** 2) * 50.0
+        length = 20.0
+        annulus = math.pi * (r_cut ** 2 - 25.0 ** 2) * length
+        corner = r_cut - SPANDREL * nose
+    spandrel = 2.0 * math.pi * corner * (1.0 - math.pi / 4.0) * nose ** 2
+    # from above the bar (clear of it by more than the insert's size), down beside or in the
+    # bore, the pass, out, and back up
+    program = (f"G00 Z{z_out:.3f}\nM03 S500\nX{2 * r_cut:.3f}\nG01 Z{z_shoulder:.3f} F0.2\n"
+               f"X{2 * r_out:.3f}\nG00 Z30.\n")
+    assert s * (z_out - z_shoulder) > 0
+    res = _run(tmp_path, stock, tool, program, machine=f"start = [{2 * r_out}, 0, 30]")
+    assert res.report["warnings"] == []
+    k = _k(res, true)
+    removed = res.report["removed_volume"]
+    # the nose arc's chords (within TOL) around the corner ring, both ways
+    slack = 2.0 * math.pi * corner * TOL * (nose + 1.0) + 1e-3 * k * annulus * 1e-3
+    assert abs(removed - k * (annulus - spandrel)) <= slack, (removed, k * (annulus - spandrel), slack)
+
+
+def test_plain_v_leaves_a_cone_not_a_shoulder(tmp_path):
+    """The same program with the neutral 55 degree V (the old ``turning`` tool) undercuts the
+    shoulder with its leading flank, a cone 5 tan 27.5 = 2.6 mm long: the test above can tell a
+    square shoulder from a cone."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    program = "G00 X42. Z2.\nM03 S500\nX30.\nG01 Z-20. F0.2\nX42.\nG00 Z2.\n"
+    res = _run(tmp_path, stock, 'kind = "turning"\ntip_radius = 0.0', program)
+    k = _k(res, math.pi * 400.0 * 50.0)
+    cone = 2.0 * math.pi * (15.0 + 2.0 * 5.0 / 3.0) * 0.5 * 5.0 * 5.0 * math.tan(math.radians(27.5))
+    assert abs(res.report["removed_volume"] - k * (math.pi * (400.0 - 225.0) * 20.0 + cone)) < 1.0
+
+
+def test_approach_to_the_face_is_not_a_rapid_cut(tmp_path):
+    """A 93 degree holder's insert stands clear of the face at Z2 over a bar of 40: the approach
+    X30 Z2 touches nothing (the plain V's trailing flank reaches 83.9 mm^3 into the face)."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    program = "G00 X50. Z2.\nM03 S500\nX30.\nG01 Z-10. F0.2\nX42.\nG00 Z2.\n"
+    res = _run(tmp_path, stock, 'kind = "turning"\ninsert = "C"\napproach = 93', program, tol=0.01)
+    assert res.report["warnings"] == []
+    v = _run(tmp_path, stock, 'kind = "turning"', program, tol=0.01)
+    assert v.report["warnings"], "the plain V should reach into the face"
+
+
+# -- grooving ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("hand,z_ctrl", [("R", -20.0), ("L", -17.0), ("N", -18.5)])
+@pytest.mark.parametrize("rc", [0.0, 0.3])
+def test_groove_is_the_insert_width(tmp_path, hand, z_ctrl, rc):
+    """A plunge to X30 with a 3 mm insert: a groove z -20..-17 (the control point at the
+    corner towards -Z for hand R, towards +Z for L, the middle for N), 5 mm deep, its bottom
+    corners the insert's radii: annulus less two spandrels."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    tool = f'kind = "grooving"\nwidth = 3\ncorner_radius = {rc}\nhand = "{hand}"'
+    program = f"G00 X42. Z{z_ctrl}\nM03 S500\nG01 X30. F0.05\nG00 X42.\n"
+    res = _run(tmp_path, stock, tool, program)
+    k = _k(res, math.pi * 400.0 * 50.0)
+    groove = math.pi * (400.0 - 225.0) * 3.0
+    spandrels = 2 * 2.0 * math.pi * (15.0 + SPANDREL * rc) * (1.0 - math.pi / 4.0) * rc ** 2
+    # the corner arcs' chords (within TOL) over a quarter circle each
+    slack = 2 * 2.0 * math.pi * (15.0 + rc) * TOL * (math.pi / 2.0 * rc) + 0.02
+    assert abs(res.report["removed_volume"] - k * (groove - spandrels)) <= slack
+    part = res.part
+    assert _slab(part, -20.0 + 0.01, -17.0 - 0.01, 20.0) < _slab(part, -17.0 + 0.01, -14.0 - 0.01, 20.0) * 0.6
+
+
+# -- threads inside, outside, full profile ------------------------------------------------------
+TUBE = "shape = \"revolve\"\nprofile = [[11, 0], [20, 0], [20, -30], [11, -30]]"
+TUBE_TRUE = math.pi * (400.0 - 121.0) * 30.0
+
+
+def _groove_per_mm(depth: float, r_base: float, inward: bool, lead: float) -> float:
+    """Material per mm of a 60 degree sharp V groove ``depth`` deep cut from a surface at
+    ``r_base`` (outwards into the wall for an inside thread, inwards for an outside one)."""
+    area = depth ** 2 * math.tan(math.radians(30.0))
+    rc = r_base + depth / 3.0 if inward else r_base - depth / 3.0
+    return 2.0 * math.pi * rc * area / lead
+
+
+@pytest.mark.parametrize("spindle,z_end,z_start", [("M03", -20.0, 3.0), ("M04", -20.0, 3.0)])
+def test_inside_thread_cuts_only_its_groove(tmp_path, spindle, z_end, z_start):
+    """The issue's reproducer: an inside thread tool in a bore of 22 cuts a 0.5 mm groove into
+    the wall, nothing else (the whole wall went before)."""
+    tool = 'kind = "thread"\nside = "inside"\nheight = 4'
+    program = f"G00 X20. Z{z_start}\n{spindle} S500\nX23.\nG33 Z{z_end} F1.5\nG00 X20.\nZ10.\n"
+    res = _run(tmp_path, TUBE, tool, program)
+    k = _k(res, TUBE_TRUE)
+    per_mm = _groove_per_mm(0.5, 11.0, True, 1.5)
+    # the stock in a slab clear of the ends, less what the helix takes (the slab is not whole
+    # turns: a helical groove holds the same material in every mm)
+    stock_slab = k * math.pi * (400.0 - 121.0) * 10.0
+    removed = stock_slab - _slab(res.part, -15.0, -5.0, 20.0)
+    # the sweep's stations follow chords of the helices, within TOL of them: at most a layer TOL
+    # thick across the groove's mouth (2 x 0.5 tan 30 wide) either way
+    slack = 2.0 * math.pi * 11.5 * (2.0 * 0.5 * math.tan(math.radians(30.0))) * TOL / 1.5 * 10.0
+    assert abs(removed - k * per_mm * 10.0) <= slack, (removed, per_mm * 10.0, slack)
+    # only the retract out of the groove's end touches the wall (a ring, as docs/setup.md says)
+    assert [w["line"] for w in res.report["warnings"]] in ([], [5])
+
+
+def _groove_moments(depth: float, half_tip: float, rr: float, r_tip: float, sign: int) -> tuple[float, float]:
+    """(area, first moment about the axis) of a 60 degree groove's section from its tip (at radius
+    ``r_tip``) ``depth`` towards the crest (``sign`` +1: outwards): half-width w(u) at u from the
+    tip is half_tip + u tan30 for a flat tip, sqrt(rr^2 - (rr - u)^2) on a nose of radius rr up
+    to u = rr/2 and (u + rr) tan30 beyond; integrated numerically on a fine grid."""
+    u = np.linspace(0.0, depth, 400001)
+    t30 = math.tan(math.radians(30.0))
+    if rr:
+        w = np.where(u <= rr / 2.0, np.sqrt(np.maximum(0.0, rr ** 2 - (rr - u) ** 2)), (u + rr) * t30)
+    else:
+        w = half_tip + u * t30
+    area = np.trapezoid(2.0 * w, u)
+    return float(area), float(np.trapezoid(2.0 * w * (r_tip + sign * u), u))
+
+
+@pytest.mark.parametrize("side", ["outside", "inside"])
+@pytest.mark.parametrize("root", [0.0, 0.125])
+def test_full_profile_thread_cuts_its_crest(tmp_path, side, root):
+    """A full-profile insert of pitch 1.5 at its full depth cuts the crest too: outside on a bar
+    of 24.4 everything beyond the major radius 12 goes (its shoulders), inside in a bore of 21.6
+    everything within D1/2 = 12 - 5H/8; between, the ISO 68-1 groove (tip flat P/4 outside, P/8
+    inside, or rounded with ``tip_radius``; crest 7H/8 resp. 3H/4 above the fundamental apex)."""
+    p = 1.5
+    big_h = math.sqrt(3.0) / 2.0 * p
+    rr = root * p
+    t30 = math.tan(math.radians(30.0))
+    if side == "outside":
+        stock = "shape = \"cylinder\"\ndiameter = 24.4\nz = [-30, 0]"
+        r_lo, r_hi = 0.0, 12.2
+        apex_to_crest, flat = 7.0 * big_h / 8.0, p / 8.0
+        r_crest, sign = 12.0, 1
+    else:
+        stock = "shape = \"revolve\"\nprofile = [[10.8, 0], [20, 0], [20, -30], [10.8, -30]]"
+        r_lo, r_hi = 10.8, 20.0
+        apex_to_crest, flat = 3.0 * big_h / 4.0, p / 16.0
+        r_crest, sign = 12.0 - 5.0 * big_h / 8.0, -1
+    tip_trunc = rr if rr else flat / t30
+    depth = apex_to_crest - tip_trunc
+    r_tip = r_crest - sign * depth
+    x_out = 26.0 if side == "outside" else 20.0
+    program = f"G00 X{x_out} Z3.\nM03 S500\nX{2 * r_tip:.6f}\nG33 Z-20. F{p}\nG00 X{x_out}\nZ10.\n"
+    tool = f'kind = "thread"\nform = "full"\npitch = {p}\ntip_radius = {rr}\nside = "{side}"\nheight = 3'
+    res = _run(tmp_path, stock, tool, program)
+    k = _k(res, math.pi * (r_hi ** 2 - r_lo ** 2) * 30.0)
+    area, moment = _groove_moments(depth, 0.0 if rr else flat, rr, r_tip, sign)
+    beyond = abs(r_hi ** 2 - r_crest ** 2) if side == "outside" else r_crest ** 2 - r_lo ** 2
+    expect = k * (math.pi * beyond * 10.0 + 2.0 * math.pi * moment / p * 10.0)
+    removed = k * math.pi * (r_hi ** 2 - r_lo ** 2) * 10.0 - _slab(res.part, -15.0, -5.0, 20.0)
+    slack = 2.0 * math.pi * 12.2 * p * TOL / p * 10.0  # a layer TOL thick over the whole pitch (chords)
+    assert abs(removed - expect) <= slack, (removed, expect, slack)
+    assert all(w["line"] == 5 for w in res.report["warnings"])
+
+
+# -- cutting edge positions ----------------------------------------------------------------------
+@pytest.mark.parametrize("kind,extra,side,expect", [
+    ("turning", {"insert": "C", "hand": "R"}, "outside", 3),
+    ("turning", {"insert": "C", "hand": "L"}, "outside", 4),
+    ("turning", {"insert": "C", "hand": "R"}, "inside", 2),
+    ("turning", {"insert": "C", "hand": "L"}, "inside", 1),
+    ("turning", {"insert": "D", "hand": "N"}, "outside", 8),
+    ("turning", {"insert": "D", "hand": "N"}, "inside", 6),
+    ("turning", {"insert": "D", "hand": "N"}, "face", 7),
+    ("thread", {}, "outside", 8),
+    ("thread", {}, "inside", 6),
+    ("grooving", {"hand": "R", "width": 3.0}, "outside", 3),
+    ("turning", {}, "outside", 8),
+    ("profile", {"points": ((0.0, 0.0), (1.0, 1.0), (1.0, -1.0))}, "outside", 9),
+])
+def test_edge_position(kind, extra, side, expect):
+    """The cutting edge position from where the tool's point lies from its nose centre (X up,
+    Z right; docs/setup.md's figure)."""
+    assert ToolSpec(1, kind, side=side, **extra).edge_position == expect
