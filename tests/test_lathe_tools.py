@@ -253,3 +253,71 @@ def test_edge_position(kind, extra, side, expect):
     """The cutting edge position from where the tool's point lies from its nose centre (X up,
     Z right; docs/setup.md's figure)."""
     assert ToolSpec(1, kind, side=side, **extra).edge_position == expect
+
+
+# -- thread hand, taper and face ----------------------------------------------------------------
+@pytest.mark.parametrize("spindle,rho", [("M03", 1), ("M04", -1)])
+def test_inside_thread_hand(tmp_path, spindle, rho):
+    """The inside groove's root in the half-plane at phi lies where the tool point passes phi:
+    z = z0 - sigma L (rho phi) / 360 (mod L), feeding sigma = -1 from z0 = 3 (tests/test_lathe_geometry
+    derives it): M03 a right-hand thread, M04 a left-hand one, as outside."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from geometry import load, section, wrap
+
+    tool = 'kind = "thread"\nside = "inside"\nheight = 4'
+    res = _run(tmp_path, TUBE, tool, f"G00 X20. Z3.\n{spindle} S500\nX23.\nG33 Z-20. F1.5\nG00 X20.\nZ10.\n")
+    mesh = load(res)
+    for phi in (0.0, 90.0, 200.0, 321.7):
+        pts = section(mesh, phi).reshape(-1, 2)
+        roots = pts[(pts[:, 0] > 11.5 - 5 * TOL) & (pts[:, 0] < 15.0) & (pts[:, 1] < -2.0) & (pts[:, 1] > -18.0)]
+        assert len(roots) >= 10, phi
+        expect = 3.0 + 1.5 * rho * phi / 360.0
+        assert np.all(np.abs(wrap(roots[:, 1] - expect, 1.5)) < 0.02), (phi, roots[:5])
+
+
+def test_inside_taper_thread(tmp_path):
+    """An inside taper thread (G33 with X and Z: 1:12 on the diameter) in a taper bore: the
+    groove per mm at the middle of the slab is the V's, its depth 0.5 everywhere (the tool
+    follows the bore's taper), so the slab loses 2 pi r_c A / P per mm with r_c at the slab's
+    middle radius (a cone: exact, r_c varies linearly with z)."""
+    stock = "shape = \"revolve\"\nprofile = [[11, 0], [20, 0], [20, -30], [12.25, -30]]"
+    # bore r = 11 - z / 24 (1:12 on the diameter), the tool point 0.5 beyond it
+    program = ("G00 X20. Z3.\nM03 S500\nX" + f"{2 * (11.5 - 3.0 / 24.0):.6f}" +
+               "\nG33 X" + f"{2 * (11.5 + 20.0 / 24.0):.6f}" + " Z-20. F1.5\nG00 X20.\nZ10.\n")
+    tool = 'kind = "thread"\nside = "inside"\nheight = 4'
+    res = _run(tmp_path, stock, tool, program)
+    assert all(w["line"] == 5 for w in res.report["warnings"])
+    true = math.pi * 30.0 * (400.0 - (11.0 ** 2 + 11.0 * 12.25 + 12.25 ** 2) / 3.0)
+    k = _k(res, true)
+
+    def cone(z0: float, z1: float) -> float:  # the stock between heights z0 < z1
+        ra, rb = 11.0 - z1 / 24.0, 11.0 - z0 / 24.0
+        return math.pi * (z1 - z0) * (400.0 - (ra * ra + ra * rb + rb * rb) / 3.0)
+
+    removed = k * cone(-15.0, -5.0) - _slab(res.part, -15.0, -5.0, 20.0)
+    # depth measured along X; the V stands square to the axis, the bore slopes 1/24: its section
+    # in the bore is the V's up to first order in the slope (1/24^2 = 0.2 %)
+    area = 0.25 * math.tan(math.radians(30.0))
+    expect = k * 2.0 * math.pi * (11.0 + 10.0 / 24.0 + 0.5 / 3.0) * area / 1.5 * 10.0
+    assert abs(removed - expect) <= 0.01 * expect, (removed, expect)
+
+
+def test_face_thread_scroll(tmp_path):
+    """A G33 along X with a face tool cuts a scroll (an Archimedean spiral groove) into the end
+    face: between radii r1 and r2 it holds A 2 pi / P (r2^2 - r1^2) / 2 of material (every mm of
+    radius holds the groove's section A swept round at that radius, once per lead P)."""
+    stock = "shape = \"cylinder\"\ndiameter = 60\nz = [-10, 0]"
+    tool = 'kind = "thread"\nside = "face"\nheight = 3'
+    machine = "start = [64, 0, 5]"
+    res = _run(tmp_path, stock, tool, "G00 X64. Z2.\nM03 S300\nZ-0.5\nG33 X10. F2.\nG00 Z5.\n", machine=machine)
+    bare = _run(tmp_path, stock, tool, "G00 X64. Z5.\n", machine=machine)
+    assert [w["line"] for w in res.report["warnings"]] == [5]  # the retract out of the groove's end
+    window = m3d.Manifold.revolve(m3d.CrossSection([np.array([[10.0, -2.0], [25.0, -2.0], [25.0, 1.0], [10.0, 1.0]])]),
+                                  circular_segments=4096)
+    removed = (bare.part ^ window).volume() - (res.part ^ window).volume()
+    area = 0.25 * math.tan(math.radians(30.0))
+    expect = area * 2.0 * math.pi / 2.0 * (25.0 ** 2 - 10.0 ** 2) / 2.0
+    assert abs(removed - expect) <= 2e-3 * expect, (removed, expect)
