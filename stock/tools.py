@@ -281,6 +281,8 @@ def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
         poly = v_profile(tool.angle, tool.tip_radius, tool.height, tol)
         if tool.side != "outside":
             poly = inserts.orient(poly, tool)
+    elif tool.kind == "drill":
+        poly = drill_section(tool)
     else:
         raise tool_error(tool, f"a {tool.kind} is not a lathe tool")
     poly = counter_clockwise(poly)
@@ -289,6 +291,16 @@ def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
     if why:
         raise tool_error(tool, f"the tool's profile is unusable: {why}")
     return poly
+
+
+def drill_section(tool: ToolSpec) -> np.ndarray:
+    """A drill on a lathe, moved with the spindle turning: its whole axial section (both sides of
+    its axis, tip at the origin), whose revolved sweep is the hole it drills on the spindle axis
+    and, off the axis, the ring a drill sweeps on a turning part (the revolve keeps r >= 0)."""
+    r, hp, top = tool.diameter / 2.0, point_height(tool), tool.length
+    if hp <= 0:
+        return np.array([[-r, 0.0], [r, 0.0], [r, top], [-r, top]])
+    return np.array([[0.0, 0.0], [r, hp], [r, top], [-r, top], [-r, hp]])
 
 
 def convex_pieces(poly: np.ndarray) -> list[np.ndarray]:

@@ -321,3 +321,20 @@ def test_face_thread_scroll(tmp_path):
     area = 0.25 * math.tan(math.radians(30.0))
     expect = area * 2.0 * math.pi / 2.0 * (25.0 ** 2 - 10.0 ** 2) / 2.0
     assert abs(removed - expect) <= 2e-3 * expect, (removed, expect)
+
+
+# -- axial tools on a lathe --------------------------------------------------------------------
+@pytest.mark.parametrize("point_angle", [118.0, 90.0, 180.0])
+def test_drill_on_the_spindle_axis(tmp_path, point_angle):
+    """A drill of 10 fed along Z at X0 with the spindle turning drills its hole: a cylinder of
+    radius 5 down to where the point begins, the point's cone (height 5 / tan(angle/2)) below,
+    the tip at Z-20: pi r^2 (20 - hp) + pi r^2 hp / 3."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    tool = f'kind = "drill"\ndiameter = 10\npoint_angle = {point_angle}\nlength = 60'
+    res = _run(tmp_path, stock, tool, "G00 X0 Z5.\nM03 S800\nG01 Z-20. F0.1\nG00 Z5.\nX50.\n")
+    assert res.report["warnings"] == []
+    k = _k(res, math.pi * 400.0 * 50.0)
+    hp = 0.0 if point_angle == 180.0 else 5.0 / math.tan(math.radians(point_angle / 2.0))
+    expect = math.pi * 25.0 * (20.0 - hp) + math.pi * 25.0 * hp / 3.0
+    # the hole's polygon has the stock's segment count (k); the point's vertex is exact
+    assert abs(res.report["removed_volume"] - k * expect) <= 1e-6 * expect + 1e-3, (res.report["removed_volume"], expect)

@@ -48,7 +48,8 @@ def read_tools(loc: Locator, raw_tools, kind: str) -> tuple[list[ToolSpec], dict
     if not tools:
         raise CutsimError(loc.path, 1, 1, "the setup needs at least one [[tool]]")
     for t in tools:
-        if kind == "lathe" and not t.is_lathe_tool or kind == "mill" and t.is_lathe_tool:
+        on_lathe = t.is_lathe_tool or t.kind == "drill"  # a drill works on a lathe's spindle axis too
+        if kind == "lathe" and not on_lathe or kind == "mill" and t.is_lathe_tool:
             i = tools.index(t)
             raise Reader(loc, raw_tools[i], "tool", i).fail("kind", f"a {t.kind} tool does not fit a {kind}")
     return tools, tool_names
