@@ -338,3 +338,21 @@ def test_drill_on_the_spindle_axis(tmp_path, point_angle):
     expect = math.pi * 25.0 * (20.0 - hp) + math.pi * 25.0 * hp / 3.0
     # the hole's polygon has the stock's segment count (k); the point's vertex is exact
     assert abs(res.report["removed_volume"] - k * expect) <= 1e-6 * expect + 1e-3, (res.report["removed_volume"], expect)
+
+
+def test_shoulder_example_fails_when_spoiled(tmp_path):
+    """examples/cnc8x6-lathe/shoulder-93 passes its checks (tests/test_examples.py) and fails
+    them with the plain V for the insert (a cone behind the shoulder) or a finishing pass 0.1 mm
+    shallower."""
+    from conftest import REPO_EXAMPLES
+
+    base = REPO_EXAMPLES / "cnc8x6-lathe" / "shoulder-93"
+    setup, program = base.with_suffix(".toml").read_text(), base.with_suffix(".nc").read_text()
+    v_tool = setup.replace('insert = "C"\nsize = 12.7\ntip_radius = 0.8\napproach = 93.0\nhand = "R"', "")
+    assert v_tool != setup
+    for text, prog, failing in ((v_tool, program, {"behind the shoulder", "removed"}),
+                                (setup, program.replace("N110 X30.", "N110 X30.2"), {"turned", "removed"})):
+        path = tmp_path / "s.toml"
+        path.write_text(text)
+        res = cutsim.simulate("p.nc", str(path), text=prog)
+        assert {c["name"] for c in res.report["checks"] if not c["passed"]} == failing
