@@ -60,6 +60,7 @@ DIALECTS: dict[str, Dialect] = {
     "isg": Dialect(".isg", False, (".nc",), "Beckhoff TwinCAT CNC (ISG kernel)"),
     "sinumerik": Dialect(".sinumerik", False, (".mpf", ".spf", ".nc"), "Siemens Sinumerik 840D",
                          _SINUMERIK_WORK_OFFSETS),
+    "rs274ngc": Dialect(".rs274ngc", False, (".ngc", ".nc", ".tap"), "RS274NGC (LinuxCNC 2.9)"),
 }
 
 

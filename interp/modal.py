@@ -47,6 +47,9 @@ class InterpConfig:
     # their folder. A call to one is accepted with one warning naming it; its motion is not simulated
     # and the position after the call is the position before it.
     external_subprograms: frozenset[str] = frozenset()
+    # RS274NGC: the setup's LinuxCNC tool table (.tbl) and parameter file (.var), absolute paths or ""
+    tool_table: str = ""
+    parameter_file: str = ""
 
 
 class ModalMachine:

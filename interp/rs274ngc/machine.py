@@ -1,0 +1,390 @@
+"""The RS274NGC machine on the shared executor (core.Interpreter): modes, offsets and motion.
+
+Positions (``self.pos``, the records) are the tool tip in the machine frame in mm, X a radius:
+program value x (mm) + G54..G59.3 offset + G92 offset + tool length offset in effect - the loaded
+tool's length from the tool table (so G43 with the loaded tool puts the tip where the program
+says). Parameters that hold offsets (#5161-#5389) are in mm: the machine is metric.
+"""
+from __future__ import annotations
+
+import math
+
+from cutsim.interp.canon import Src
+from cutsim.interp.core import MOTION, Interpreter, Step
+from cutsim.interp.lexer import COORD_LIMIT, Word
+from cutsim.interp.modal import PLANE_AXES, InterpConfig
+
+from . import cycles, offsets
+from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
+from .values import Parameters
+
+INCH = 25.4
+AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
+ARC_ABS_TOL, ARC_REL_TOL = 0.0254, 0.001  # LinuxCNC 2.9 accepts a centre arc whose radii differ less
+
+
+class Ngc(Interpreter):
+    G_CODES = G_CODES
+    M_CODES = M_CODES
+
+    def __init__(self, name: str, cfg: InterpConfig, params: Parameters, tools: dict):
+        super().__init__(name, cfg)
+        self.params = params
+        self.tools = tools  # tool number -> {"Z": mm, "X": mm, "D": mm}
+        self.motion = 80
+        self.plane = "XY"
+        self.scale = 1.0  # mm per program unit (G21 1, G20 25.4)
+        self.arc_abs = False
+        self.feed_mode = 94
+        self.retract_old = False  # G98 (LinuxCNC starts in G99)
+        self.lathe_diameter = False  # G7
+        self.g5x = [0.0, 0.0, 0.0]
+        self.g92 = [0.0, 0.0, 0.0]
+        self.tlo = [0.0, 0.0, 0.0]
+        self.tool_len = [0.0, 0.0, 0.0]
+        self.tool_no = 0
+        self.selected = 0
+        self.coord = 1
+        self.cycle = cycles.CycleState()
+        self.feed_units = None  # F as programmed (program units), converted when used
+        # a change of the tool length offset the next move carries out on every axis (LinuxCNC keeps
+        # the program position, so the tip moves by the change even on axes the move does not name)
+        self.pending = [0.0, 0.0, 0.0]
+        offsets.load(self)
+
+    # -- program coordinates -----------------------------------------------------------------------
+    def shift(self, i: int) -> float:
+        return self.g5x[i] + self.g92[i] + self.tlo[i] - self.tool_len[i]
+
+    def unit(self, i: int) -> float:
+        """mm per program unit on axis ``i`` (X in G7 is a diameter)."""
+        return self.scale / 2.0 if (i == 0 and self.lathe_diameter) else self.scale
+
+    def program_value(self, i: int) -> float:
+        return (self.base()[i] - self.shift(i)) / self.unit(i)
+
+    def goal(self, st: Step, letters=("X", "Y", "Z"), machine: bool = False) -> tuple[tuple, dict]:
+        """The end point (mm, machine frame) of the block's axis words under G90/G91; with
+        ``machine`` (G53) absolute machine coordinates. Returns (end, {axis index: word})."""
+        words = {AXIS_INDEX[a]: st.words.pop(a) for a in letters if a in st.words}
+        end = self.base()
+        for i, w in words.items():
+            if machine:
+                end[i] = w.value * self.unit(i) + self.tlo[i] - self.tool_len[i]
+            elif self.absolute:
+                end[i] = w.value * self.unit(i) + self.shift(i)
+            else:
+                end[i] = end[i] + w.value * self.unit(i)
+        self.check_position(st.block.line, end, {i: w.col for i, w in words.items()})
+        return (end[0], end[1], end[2]), words
+
+    def base(self) -> list:
+        """Where the next move starts from in program terms: the tip plus a pending tool length offset change."""
+        p = self.pos
+        return [p[0] + self.pending[0], p[1] + self.pending[1], p[2] + self.pending[2]]
+
+    def moved(self, end) -> None:
+        super().moved(end)
+        self.pending = [0.0, 0.0, 0.0]
+
+    def set_tlo(self, tlo: list) -> None:
+        self.pending = [self.pending[i] + tlo[i] - self.tlo[i] for i in range(3)]
+        self.tlo = tlo
+
+    def src(self, st: Step, col: int = 1) -> Src:
+        return Src(self.name, st.src.line, col, "", st.src.calls)
+
+    # -- G codes -----------------------------------------------------------------------------------
+    def check_g(self, st: Step, gs: list[Word]) -> None:
+        line = st.block.line
+        codes = []
+        for g in gs:
+            code = round(g.value, 4)
+            if code in REFUSED:
+                raise self.error(line, g.col, f"G{g.raw} ({REFUSED[code]}) is not simulated")
+            row = self.G_CODES.get(code)
+            if row is None:
+                raise self.error(line, g.col, f"unknown G code G{g.raw}")
+            if row.group in st.groups and not (row.group == MOTION and 80 in (code, round(st.groups[MOTION].value, 4))):
+                raise self.error(line, g.col, f"G{g.raw} conflicts with G{st.groups[row.group].raw} in the same block "
+                                 "(two codes of one modal group)")
+            st.groups[row.group] = g
+            codes.append((code, row, g))
+        for code, row, g in codes:
+            if row.group == MOTION:
+                st.motion = code if st.motion in (None, 80) else st.motion
+            elif row.group in ("dist", "plane"):
+                self.common_g(int(code))
+            else:
+                self.g_code(st, code, row, g)
+
+    def g_code(self, st: Step, code, row, g: Word) -> None:
+        group = row.group
+        if group == "units":
+            self.scale = INCH if code == 20 else 1.0
+        elif group == "arc distance":
+            self.arc_abs = code == 90.1
+        elif group == "feed mode":
+            self.feed_mode = int(code)
+            self.per_rev = code == 95
+            if code == 93:
+                self.feed_units = None
+        elif group == "lathe":
+            self.lathe_diameter = code == 7
+        elif group == "retract":
+            self.retract_old = code == 98
+        elif group == "coordinate system":
+            offsets.select(self, code)
+        else:
+            st.g[group] = g
+
+    # -- settings before the motion (LinuxCNC's order of execution) --------------------------------
+    def convert_settings(self, st: Step) -> None:
+        words, line = st.words, st.block.line
+        if "F" in words:
+            f = words.pop("F")
+            if st.motion in (33, 33.1) or (st.motion is None and self.motion in (33, 33.1)):
+                raise self.error(line, f.col, "F cannot be used with G33/G33.1 (the pitch is K)")
+            if f.value < 0:
+                raise self.error(line, f.col, "negative feed rate F")
+            self.feed_units = f.value
+            self.feed_scale = self.scale
+        if "S" in words:
+            s = words.pop("S")
+            if s.value < 0:
+                raise self.error(line, s.col, "negative spindle speed S")
+            self.speed = s.value
+            if st.direction is None:
+                self.spindle(self.src(st, s.col), None, s.value)
+        if "T" in words:
+            self.selected = self.whole(line, words.pop("T"), "tool number")
+        self.tool_m(st)
+        if st.direction is not None:
+            self.spindle(self.src(st), st.direction, None)
+        offsets.tool_length(self, st)
+        if "path control" in st.g:
+            for letter in "PQ":
+                w = st.words.pop(letter, None)
+                if w is not None and w.value < 0:
+                    raise self.error(line, w.col, f"G64 {letter} must not be negative")
+        for code, m in self.m_group(st, "override") + self.m_group(st, "io"):
+            for letter in self.M_CODES[code].words:
+                st.words.pop(letter, None)
+        if "nonmodal" in st.g and round(st.g["nonmodal"].value, 4) == 4:
+            g = st.g.pop("nonmodal")
+            p = words.pop("P", None)
+            if p is None or p.value < 0:
+                raise self.error(line, g.col, "G4 needs a dwell time P of 0 or more (seconds)")
+
+    def check_m(self, st: Step, ms: list[Word]) -> None:
+        keep = []
+        for m in ms:
+            code = int(m.value) if m.value == int(m.value) else None
+            if code in REFUSED_M:
+                raise self.error(st.block.line, m.col, f"M{m.raw} ({REFUSED_M[code]}) is not simulated")
+            if code is not None and 100 <= code <= 199 and code in self.cfg.m_functions:
+                continue
+            keep.append(m)
+        groups: dict[str, Word] = {}
+        for m in keep:
+            row = self.M_CODES.get(int(m.value)) if m.value == int(m.value) else None
+            if row is not None and row.group in groups:
+                raise self.error(st.block.line, m.col, f"M{m.raw} and M{groups[row.group].raw}: two M codes of one "
+                                 "modal group in a block")
+            if row is not None:
+                groups[row.group] = m
+        super().check_m(st, keep)
+
+    def tool_m(self, st: Step) -> None:
+        for code, m in self.m_group(st, "tool change"):
+            if code == 61:
+                q = st.words.pop("Q", None)
+                if q is None:
+                    raise self.error(st.block.line, m.col, "M61 needs the tool number Q")
+                self.selected = self.whole(st.block.line, q, "tool number")
+            self.tool_no = self.selected
+            entry = self.tools.get(self.tool_no, {})
+            length = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
+            self.moved(tuple(self.pos[i] - length[i] + self.tool_len[i] for i in range(3)))  # the new tip
+            self.tool_len = length
+            self.tool(self.src(st, m.col), self.tool_no, None)
+
+    def convert_nonmodal(self, st: Step) -> None:
+        g = st.g.get("nonmodal")
+        if g is not None and round(g.value, 4) != 53:
+            offsets.nonmodal(self, st, round(g.value, 4), g)
+
+    def convert_feed(self, st: Step) -> None:
+        pass
+
+    # -- motion ------------------------------------------------------------------------------------
+    def feed_for(self, st: Step, length: float) -> float:
+        """The feed (mm/min or mm/rev) of a cutting move ``length`` mm long; refused without F."""
+        if self.feed_mode == 93:
+            if self.feed_units is None or self.feed_units == 0.0:
+                raise self.error(st.block.line, 1, "inverse time feed (G93): every feed move needs its own F")
+            f, self.feed_units = self.feed_units, None
+            return length * f
+        if self.feed_units is None or self.feed_units == 0.0:
+            raise self.error(st.block.line, 1, "cannot feed with a zero feed rate (program F)")
+        return self.feed_units * self.feed_scale
+
+    def convert_motion(self, st: Step) -> None:
+        line = st.block.line
+        g53 = st.g.get("nonmodal")
+        if g53 is not None and round(g53.value, 4) == 53:
+            if self.motion not in (0, 1) or not self.absolute:
+                raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
+        has_axes = any(a in st.words for a in "XYZ")
+        if any(a in st.words for a in "ABCUVW"):
+            a = next(st.words[a] for a in "ABCUVW" if a in st.words)
+            raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")
+        m = self.motion
+        if m not in cycles.CYCLE_CODES:
+            self.cycle.initial = self.cycle.code = None
+        if m in cycles.CYCLE_CODES and has_axes:
+            cycles.run(self, st)
+        elif not has_axes:
+            if st.motion not in (None, 0, 1, 80) and "nonmodal" not in st.g:
+                raise self.error(line, st.groups[MOTION].col, f"G{st.groups[MOTION].raw}: all axes missing")
+            self.check_left(st)
+            return
+        elif m == 80:
+            w = next(st.words[a] for a in "XYZ" if a in st.words)
+            raise self.error(line, w.col, "axis words without a motion mode (G80 is active)")
+        elif m in (0, 1):
+            end, _ = self.goal(st, machine=g53 is not None and round(g53.value, 4) == 53)
+            if m == 0:
+                self.rapid(self.src(st), end)
+            else:
+                self.linear_to(st, end)
+        elif m in (2, 3):
+            self.arc_block(st, m == 2)
+        elif m == 33:
+            self.thread(st)
+        elif m == 33.1:
+            self.rigid_tap(st)
+        self.check_left(st)
+
+    def check_left(self, st: Step) -> None:
+        """A word the block did not use is refused at its column (LinuxCNC: "... word with no G code
+        that uses it"), so no value is silently ignored."""
+        for letter, w in st.words.items():
+            if letter in "NO":
+                continue
+            raise self.error(st.block.line, w.col, f"{letter} word with nothing that uses it in this block")
+
+    def linear_to(self, st: Step, end) -> None:
+        length = math.dist(self.pos, end)
+        feed = self.feed_for(st, length)
+        self.feed = feed
+        self.linear(self.src(st), end)
+
+    def thread(self, st: Step) -> None:
+        k = st.words.pop("K", None)
+        if k is None or k.value <= 0:
+            raise self.error(st.block.line, st.groups.get(MOTION, Word("G", 33, "33", 1)).col, "G33 needs a pitch K > 0")
+        if self.spindle_dir == 0:
+            raise self.error(st.block.line, k.col, "spindle not turning in G33")
+        end, _ = self.goal(st)
+        self.synced(self.src(st), end, k.value * self.scale, "Z", 0.0)
+
+    def rigid_tap(self, st: Step) -> None:
+        k = st.words.pop("K", None)
+        line = st.block.line
+        if k is None or k.value <= 0:
+            raise self.error(line, 1, "G33.1 needs a pitch K > 0")
+        if self.spindle_dir == 0:
+            raise self.error(line, k.col, "spindle not turning in G33.1")
+        start = self.start_point()
+        end, words = self.goal(st)
+        if any(abs(end[i] - start[i]) > 1e-9 for i in (0, 1)):
+            raise self.error(line, 1, "G33.1 taps along Z only: X and Y must stay where they are")
+        src = self.src(st)
+        lead = k.value * self.scale
+        self.synced(src, end, lead, "Z", 0.0)
+        self.synced(src, start, lead, "Z", 0.0)
+
+    def arc_block(self, st: Step, clockwise: bool) -> None:
+        line = st.block.line
+        a, b, n = PLANE_AXES[self.plane]
+        if any(self.pending):
+            raise self.error(line, 1, "an arc right after a change of the tool length offset is not simulated "
+                             "(program a straight move first)")
+        start = self.start_point()
+        end, words = self.goal(st)
+        letters = {0: "I", 1: "J", 2: "K"}
+        p = st.words.pop("P", None)
+        turns = 1 if p is None else self.whole(line, p, "arc turns P")
+        if turns < 1:
+            raise self.error(line, p.col, "P (turns) must be 1 or more")
+        if letters[n] in st.words:
+            w = st.words[letters[n]]
+            raise self.error(line, w.col, f"{w.letter} is not in the plane {self.plane} of the arc")
+        r = st.words.pop("R", None)
+        if r is not None:
+            if letters[a] in st.words or letters[b] in st.words:
+                raise self.error(line, r.col, "an arc takes either R or I/J/K, not both")
+            centre = self.radius_centre(st, start, end, r.value * self.scale, clockwise, r.col)
+        else:
+            if letters[a] not in st.words and letters[b] not in st.words:
+                raise self.error(line, st.groups.get(MOTION, Word("G", 2, "2", 1)).col,
+                                 f"arc needs its centre ({letters[a]}/{letters[b]}) or its radius R")
+            centre = list(start)
+            for i in (a, b):
+                w = st.words.pop(letters[i], None)
+                if self.arc_abs:
+                    centre[i] = (w.value * self.scale + self.shift(i)) if w is not None else self.shift(i)
+                elif w is not None:
+                    centre[i] = start[i] + w.value * self.scale
+            self.check_radii(line, start, end, centre, a, b)
+        length = self.arc_length(start, end, centre, clockwise, turns)
+        self.feed = self.feed_for(st, length)
+        cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
+
+    def check_radii(self, line: int, start, end, centre, a: int, b: int) -> None:
+        r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
+        r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
+        err = abs(r1 - r0)
+        if err > ARC_ABS_TOL and err > ARC_REL_TOL * max(r0, r1):
+            raise self.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
+
+    def radius_centre(self, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:
+        a, b, _ = PLANE_AXES[self.plane]
+        dx, dy = end[a] - start[a], end[b] - start[b]
+        chord = math.hypot(dx, dy)
+        if chord < 1e-9:
+            raise self.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
+        half = chord / 2.0
+        if abs(r) < half:
+            if half - abs(r) > 0.001:
+                raise self.error(st.block.line, col, f"arc radius {abs(r) / self.scale:g} too small to reach the end point")
+            h = 0.0
+        else:
+            h = math.sqrt(r * r - half * half)
+        # centre to the right of start->end for a clockwise arc under 180 degrees (R > 0)
+        side = -1.0 if clockwise else 1.0
+        if r < 0:
+            side = -side
+        mx, my = start[a] + dx / 2.0, start[b] + dy / 2.0
+        centre = list(start)
+        centre[a] = mx - side * h * dy / chord
+        centre[b] = my + side * h * dx / chord
+        return centre
+
+    def arc_length(self, start, end, centre, clockwise: bool, turns: int) -> float:
+        a, b, n = PLANE_AXES[self.plane]
+        r = math.hypot(start[a] - centre[a], start[b] - centre[b])
+        a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
+        a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
+        sweep = (a0 - a1) if clockwise else (a1 - a0)
+        sweep %= 2 * math.pi
+        if sweep < 1e-12:
+            sweep = 2 * math.pi
+        sweep += 2 * math.pi * (turns - 1)
+        return math.hypot(r * sweep, end[n] - start[n])
+
+    def convert_end(self, st: Step) -> None:
+        st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, "stop"))
+        if st.result:
+            self.end(self.src(st))

@@ -1,0 +1,145 @@
+"""Coordinate systems, G92, G10, G28/G30 and tool length offsets, kept where LinuxCNC keeps them: in
+the numbered parameters (mm). G54..G59.3 are systems 1..9 at #5221 + 20 * (n - 1) (X, Y, Z), the
+active one in #5220; G92 at #5211-#5213 (#5210 = 1 while applied); G28 at #5161-#5163 and G30 at
+#5181-#5183 (machine coordinates).
+"""
+from __future__ import annotations
+
+from cutsim.interp.core import Step
+from cutsim.interp.lexer import Word
+
+SYSTEMS = {54: 1, 55: 2, 56: 3, 57: 4, 58: 5, 59: 6, 59.1: 7, 59.2: 8, 59.3: 9}
+
+
+def base(n: int) -> int:
+    """The parameter of system ``n``'s X offset (1 = G54 ... 9 = G59.3)."""
+    return 5221 + 20 * (n - 1)
+
+
+def load(m) -> None:
+    """The start state: the setup's [work_offsets] into the parameters (over the .var file's),
+    the active system from #5220 (G54 if unset) and G92 from #5211-#5213 if #5210 is set."""
+    num = m.params.numbered
+    for name, vals in m.cfg.work_offsets.items():
+        code = float(name[1:])
+        if code in SYSTEMS:
+            for i in range(3):
+                num[base(SYSTEMS[code]) + i] = float(vals[i])
+    m.coord = int(num.get(5220, 1.0)) if 1 <= num.get(5220, 1.0) <= 9 else 1
+    m.g5x = [num.get(base(m.coord) + i, 0.0) for i in range(3)]
+    if num.get(5210, 0.0) != 0.0:
+        m.g92 = [num.get(5211 + i, 0.0) for i in range(3)]
+
+
+def select(m, code: float) -> None:
+    m.coord = SYSTEMS[code]
+    m.params.numbered[5220] = float(m.coord)
+    m.g5x = [m.params.numbered.get(base(m.coord) + i, 0.0) for i in range(3)]
+
+
+def tool_length(m, st: Step) -> None:
+    """G43 [H], G43.1 X Z, G43.2 H / X Z, G49 (after M6 in the block, as LinuxCNC orders them)."""
+    g = st.g.pop("tool length", None)
+    if g is None:
+        return
+    code, line = round(g.value, 4), st.block.line
+    words = st.words
+    if code == 49:
+        m.set_tlo([0.0, 0.0, 0.0])
+        return
+    if code in (43, 43.2) and "H" in words or code == 43:
+        h = words.pop("H", None)
+        number = m.tool_no if h is None else m.whole(line, h, "tool number H")
+        if h is not None and number not in m.tools and number != 0:
+            raise m.error(line, h.col, f"H{h.raw}: tool {number} is not in the tool table")
+        entry = m.tools.get(number, {})
+        vals = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
+        m.set_tlo(vals if code == 43 else [m.tlo[i] + vals[i] for i in range(3)])
+        return
+    if not any(a in words for a in "XZ"):
+        raise m.error(line, g.col, f"G{g.raw} needs X or Z offsets")
+    vals = [words.pop("X").value * m.scale if "X" in words else 0.0, 0.0,
+            words.pop("Z").value * m.scale if "Z" in words else 0.0]
+    m.set_tlo(vals if code == 43.1 else [m.tlo[i] + vals[i] for i in range(3)])
+
+
+def nonmodal(m, st: Step, code: float, g: Word) -> None:
+    if code == 10:
+        g10(m, st, g)
+    elif code in (28, 30):
+        home(m, st, 5161 if code == 28 else 5181)
+    elif code in (28.1, 30.1):
+        first = 5161 if code == 28.1 else 5181
+        for i in range(3):
+            m.params.numbered[first + i] = m.base()[i] - m.tlo[i] + m.tool_len[i]
+    elif code == 92:
+        set_g92(m, st, g)
+    elif code in (92.1, 92.2):
+        m.g92 = [0.0, 0.0, 0.0]
+        if code == 92.1:
+            for i in range(5210, 5214):
+                m.params.numbered[i] = 0.0
+    elif code == 92.3:
+        m.g92 = [m.params.numbered.get(5211 + i, 0.0) for i in range(3)]
+
+
+def axis_words(st: Step) -> dict[int, Word]:
+    return {i: st.words.pop(a) for i, a in enumerate("XYZ") if a in st.words}
+
+
+def home(m, st: Step, first: int) -> None:
+    """G28/G30: through the point of the axis words (if any) to the stored machine position of
+    those axes (all axes without words), both at rapid rate."""
+    words = {i: w for i, w in ((i, st.words.get(a)) for i, a in enumerate("XYZ")) if w is not None}
+    if words:
+        mid, _ = m.goal(st)
+        m.rapid(m.src(st), mid)
+    end = m.base()
+    for i in (words or range(3)):
+        end[i] = m.params.numbered.get(first + i, 0.0) + m.tlo[i] - m.tool_len[i]
+    m.rapid(m.src(st), (end[0], end[1], end[2]))
+
+
+def set_g92(m, st: Step, g: Word) -> None:
+    """G92: offsets that make the current point have the given coordinates."""
+    words = axis_words(st)
+    if not words:
+        raise m.error(st.block.line, g.col, "G92 needs at least one axis word")
+    for i, w in words.items():
+        m.g92[i] = m.base()[i] - m.g5x[i] - m.tlo[i] + m.tool_len[i] - w.value * m.unit(i)
+    m.params.numbered[5210] = 1.0
+    for i in range(3):
+        m.params.numbered[5211 + i] = m.g92[i]
+
+
+def g10(m, st: Step, g: Word) -> None:
+    line, words = st.block.line, st.words
+    lw, pw = words.pop("L", None), words.pop("P", None)
+    if lw is None:
+        raise m.error(line, g.col, "G10 needs L (L1, L2 or L20)")
+    L = m.whole(line, lw, "L")
+    if pw is None:
+        raise m.error(line, lw.col, f"G10 L{L} needs P")
+    if "R" in words:
+        raise m.error(line, words["R"].col, "G10 R (a rotation of the coordinate system) is not simulated")
+    if L == 1:
+        tool = m.whole(line, pw, "tool number P")
+        entry = m.tools.setdefault(tool, {})
+        for a in "XZ":
+            if a in words:
+                entry[a] = words.pop(a).value * m.scale
+        return
+    if L not in (2, 20):
+        raise m.error(line, lw.col, f"G10 L{L} is not simulated (L1, L2 and L20 are)")
+    n = m.whole(line, pw, "coordinate system P")
+    if n > 9:
+        raise m.error(line, pw.col, f"coordinate system P{pw.raw} must be 0 (the active one) to 9")
+    n = n or m.coord
+    for i, w in axis_words(st).items():
+        if L == 2:
+            v = w.value * m.unit(i)
+        else:
+            v = m.base()[i] - m.g92[i] - m.tlo[i] + m.tool_len[i] - w.value * m.unit(i)
+        m.params.numbered[base(n) + i] = v
+    if n == m.coord:
+        m.g5x = [m.params.numbered.get(base(n) + i, 0.0) for i in range(3)]

@@ -1,0 +1,102 @@
+"""The RS274NGC (LinuxCNC 2.9) code tables: ``{code: Code(modal group, words, meaning)}``.
+
+Codes with a decimal point (G33.1, G59.3) are keyed by their value. A code listed in ``REFUSED``
+is valid LinuxCNC G-code the simulator does not model: it is refused at its column naming it,
+never silently ignored (docs/dialects/rs274ngc.md).
+"""
+from __future__ import annotations
+
+from cutsim.interp.core import Code
+
+CYCLES = (73, 81, 82, 83, 85, 86, 89)  # canned cycles simulated
+G_CODES: dict[float, Code] = {
+    0: Code("motion", "XYZ", "rapid"),
+    1: Code("motion", "XYZF", "linear feed"),
+    2: Code("motion", "XYZIJKRP", "clockwise arc"),
+    3: Code("motion", "XYZIJKRP", "counter-clockwise arc"),
+    33: Code("motion", "XYZK", "spindle-synchronised motion"),
+    33.1: Code("motion", "XYZK", "rigid tapping"),
+    73: Code("motion", "XYZRQL", "drilling cycle with chip breaking"),
+    80: Code("motion", "", "cancel canned cycle"),
+    81: Code("motion", "XYZRL", "drilling cycle"),
+    82: Code("motion", "XYZRLP", "drilling cycle with dwell"),
+    83: Code("motion", "XYZRLQ", "peck drilling cycle"),
+    85: Code("motion", "XYZRL", "boring cycle, feed out"),
+    86: Code("motion", "XYZRLP", "boring cycle, spindle stop, rapid out"),
+    89: Code("motion", "XYZRLP", "boring cycle, dwell, feed out"),
+    4: Code("nonmodal", "P", "dwell"),
+    10: Code("nonmodal", "LPXYZR", "set offsets"),
+    28: Code("nonmodal", "XYZ", "go to the G28 position"),
+    28.1: Code("nonmodal", "", "store the G28 position"),
+    30: Code("nonmodal", "XYZ", "go to the G30 position"),
+    30.1: Code("nonmodal", "", "store the G30 position"),
+    53: Code("nonmodal", "XYZ", "move in machine coordinates"),
+    92: Code("nonmodal", "XYZ", "coordinate system offset"),
+    92.1: Code("nonmodal", "", "reset G92 offsets and parameters"),
+    92.2: Code("nonmodal", "", "reset G92 offsets"),
+    92.3: Code("nonmodal", "", "restore G92 offsets"),
+    7: Code("lathe", "", "lathe diameter mode"),
+    8: Code("lathe", "", "lathe radius mode"),
+    17: Code("plane", "", "plane XY"),
+    18: Code("plane", "", "plane ZX"),
+    19: Code("plane", "", "plane YZ"),
+    20: Code("units", "", "inch"),
+    21: Code("units", "", "millimetre"),
+    40: Code("cutter radius compensation", "", "cutter compensation off"),
+    43: Code("tool length", "H", "tool length offset"),
+    43.1: Code("tool length", "XZ", "dynamic tool length offset"),
+    43.2: Code("tool length", "HXZ", "additional tool length offset"),
+    49: Code("tool length", "", "cancel tool length offset"),
+    **{n: Code("coordinate system", "", f"coordinate system G{n}") for n in range(54, 60)},
+    59.1: Code("coordinate system", "", "coordinate system G59.1"),
+    59.2: Code("coordinate system", "", "coordinate system G59.2"),
+    59.3: Code("coordinate system", "", "coordinate system G59.3"),
+    61: Code("path control", "", "exact path"),
+    61.1: Code("path control", "", "exact stop"),
+    64: Code("path control", "PQ", "blending"),
+    90: Code("dist", "", "absolute"),
+    91: Code("dist", "", "incremental"),
+    90.1: Code("arc distance", "", "absolute arc centres"),
+    91.1: Code("arc distance", "", "incremental arc centres"),
+    93: Code("feed mode", "", "inverse time"),
+    94: Code("feed mode", "", "units per minute"),
+    95: Code("feed mode", "", "units per revolution"),
+    97: Code("spindle mode", "", "constant spindle speed"),
+    98: Code("retract", "", "retract to the initial level"),
+    99: Code("retract", "", "retract to R"),
+}
+# Valid LinuxCNC 2.9 codes the simulator refuses (not simulated), with what they are.
+REFUSED: dict[float, str] = {
+    5: "cubic spline", 5.1: "quadratic spline", 5.2: "NURBS", 5.3: "NURBS end",
+    17.1: "plane UV", 18.1: "plane WU", 19.1: "plane VW",
+    38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
+    41: "cutter radius compensation", 42: "cutter radius compensation",
+    41.1: "dynamic cutter radius compensation", 42.1: "dynamic cutter radius compensation",
+    52: "local coordinate offset", 70: "lathe finishing cycle", 71: "lathe roughing cycle",
+    71.1: "lathe roughing cycle", 71.2: "lathe roughing cycle", 72: "lathe facing cycle",
+    72.1: "lathe facing cycle", 72.2: "lathe facing cycle", 74: "left-hand tapping cycle",
+    76: "threading cycle", 84: "right-hand tapping cycle", 87: "back boring cycle",
+    88: "boring cycle with manual retract", 96: "constant surface speed",
+}
+M_CODES: dict[int, Code] = {
+    0: Code("stop", "", "program pause"),
+    1: Code("stop", "", "optional pause"),
+    2: Code("stop", "", "program end"),
+    30: Code("stop", "", "program end and rewind"),
+    60: Code("stop", "", "pallet change pause"),
+    3: Code("spindle", "S", "spindle clockwise"),
+    4: Code("spindle", "S", "spindle counter-clockwise"),
+    5: Code("spindle", "", "spindle stop"),
+    6: Code("tool change", "T", "tool change"),
+    61: Code("tool change", "Q", "set the current tool"),
+    7: Code("coolant", "", "mist coolant"),
+    8: Code("coolant", "", "flood coolant"),
+    9: Code("coolant", "", "coolant off"),
+    **{m: Code("override", "P", f"override switch M{m}") for m in range(48, 54)},
+    **{m: Code("io", "PEQL", f"digital/analog output M{m}") for m in range(62, 69)},
+}
+REFUSED_M: dict[int, str] = {
+    19: "spindle orientation", 70: "saving the modal state", 71: "invalidating the saved modal state",
+    72: "restoring the modal state", 73: "auto-restoring the modal state", 98: "subprogram call",
+    99: "subprogram return",
+}

@@ -1,0 +1,258 @@
+"""Random RS274NGC programs for the differential run against LinuxCNC's rs274.
+
+``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
+circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
+offsets (G10 L2/L20, G54-G59.3, G92 and its resets), G28/G30, G53, tool changes with tool length
+offsets, canned cycles with G98/G99 and L, G33/G33.1, inverse-time and per-revolution feeds,
+parameters and expressions with every operator and function, and O-word subroutines and loops.
+Arcs are built to end on their circle (to 4 decimals); everything else is left to chance, so
+both interpreters may refuse a program (division by zero, a peck depth of 0 ...): then both must.
+"""
+from __future__ import annotations
+
+import math
+import random
+
+TOOL_TABLE = "".join(f"T{t} P{t} Z{z} X{x} D{d}\n" for t, z, x, d in
+                     ((1, 12.5, 0, 6), (2, 30.25, 1.5, 10), (3, -4.75, 0, 3), (4, 0, 0, 8)))
+FUNCS = ("abs", "acos", "asin", "cos", "exp", "fix", "fup", "ln", "round", "sin", "sqrt", "tan")
+OPS = ("+", "-", "*", "/", "mod", "**", "eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor")
+CYCLE_CODES = ("G81", "G82", "G83", "G73", "G85", "G89", "G86")
+PLANE_LETTERS = {"G17": ("X", "Y", "Z", "I", "J"), "G18": ("Z", "X", "Y", "K", "I"), "G19": ("Y", "Z", "X", "J", "K")}
+
+
+def num(rng: random.Random, lo: float, hi: float, digits: int = 3) -> str:
+    return f"{rng.uniform(lo, hi):.{digits}f}"
+
+
+def expr(rng: random.Random, depth: int = 0) -> str:
+    """A random expression: numbers, parameters #1-#5, functions and binary operators."""
+    r = rng.random()
+    if depth > 2 or r < 0.3:
+        return rng.choice([num(rng, -9, 9, 2), f"#{rng.randint(1, 5)}", str(rng.randint(0, 4))])
+    if r < 0.45:
+        f = rng.choice(FUNCS)
+        inner = expr(rng, depth + 1)
+        if rng.random() < 0.9:  # mostly inside the function's domain
+            inner = {"acos": f"[{inner}] mod 2 - 1", "asin": f"[{inner}] mod 2 - 1", "ln": f"abs[{inner}] + 0.5",
+                     "sqrt": f"abs[{inner}]", "exp": f"[{inner}] mod 5"}.get(f, inner)
+        return f"{f}[{inner}]"
+    if r < 0.5:
+        return f"atan[{expr(rng, depth + 1)}]/[{expr(rng, depth + 1)}]"
+    op = rng.choice(OPS)
+    right = expr(rng, depth + 1)
+    if op in ("/", "mod") and rng.random() < 0.9:
+        right = f"[abs[{right}] + 0.25]"
+    if op == "**" and rng.random() < 0.9:
+        return f"[abs[{expr(rng, depth + 1)}] ** {rng.randint(0, 3)}]"
+    return f"[{expr(rng, depth + 1)} {op} {right}]"
+
+
+class Gen:
+    def __init__(self, rng: random.Random, lathe: bool = False):
+        self.rng = rng
+        self.out: list[str] = []
+        self.plane = "G17"
+        self.lathe = lathe
+        self.labels = 100
+
+    def emit(self, s: str) -> None:
+        self.out.append(s)
+
+    def axes(self, letters: str = "XYZ", span: float = 30.0) -> str:
+        rng = self.rng
+        chosen = [a for a in letters if rng.random() < 0.6] or [rng.choice(letters)]
+        parts = []
+        for a in chosen:
+            if rng.random() < 0.15:
+                parts.append(f"{a}[#{rng.randint(1, 5)} mod 20]")
+            else:
+                parts.append(f"{a}{num(rng, -span, span)}")
+        return " ".join(parts)
+
+    def move(self) -> None:
+        rng = self.rng
+        g = rng.choice(["G0", "G1", "G1"])
+        dist = rng.choice(["", "", "G90 ", "G91 "])
+        self.emit(f"{dist}{g} {self.axes()}" + (f" F{num(rng, 10, 900, 1)}" if rng.random() < 0.2 else ""))
+
+    def arc(self) -> None:
+        rng = self.rng
+        a, b, n, ia, ib = PLANE_LETTERS[self.plane]
+        r = rng.uniform(1, 25)
+        phi = rng.uniform(0, 2 * math.pi)
+        ci, cj = r * math.cos(phi), r * math.sin(phi)  # centre from the start
+        g = rng.choice(["G2", "G3"])
+        full = rng.random() < 0.15
+        theta = 0.0 if full else math.radians(rng.choice([rng.uniform(15, 160), rng.uniform(200, 345)]))
+        sign = -1.0 if g == "G2" else 1.0
+        ang = phi + math.pi + sign * theta
+        ex, ey = ci + r * math.cos(ang), cj + r * math.sin(ang)
+        helix = f" {n}{num(rng, -5, 5)}" if rng.random() < 0.3 else ""
+        turns = f" P{rng.randint(2, 3)}" if (helix or full) and rng.random() < 0.4 else ""
+        if full:
+            ex = ey = 0.0
+        if not full and rng.random() < 0.35:
+            big = theta > math.pi
+            self.emit(f"G91 {g} {a}{ex:.4f} {b}{ey:.4f} R{'-' if big else ''}{r:.4f}{helix}")
+        elif rng.random() < 0.25:
+            self.emit(f"G90.1 G91 {g} {a}{ex:.4f} {b}{ey:.4f} {ia}[#<_{a.lower()}>+{ci:.4f}] "
+                      f"{ib}[#<_{b.lower()}>+{cj:.4f}]{helix}{turns}")
+            self.emit("G91.1")
+        else:
+            self.emit(f"G91 {g} {a}{ex:.4f} {b}{ey:.4f} {ia}{ci:.4f} {ib}{cj:.4f}{helix}{turns}")
+
+    def cycle(self) -> None:
+        rng = self.rng
+        a, b, n, _, _ = PLANE_LETTERS[self.plane]
+        code = rng.choice(CYCLE_CODES)
+        retract = rng.choice(["G98", "G99", ""])
+        extra = ""
+        if code in ("G83", "G73"):
+            extra += f" Q{num(rng, 0.5, 4, 2)}"
+        if code in ("G82", "G89", "G86"):
+            extra += f" P{num(rng, 0, 1, 1)}"
+        if rng.random() < 0.3:
+            extra += f" L{rng.randint(1, 3)}"
+        if rng.random() < 0.5:
+            top = rng.uniform(-5, 10)
+            self.emit(f"G90 {retract} {code} {a}{num(rng, -20, 20)} {b}{num(rng, -20, 20)} "
+                      f"R{top:.3f} {n}{top - rng.uniform(1, 12):.3f}{extra}")
+            for _ in range(rng.randint(0, 2)):
+                self.emit(f"{rng.choice(['', 'G98 ', 'G99 '])}{a}{num(rng, -20, 20)}"
+                          + (f" R{num(rng, -3, 12)}" if rng.random() < 0.3 else ""))
+        else:
+            self.emit(f"G91 {retract} {code} {a}{num(rng, -10, 10)} {b}{num(rng, -10, 10)} "
+                      f"R{num(rng, -4, 8)} {n}{-rng.uniform(1, 12):.3f}{extra}")
+            if rng.random() < 0.5:
+                self.emit(f"{a}{num(rng, -10, 10)}")
+        self.emit(rng.choice(["G80", "G80", "G0 " + self.axes(span=5), "G90 G80"]))
+
+    def offsets(self) -> None:
+        rng = self.rng
+        choice = rng.randrange(9)
+        if choice == 0:
+            self.emit(f"G10 L2 P{rng.randint(0, 9)} {self.axes(span=40)}")
+        elif choice == 1:
+            self.emit(rng.choice(["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"]))
+        elif choice == 2:
+            self.emit(f"G92 {self.axes(span=20)}")
+        elif choice == 3:
+            self.emit(rng.choice(["G92.1", "G92.2", "G92.3"]))
+        elif choice == 4:
+            self.emit(f"G10 L20 P{rng.randint(0, 9)} {self.axes(span=20)}")
+        elif choice == 5:
+            self.emit(rng.choice(["G28.1", "G30.1", "G28", "G30", f"G28 {self.axes(span=10)}", f"G30 G91 {self.axes(span=5)}"]))
+        elif choice == 6:
+            self.emit(f"G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
+        elif choice == 7:
+            self.emit(f"T{rng.randint(1, 4)} M6" + rng.choice(["", " G43", " G43 H2", " G49"]))
+        else:
+            self.emit(rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
+                                  f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
+
+    def modes(self) -> None:
+        rng = self.rng
+        choice = rng.randrange(7)
+        if choice == 0:
+            self.plane = rng.choice(["G17", "G18", "G19"])
+            self.emit(self.plane)
+        elif choice == 1:
+            self.emit(rng.choice(["G20", "G21"]))
+        elif choice == 2:
+            self.emit(f"G95 F{num(rng, 0.05, 0.5, 3)}" if rng.random() < 0.5 else f"G94 F{num(rng, 20, 800, 1)}")
+        elif choice == 3:
+            self.emit(f"G93 G1 {self.axes()} F{num(rng, 0.5, 20, 2)}")
+            self.emit(f"G94 F{num(rng, 20, 800, 1)}")
+        elif choice == 4:
+            self.emit(f"G4 P{num(rng, 0, 2, 2)}")
+        elif choice == 5:
+            self.emit(f"S{rng.randint(100, 3000)} M{rng.choice([3, 4])}")
+            self.emit(f"G33 {self.axes('XZ', 10)} K{num(rng, 0.5, 3, 2)}" if rng.random() < 0.6
+                      else f"G33.1 Z{num(rng, -20, 0)} K{num(rng, 0.5, 2, 2)}")
+            self.emit("G1 F300")
+        else:
+            self.emit(rng.choice(["G7", "G8", "G61", "G64", "G64 P0.01", "M7", "M8", "M9", "M5", "M0", "M1"]))
+
+    def params(self) -> None:
+        self.emit(f"#{self.rng.randint(1, 5)} = {expr(self.rng)}")
+
+    def statement(self, depth: int = 0) -> None:
+        rng = self.rng
+        r = rng.random()
+        if r < 0.25:
+            self.move()
+        elif r < 0.4:
+            self.arc()
+        elif r < 0.5:
+            self.cycle()
+        elif r < 0.62:
+            self.offsets()
+        elif r < 0.74:
+            self.modes()
+        elif r < 0.86:
+            self.params()
+        elif depth < 2:
+            self.control(depth)
+
+    def control(self, depth: int) -> None:
+        rng = self.rng
+        self.labels += 2
+        label = self.labels
+        kind = rng.randrange(4)
+        if kind == 0:
+            self.emit(f"o{label} repeat [{rng.randint(0, 3)}]")
+            for _ in range(rng.randint(1, 3)):
+                self.statement(depth + 1)
+            self.emit(f"o{label} endrepeat")
+        elif kind == 1:
+            self.emit(f"#<n{depth}> = 0")
+            self.emit(f"o{label} while [#<n{depth}> lt {rng.randint(1, 3)}]")
+            for _ in range(rng.randint(1, 3)):
+                self.statement(depth + 1)
+            self.emit(f"#<n{depth}> = [#<n{depth}> + 1]")
+            if rng.random() < 0.3:
+                self.emit(f"o{label + 1000} if [#<n{depth}> gt 1]")
+                self.emit(f"o{label} break")
+                self.emit(f"o{label + 1000} endif")
+            self.emit(f"o{label} endwhile")
+        elif kind == 2:
+            self.emit(f"o{label} if [{expr(rng)} gt 0]")
+            self.statement(depth + 1)
+            if rng.random() < 0.5:
+                self.emit(f"o{label} elseif [{expr(rng)} lt 0]")
+                self.statement(depth + 1)
+            if rng.random() < 0.5:
+                self.emit(f"o{label} else")
+                self.statement(depth + 1)
+            self.emit(f"o{label} endif")
+        else:
+            self.emit(f"o{label} do")
+            self.emit(f"#<_d{depth}> = [#<_d{depth}> + 1]")
+            self.statement(depth + 1)
+            self.emit(f"o{label} while [#<_d{depth}> lt 2]")
+
+
+def program(rng: random.Random, statements: int = 25) -> str:
+    g = Gen(rng)
+    g.emit("(random program)")
+    g.emit(rng.choice(["G21", "G20"]) + " G17 G90 G94 G40 G49 G54 G80 G91.1 G8")
+    g.emit(f"F{num(rng, 50, 900, 1)} S{rng.randint(200, 2000)} M3")
+    for i in range(1, 6):
+        g.emit(f"#{i} = {num(rng, -5, 5, 3)}")
+    g.emit("#<_d0> = 0")
+    g.emit("#<_d1> = 0")
+    subs = []
+    if rng.random() < 0.5:
+        subs = ["o<shape> sub", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
+                "o<shape> endsub [#1 * 2]"]
+        g.out[1:1] = subs
+    for _ in range(statements):
+        g.statement()
+        if subs and rng.random() < 0.1:
+            g.emit("G17")
+            g.plane = "G17"
+            g.emit(f"o<shape> call [{num(rng, -8, 8)}] [{num(rng, 1, 6)}]")
+            g.emit("#3 = #<_value>")
+    g.emit("M2")
+    return "\n".join(g.out) + "\n"
