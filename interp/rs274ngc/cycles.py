@@ -120,10 +120,13 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
     elif code in (81, 82):
         feed(z)
         rapid(clear)
-    elif code in (85, 89):
+    elif code == 85:
         feed(z)
         feed(r)
         rapid(clear)
+    elif code == 89:
+        feed(z)
+        feed(clear)
     elif code == 86:
         feed(z)
         direction = m.spindle_dir

@@ -47,9 +47,6 @@ class Ngc(Interpreter):
         self.coord = 1
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
-        # a change of the tool length offset the next move carries out on every axis (LinuxCNC keeps
-        # the program position, so the tip moves by the change even on axes the move does not name)
-        self.pending = [0.0, 0.0, 0.0]
         offsets.load(self)
 
     # -- program coordinates -----------------------------------------------------------------------
@@ -70,7 +67,7 @@ class Ngc(Interpreter):
         end = self.base()
         for i, w in words.items():
             if machine:
-                end[i] = w.value * self.unit(i) + self.tlo[i] - self.tool_len[i]
+                end[i] = w.value * self.unit(i) - self.tool_len[i]
             elif self.absolute:
                 end[i] = w.value * self.unit(i) + self.shift(i)
             else:
@@ -79,16 +76,12 @@ class Ngc(Interpreter):
         return (end[0], end[1], end[2]), words
 
     def base(self) -> list:
-        """Where the next move starts from in program terms: the tip plus a pending tool length offset change."""
-        p = self.pos
-        return [p[0] + self.pending[0], p[1] + self.pending[1], p[2] + self.pending[2]]
-
-    def moved(self, end) -> None:
-        super().moved(end)
-        self.pending = [0.0, 0.0, 0.0]
+        """The tip position as a list (a move's unprogrammed axes stay where they are)."""
+        return list(self.pos)
 
     def set_tlo(self, tlo: list) -> None:
-        self.pending = [self.pending[i] + tlo[i] - self.tlo[i] for i in range(3)]
+        """A new tool length offset: the machine does not move, the program position changes (as
+        LinuxCNC shows it)."""
         self.tlo = tlo
 
     def src(self, st: Step, col: int = 1) -> Src:
@@ -202,6 +195,8 @@ class Ngc(Interpreter):
                 if q is None:
                     raise self.error(st.block.line, m.col, "M61 needs the tool number Q")
                 self.selected = self.whole(st.block.line, q, "tool number")
+            if code == 6 and self.spindle_dir != 0:  # LinuxCNC stops the spindle for a tool change
+                self.spindle(self.src(st, m.col), 0, None)
             self.tool_no = self.selected
             entry = self.tools.get(self.tool_no, {})
             length = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
@@ -308,9 +303,6 @@ class Ngc(Interpreter):
     def arc_block(self, st: Step, clockwise: bool) -> None:
         line = st.block.line
         a, b, n = PLANE_AXES[self.plane]
-        if any(self.pending):
-            raise self.error(line, 1, "an arc right after a change of the tool length offset is not simulated "
-                             "(program a straight move first)")
         start = self.start_point()
         end, words = self.goal(st)
         letters = {0: "I", 1: "J", 2: "K"}

@@ -71,7 +71,7 @@ def nonmodal(m, st: Step, code: float, g: Word) -> None:
     elif code in (28.1, 30.1):
         first = 5161 if code == 28.1 else 5181
         for i in range(3):
-            m.params.numbered[first + i] = m.base()[i] - m.tlo[i] + m.tool_len[i]
+            m.params.numbered[first + i] = m.base()[i] + m.tool_len[i]
     elif code == 92:
         set_g92(m, st, g)
     elif code in (92.1, 92.2):
@@ -96,7 +96,7 @@ def home(m, st: Step, first: int) -> None:
         m.rapid(m.src(st), mid)
     end = m.base()
     for i in (words or range(3)):
-        end[i] = m.params.numbered.get(first + i, 0.0) + m.tlo[i] - m.tool_len[i]
+        end[i] = m.params.numbered.get(first + i, 0.0) - m.tool_len[i]
     m.rapid(m.src(st), (end[0], end[1], end[2]))
 
 

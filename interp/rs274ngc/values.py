@@ -9,10 +9,17 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from cutsim.interp.errors import CutsimError
 
 MAX_NUMBERED = 5602
 TOLERANCE_EQUAL = 0.0001
+# LinuxCNC computes the trigonometric functions in x87 long double and stores the double: the same
+# here, so cos[90] is -2.5e-20 (not 6.1e-17) and a comparison with it goes the same way.
+_L = np.longdouble
+_PI = _L("3.14159265358979323846264338327950288")
+_DEG = _PI / _L(180)
 # Parameters the machine computes on every read (current position, tool, modes): never stored.
 READ_ONLY = set(range(5400, 5411)) | set(range(5420, 5429)) | {5220, 5399}
 
@@ -126,7 +133,8 @@ class Evaluator:
         if kind == "fn":
             return self.function(node[1], self.value(node[2], line, col), line, node[3])
         if kind == "atan":
-            return math.degrees(math.atan2(self.value(node[1], line, col), self.value(node[2], line, col)))
+            y, x = self.value(node[1], line, col), self.value(node[2], line, col)
+            return float(np.arctan2(_L(y), _L(x)) / _DEG)
         if kind == "exists":
             return 1.0 if self.p.lookup(node[1]) is not None else 0.0
         raise AssertionError(node)  # pragma: no cover - the parser makes no other node
@@ -182,15 +190,13 @@ class Evaluator:
         if name in ("acos", "asin"):
             if not -1.0 <= x <= 1.0:
                 raise self.error(line, col, f"{name.upper()} argument {x:g} out of range (-1 to 1)")
-            return math.degrees(math.acos(x) if name == "acos" else math.asin(x))
-        if name == "atan":  # pragma: no cover - the parser makes ATAN[y]/[x] an "atan" node
-            return math.degrees(math.atan(x))
+            return float((np.arccos(_L(x)) if name == "acos" else np.arcsin(_L(x))) / _DEG)
         if name == "cos":
-            return math.cos(math.radians(x))
+            return float(np.cos(_L(x) * _DEG))
         if name == "sin":
-            return math.sin(math.radians(x))
+            return float(np.sin(_L(x) * _DEG))
         if name == "tan":
-            return math.tan(math.radians(x))
+            return float(np.tan(_L(x) * _DEG))
         if name == "exp":
             try:
                 return math.exp(x)

@@ -55,6 +55,7 @@ class Gen:
         self.plane = "G17"
         self.lathe = lathe
         self.labels = 100
+        self.no_do = False
 
     def emit(self, s: str) -> None:
         self.out.append(s)
@@ -146,10 +147,13 @@ class Gen:
         elif choice == 6:
             self.emit(f"G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
         elif choice == 7:
-            self.emit(f"T{rng.randint(1, 4)} M6" + rng.choice(["", " G43", " G43 H2", " G49"]))
+            self.emit(f"T{rng.randint(1, 4)} M6")  # G43 in the M6 block: see rs274.py (rs274's stale position)
+            self.emit(rng.choice(["", "G43", "G43 H2", "G49"]))
+            self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
         else:
             self.emit(rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
                                   f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
+            self.emit("G91 G0 X0 Y0 Z0")
 
     def modes(self) -> None:
         rng = self.rng
@@ -199,13 +203,14 @@ class Gen:
         rng = self.rng
         self.labels += 2
         label = self.labels
-        kind = rng.randrange(4)
+        kind = rng.randrange(3 if self.no_do else 4)
         if kind == 0:
             self.emit(f"o{label} repeat [{rng.randint(0, 3)}]")
             for _ in range(rng.randint(1, 3)):
                 self.statement(depth + 1)
             self.emit(f"o{label} endrepeat")
         elif kind == 1:
+            self.no_do = True  # rs274 runs a do loop after a while loop holding an if once (rs274.py)
             self.emit(f"#<n{depth}> = 0")
             self.emit(f"o{label} while [#<n{depth}> lt {rng.randint(1, 3)}]")
             for _ in range(rng.randint(1, 3)):

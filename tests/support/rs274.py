@@ -119,7 +119,7 @@ def parse(text: str, tools: dict, returncode: int = 0) -> Outcome:
 
 class _State:
     def __init__(self, tools: dict):
-        self.tools = tools
+        self.tools = dict(tools)
         self.s = 1.0
         self.g5x = [0.0] * 3
         self.g92 = [0.0] * 3
@@ -146,7 +146,12 @@ class _State:
             self.tlo = [vals[0] * self.s, vals[1] * self.s, vals[2] * self.s]
         elif name == "CHANGE_TOOL":
             e = self.tools.get(int(args[0]), {})
-            self.length = [e.get("X", 0.0), 0.0, e.get("Z", 0.0)]
+            length = [e.get("X", 0.0), 0.0, e.get("Z", 0.0)]
+            self.pos = tuple(self.pos[i] - length[i] + self.length[i] for i in range(3))  # the new tool's tip
+            self.length = length
+        elif name == "SET_TOOL_TABLE_ENTRY":  # G10 L1: offsets in its machine units (inch)
+            vals = [float(v) * INCH for v in args[2].split()]
+            self.tools[int(args[1])] = {"X": vals[0], "Z": vals[2]}
         elif name == "SELECT_PLANE":
             self.plane = PLANES[args[0]]
         elif name == "SET_FEED_RATE":
