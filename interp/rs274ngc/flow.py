@@ -183,7 +183,9 @@ class Runner:
             return self.call(unit, pc, line)
         if kw == "if":
             return unit, self.branch(unit, pc, line)
-        if kw in ("elseif", "else"):
+        if kw in ("elseif", "else"):  # the end of a branch taken: LinuxCNC still reads (evaluates) an elseif
+            if kw == "elseif":
+                self.value(line, self.one(line, args))
             return unit, unit.ends[unit.owner[pc]] + 1
         if kw in ("endif", "do"):
             return unit, pc + 1

@@ -13,7 +13,7 @@ rs274's canonical calls are normalised to cutsim's records (machine frame, mm, t
 - in G7 its X is already a radius (cutsim's records are radii too);
 - an ARC_FEED of n turns is n arcs (whole turns first, the axis normal to the plane moving in
   proportion to the angle), as cutsim records it; RIGID_TAP is the synchronised move in and out;
-- moves of zero length are left out on both sides; feeds are compared where rs274 has one
+- straight moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch) are left out on both sides; feeds are compared where rs274 has one
   (an inverse-time F is its rate: cutsim's feed is that times the move's length).
 rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 units.
 """
@@ -36,6 +36,7 @@ from cutsim.interp.rs274ngc import files
 INCH = 25.4
 CALL = re.compile(r"^\s*(\d+) N\S*\s+([A-Z0-9_]+)\((.*)\)\s*$")
 PLANES = {"CANON_PLANE_XY": ("XY", 0, 1, 2), "CANON_PLANE_XZ": ("ZX", 2, 0, 1), "CANON_PLANE_YZ": ("YZ", 1, 2, 0)}
+ZERO_MOVE = 0.003  # mm: a straight move shorter than rs274's printing resolution (4 decimals of an inch) is none
 LENGTH_PARAMS = {5161, 5162, 5163, 5181, 5182, 5183, 5211, 5212, 5213,
                  *(5221 + 20 * n + i for n in range(9) for i in range(3))}
 
@@ -203,7 +204,7 @@ class _State:
 
     def add(self, move: Move) -> None:
         self.pos = move.end
-        if move.kind in ("RAPID", "FEED") and move.length < 1e-9:
+        if move.kind in ("RAPID", "FEED") and move.length < ZERO_MOVE:
             return
         self.moves.append(move)
 
@@ -220,7 +221,7 @@ def cutsim_moves(program: str, tool_table: str | None = None, parameter_file: st
         return Outcome([], str(e))
     moves = []
     for r in prog.records:
-        if isinstance(r, (Rapid, Feed)) and math.dist(r.start, r.end) < 1e-9:
+        if isinstance(r, (Rapid, Feed)) and math.dist(r.start, r.end) < ZERO_MOVE:
             continue
         text = describe(r)
         if isinstance(r, Rapid):
