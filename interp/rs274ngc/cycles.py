@@ -50,7 +50,6 @@ def run(m, st: Step) -> None:
     new_series = cy.code != code
     if cy.initial is None:
         cy.initial = m.base()[c]
-    r_given = "R" in st.words
     cy.r = sticky(m, st, "R", cy.r, new_series, "R clearance plane")
     cy.depth = sticky(m, st, LETTERS[c], cy.depth, new_series, "hole depth")
     if code in (73, 83):
@@ -75,9 +74,9 @@ def run(m, st: Step) -> None:
     if cy.initial < r:
         m.rapid(src, point(m, {c: r}))
     clear = r if not m.retract_old else max(cy.initial, r)
-    # the first hole is approached at the higher of where the tool is and the retract level; a block
-    # continuing the series with a new R approaches at the higher of the tool and R (as rs274 2.9 does)
-    height = max(m.base()[c], r if r_given and not new_series else clear)
+    # the first hole is approached where the tool is when that is above R, else at the retract level
+    # (as rs274 2.9 moves)
+    height = m.base()[c] if m.base()[c] > r else clear
     for _ in range(repeats):
         hole = {c: height}
         for i, w in words.items():
