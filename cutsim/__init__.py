@@ -185,7 +185,8 @@ def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConf
                         transformations=frozenset(setup.transformations),
                         work_offsets=dict(setup.work_offsets), subprogram_path=tuple(setup.subprogram_path),
                         tool_names=dict(setup.tool_names),
-                        external_subprograms=frozenset(setup.external_subprograms))
+                        external_subprograms=frozenset(setup.external_subprograms),
+                        tool_table=setup.tool_table, parameter_file=setup.parameter_file)
 
 
 def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,

@@ -60,7 +60,8 @@ def load(path: str, text: str, data: dict) -> Setup:
                  sim.max_blocks, sim.max_triangles, stock_where, axes=m.axes, m_functions=m.m_functions,
                  h_functions=m.h_functions, subprogram_path=m.subprogram_path, variables=variables,
                  work_offsets=work_offsets, tool_names=tool_names, transformations=m.transformations,
-                 external_subprograms=m.external_subprograms)
+                 external_subprograms=m.external_subprograms, tool_table=m.tool_table,
+                 parameter_file=m.parameter_file)
 
 
 def load_setup(path: str) -> Setup:

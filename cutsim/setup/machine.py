@@ -41,6 +41,8 @@ class Machine:
     transformations: frozenset[str]
     subprogram_path: tuple[str, ...]
     external_subprograms: frozenset[str]
+    tool_table: str = ""  # rs274ngc: LinuxCNC's .tbl, absolute path or ""
+    parameter_file: str = ""  # rs274ngc: LinuxCNC's .var, absolute path or ""
 
 
 def read_machine(loc: Locator, table: dict) -> Machine:
@@ -75,9 +77,10 @@ def read_machine(loc: Locator, table: dict) -> Machine:
     transformations = _transformations(m)
     subprogram_path = _subprogram_path(loc, m)
     external_subprograms = _external_subprograms(m)
+    linuxcnc = {key: _linuxcnc_file(loc, m, key, dialect) for key in ("tool_table", "parameter_file")}
     m.done()
     return Machine(MachineSpec(kind, dialect, diam, m03, start, rapid, feed), constants, axes, m_functions,
-                   h_functions, transformations, subprogram_path, external_subprograms)
+                   h_functions, transformations, subprogram_path, external_subprograms, **linuxcnc)
 
 
 def read_parameters(loc: Locator, table: dict) -> dict[int, float]:
@@ -149,6 +152,20 @@ def _subprogram_path(loc: Locator, m: Reader) -> tuple[str, ...]:
         if path not in out:
             out.append(path)
     return tuple(out)
+
+
+def _linuxcnc_file(loc: Locator, m: Reader, key: str, dialect: str) -> str:
+    """[machine] tool_table = "tools.tbl" / parameter_file = "params.var": LinuxCNC's files,
+    relative to the setup file's folder; read by the rs274ngc dialect only."""
+    v = m.get(key, str, "")
+    if not v:
+        return ""
+    if dialect != "rs274ngc":
+        raise m.fail(key, f"only the rs274ngc dialect reads a LinuxCNC {key.replace('_', ' ')}")
+    path = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(loc.path)), v))
+    if not os.path.isfile(path):
+        raise m.fail(key, f"no such file: {path}")
+    return path
 
 
 def _external_subprograms(m: Reader) -> frozenset[str]:

@@ -28,6 +28,8 @@ class Setup:
     h_functions: frozenset[int] = frozenset()  # [machine] h_functions
     transformations: frozenset[str] = frozenset()  # [machine] transformations: Cartesian ones ("TRAFO")
     subprogram_path: tuple[str, ...] = ()  # [machine] subprogram_path: absolute folders
+    tool_table: str = ""  # [machine] tool_table: a LinuxCNC .tbl (rs274ngc), absolute path or ""
+    parameter_file: str = ""  # [machine] parameter_file: a LinuxCNC .var (rs274ngc), absolute path or ""
     external_subprograms: frozenset[str] = frozenset()  # [machine] external_subprograms: upper case, no folder
     variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: upper-case name -> value
     work_offsets: dict[str, tuple[float, float, float]] = field(default_factory=dict)  # [work_offsets]: "G54" -> xyz

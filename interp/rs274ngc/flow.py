@@ -100,8 +100,8 @@ def structure(unit: Unit) -> None:
             unit.owner[idx] = loop[2]
         elif kw == "return":
             sub = next((s for s in stack if s[0] == "sub"), None)
-            if sub is None or sub[1] != label:
-                raise fail(line, f"o{label} return outside subroutine o{label}")
+            if sub is None:
+                raise fail(line, f"o{label} return outside a subroutine")
             unit.owner[idx] = sub[2]
     unit.heads = {v: k for k, v in unit.ends.items()}
     if stack:

@@ -197,12 +197,19 @@ class Ngc(Interpreter):
                 self.selected = self.whole(st.block.line, q, "tool number")
             if code == 6 and self.spindle_dir != 0:  # LinuxCNC stops the spindle for a tool change
                 self.spindle(self.src(st, m.col), 0, None)
+            self.known_tool(st, self.selected, m)
             self.tool_no = self.selected
             entry = self.tools.get(self.tool_no, {})
             length = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
             self.moved(tuple(self.pos[i] - length[i] + self.tool_len[i] for i in range(3)))  # the new tip
             self.tool_len = length
             self.tool(self.src(st, m.col), self.tool_no, None)
+
+    def known_tool(self, st: Step, number: int, w: Word) -> None:
+        """A tool loaded (M6, M61) must be in the tool table (the setup's .tbl, else its [[tool]]s),
+        as LinuxCNC refuses a tool it does not know; tool 0 is the empty spindle."""
+        if number != 0 and number not in self.tools and number not in self.cfg.tool_radii:
+            raise self.error(st.block.line, w.col, f"requested tool {number} not found in the tool table")
 
     def convert_nonmodal(self, st: Step) -> None:
         g = st.g.get("nonmodal")
@@ -230,7 +237,7 @@ class Ngc(Interpreter):
         if g53 is not None and round(g53.value, 4) == 53:
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
-        has_axes = any(a in st.words for a in "XYZ")
+        has_axes = any(a in st.words for a in "XYZ") or (self.motion in (2, 3) and any(a in st.words for a in "IJK"))
         if any(a in st.words for a in "ABCUVW"):
             a = next(st.words[a] for a in "ABCUVW" if a in st.words)
             raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")

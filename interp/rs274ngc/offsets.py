@@ -50,8 +50,8 @@ def tool_length(m, st: Step) -> None:
     if code in (43, 43.2) and "H" in words or code == 43:
         h = words.pop("H", None)
         number = m.tool_no if h is None else m.whole(line, h, "tool number H")
-        if h is not None and number not in m.tools and number != 0:
-            raise m.error(line, h.col, f"H{h.raw}: tool {number} is not in the tool table")
+        if number not in m.tools and number != 0:
+            m.warn(m.src(st), f"G43 H{number}: tool {number} has no entry in the tool table; length offset 0")
         entry = m.tools.get(number, {})
         vals = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
         m.set_tlo(vals if code == 43 else [m.tlo[i] + vals[i] for i in range(3)])

@@ -230,6 +230,8 @@ def parse_line(program: str, lineno: int, raw: str) -> Line | None:
             line.words.append((c.upper(), r.real_value(), col))
         elif c == "n":
             raise r.error("the line number N must open the line")
+        elif c in "@^":
+            raise r.error(f"polar coordinates ('{c}') are not simulated")
         else:
             raise r.error(f"unexpected character '{c}'")
     return line
