@@ -129,8 +129,8 @@ class Runner:
                     raise CutsimError(unit.name, len(unit.lines), 1, "file ended inside a subroutine call")
                 if pc == unit.percent_end:
                     return
-                raise CutsimError(unit.name, len(unit.lines), 1,
-                                  "file ended with no percent sign or program end (M2 or M30)")
+                last = next((x.lineno for x in reversed(unit.lines) if x is not None), 1)
+                raise CutsimError(unit.name, last, 1, "file ended with no percent sign or program end (M2 or M30)")
             line = unit.lines[pc]
             if line is None:
                 pc += 1

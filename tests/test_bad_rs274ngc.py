@@ -1,0 +1,57 @@
+"""Bad RS274NGC programs (tests/bad_rs274ngc/*.ngc): each stops the CLI with exit status 2 and
+``PROGRAM:LINE:COL: error: TEXT`` at the offending word, nothing written, no traceback. The first
+line of each file says what is expected: ``; EXPECT LINE:COL fragment`` (line 1 is that comment).
+The codes LinuxCNC has and the simulator does not model are refused by name ("not simulated")."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from cutsim.cli import main
+
+BAD = Path(__file__).parent / "bad_rs274ngc"
+SETUP = BAD / "setup.toml"
+PROGRAMS = sorted(BAD.glob("*.ngc"))
+RULES = {
+    "cutter-comp", "g76-refused", "divide-by-zero", "sqrt-negative", "named-undefined", "no-program-end",
+    "zero-feed", "axis-a", "arc-radius-mismatch", "two-x-words", "if-not-closed", "endwhile-alone",
+    "break-outside-loop", "sub-missing", "cycle-without-r", "cycle-bottom-above-r", "g33-no-spindle",
+    "tool-not-in-table", "polar", "probing", "m98", "unknown-g", "comment-not-closed", "axes-under-g80",
+    "r-arc-too-small",
+}
+
+
+def expectation(path: Path) -> tuple[int, int, str]:
+    m = re.match(r"; EXPECT (\d+):(\d+) (.+)", path.read_text(encoding="utf-8").splitlines()[0])
+    assert m, f"{path.name}: first line must be '; EXPECT LINE:COL text'"
+    return int(m.group(1)), int(m.group(2)), m.group(3).strip()
+
+
+def test_every_rule_has_a_program():
+    assert {p.stem for p in PROGRAMS} >= RULES
+
+
+@pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
+def test_bad_rs274ngc_program_exits_2_at_its_word(program, tmp_path):
+    line, col, text = expectation(program)
+    out = tmp_path / "out"
+    res = CliRunner().invoke(main, ["simulate", str(program), "--setup", str(SETUP), "--out", str(out), "-q"])
+    assert res.exit_code == 2, res.output
+    msg = res.stderr.strip() if hasattr(res, "stderr") else res.output.strip()
+    assert msg.startswith(f"{program}:{line}:{col}: error: "), msg
+    assert text in msg, msg
+    assert "Traceback" not in res.output
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_a_loop_that_never_ends_stops_at_max_blocks(tmp_path):
+    setup = tmp_path / "setup.toml"
+    setup.write_text(SETUP.read_text() + "\n[simulation]\nmax_blocks = 500\n")
+    prog = tmp_path / "loop.ngc"
+    prog.write_text("G21 F100\no1 while [1]\nG91 G1 X0.1\no1 endwhile\nM2\n")
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(setup)])
+    assert res.exit_code == 2
+    assert "more than 500 blocks executed" in res.output
