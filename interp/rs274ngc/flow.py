@@ -97,6 +97,8 @@ def structure(unit: Unit) -> None:
             loop = next((s for s in reversed(stack) if s[0] in LOOPS and s[1] == label), None)
             if loop is None:
                 raise fail(line, f"o{label} {kw} outside a loop o{label}")
+            if loop[0] == "repeat":  # as LinuxCNC 2.9: break and continue end while and do loops only
+                raise fail(line, f"o{label} {kw}: break and continue work in while and do loops, not in repeat")
             unit.owner[idx] = loop[2]
         elif kw == "return":
             sub = next((s for s in stack if s[0] == "sub"), None)

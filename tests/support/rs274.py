@@ -19,6 +19,7 @@ rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 un
 """
 from __future__ import annotations
 
+import fcntl
 import math
 import os
 import re
@@ -96,8 +97,11 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
     with tempfile.TemporaryDirectory() as tmp:
         args = [rs274_path() or "rs274", "-g", *inch_files(tmp, tool_table, parameter_file), os.path.abspath(program)]
         try:
-            proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                                  timeout=timeout)
+            # one rs274 at a time: two at once on this machine lost one's output now and then
+            with open(os.path.join(tempfile.gettempdir(), "cutsim-rs274.lock"), "w") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX)
+                proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                                      timeout=timeout)
         except subprocess.TimeoutExpired:
             return Outcome([], f"rs274 did not finish within {timeout:g} s (a program that does not end)")
     tools = files.tool_table(tool_table) if tool_table else {}
