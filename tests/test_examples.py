@@ -27,7 +27,7 @@ from geometry import groove_roots, section, wrap
 import cutsim
 from cutsim.cli import main
 
-PROGRAM_SUFFIXES = (".nc", ".mpf")
+PROGRAM_SUFFIXES = (".nc", ".mpf", ".ngc")
 
 # ---------------------------------------------------------------- the repository's own examples
 
@@ -52,7 +52,7 @@ def _simulate(program: Path, setup: Path, out: Path, *extra: str):
 
 def test_every_dialect_has_examples():
     dirs = {p.parent.name for p in SETUPS}
-    assert {"cnc8x6-lathe", "cnc8x6-mill", "isg-lathe", "sinumerik"} <= dirs
+    assert {"cnc8x6-lathe", "cnc8x6-mill", "isg-lathe", "sinumerik", "rs274ngc"} <= dirs
     # every program has its setup too
     for prog in REPO_EXAMPLES.rglob("*"):
         if prog.suffix in PROGRAM_SUFFIXES:

@@ -35,6 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RANKS = {
     "cutsim.base": 0,
     "cutsim.interp": 1,
+    "cutsim.interp.rs274ngc": 1,  # a dialect as a package (docs/architecture.md, "How to add a dialect")
     "cutsim.kinematics": 2,
     "cutsim.stock": 3,
     "cutsim.reports": 4,
