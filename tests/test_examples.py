@@ -27,7 +27,7 @@ from geometry import groove_roots, section, wrap
 import cutsim
 from cutsim.cli import main
 
-PROGRAM_SUFFIXES = (".nc", ".mpf", ".ngc")
+PROGRAM_SUFFIXES = (".nc", ".mpf")
 
 # ---------------------------------------------------------------- the repository's own examples
 

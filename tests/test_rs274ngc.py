@@ -155,3 +155,12 @@ def test_trig_as_linuxcnc_computes_it():
     # LinuxCNC evaluates in x87 long double: cos[90] is -2.5e-20, not the double's 6.1e-17
     assert x_of("[cos[90] * 100000000000000000000]") == pytest.approx(-2.5082788, abs=1e-6)
     assert math.isclose(x_of("[sin[90]]"), 1.0)
+
+
+def test_g43_1_sets_only_the_axes_it_names(tmp_path):
+    tbl = tmp_path / "t.tbl"
+    tbl.write_text("T1 P1 X1.5 Z0\n")
+    # G43 H1: X offset 1.5 (the tip is where the program says); G43.1 Z2 keeps X 1.5 and sets Z 2:
+    # the machine does not move, the next moves land 2 higher in Z and still on X
+    m = moves("G21\nT1 M6\nG43 H1\nG0 X10 Z0\nG43.1 Z2\nG0 X20 Z0\nM2\n", tool_table=str(tbl))
+    assert [r.end for r in m][-2:] == [(10, 0, 0), (20, 0, 2)]

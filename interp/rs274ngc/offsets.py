@@ -58,9 +58,13 @@ def tool_length(m, st: Step) -> None:
         return
     if not any(a in words for a in "XZ"):
         raise m.error(line, g.col, f"G{g.raw} needs X or Z offsets")
-    vals = [words.pop("X").value * m.scale if "X" in words else 0.0, 0.0,
-            words.pop("Z").value * m.scale if "Z" in words else 0.0]
-    m.set_tlo(vals if code == 43.1 else [m.tlo[i] + vals[i] for i in range(3)])
+    # G43.1 sets the offsets of the axes given, G43.2 adds to them; the others keep theirs (rs274 2.9)
+    tlo = list(m.tlo)
+    for i, a in ((0, "X"), (2, "Z")):
+        if a in words:
+            v = words.pop(a).value * m.scale
+            tlo[i] = v if code == 43.1 else tlo[i] + v
+    m.set_tlo(tlo)
 
 
 def nonmodal(m, st: Step, code: float, g: Word) -> None:
