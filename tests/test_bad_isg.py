@@ -4,13 +4,13 @@ no traceback. The first line of each file says what is expected: ``; EXPECT LINE
 (its line 1 is that comment, so the program's lines count from 2)."""
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
 from cutsim.cli import main
+from support.bad import assert_stops_at_its_line
 
 BAD = Path(__file__).parent / "bad_isg"
 SETUP = BAD / "setup.toml"
@@ -27,27 +27,13 @@ RULES = {  # one program per rule of docs/dialects/isg.md that a real program ca
 }
 
 
-def expectation(path: Path) -> tuple[int, int, str]:
-    m = re.match(r"; EXPECT (\d+):(\d+) (.+)", path.read_text(encoding="utf-8").splitlines()[0])
-    assert m, f"{path.name}: first line must be '; EXPECT LINE:COL text'"
-    return int(m.group(1)), int(m.group(2)), m.group(3).strip()
-
-
 def test_every_rule_has_a_program():
     assert {p.stem for p in PROGRAMS} >= RULES
 
 
 @pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
 def test_bad_isg_program_exits_2_at_its_line(program, tmp_path):
-    line, col, text = expectation(program)
-    out = tmp_path / "out"
-    res = CliRunner().invoke(main, ["simulate", str(program), "--setup", str(SETUP), "--out", str(out), "-q"])
-    assert res.exit_code == 2, res.output
-    msg = res.stderr.strip() if hasattr(res, "stderr") else res.output.strip()
-    assert msg.startswith(f"{program}:{line}:{col}: error: "), msg
-    assert text in msg, msg
-    assert "Traceback" not in res.output
-    assert not out.exists() or not any(out.iterdir())
+    assert_stops_at_its_line(program, SETUP, tmp_path)
 
 
 def test_a_jump_loop_that_never_ends_stops_at_max_blocks(tmp_path):
