@@ -27,7 +27,7 @@ def test_cases_are_deterministic():
 
 def test_corpus_has_every_dialect():
     dialects = {s.dialect for s in F.corpus()}
-    assert dialects == {"cnc8x6", "isg", "sinumerik"}
+    assert dialects == {"cnc8x6", "isg", "sinumerik", "rs274ngc"}
 
 
 def test_location_oracle(tmp_path):

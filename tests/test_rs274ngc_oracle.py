@@ -12,6 +12,7 @@ move: end points, arc centres, directions and planes, feeds, synchronised moves 
 from __future__ import annotations
 
 import random
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -62,10 +63,12 @@ def zero_tools(tmp_path_factory):
 
 @pytest.mark.parametrize("prog", PROJECT, ids=lambda p: p.stem)
 def test_project_programs_match_rs274(rs274, prog, tools):
-    tbl = prog.with_suffix(".tbl")
-    verdict = compare(str(prog), str(tbl) if tbl.is_file() else tools, kind="mill")
+    setup = prog.with_suffix(".toml")
+    name = tomllib.loads(setup.read_text())["machine"].get("tool_table") if setup.is_file() else None
+    tbl = str(prog.parent / name) if name else tools  # an example's own tool table
+    verdict = compare(str(prog), tbl, kind="mill")
     assert verdict == "same", verdict
-    assert len(cutsim_moves(str(prog), str(tbl) if tbl.is_file() else tools).moves) >= 5
+    assert len(cutsim_moves(str(prog), tbl).moves) >= 5
 
 
 def _samples():
