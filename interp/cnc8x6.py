@@ -14,7 +14,7 @@ from .canon import Ramp, Src
 from .errors import CutsimError
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                     check_range, digits_end, fmt_count, foreign_digit, iter_lines, parse_number, read_whole)
-from .core import Code, Interpreter, Step, sweep_degrees
+from .core import Code, Group, Interpreter, Step, sweep_degrees
 from .modal import AXES, InterpConfig
 
 # The double quote opens a comment; OCR'd manuals show it as one of these.
@@ -23,35 +23,35 @@ LETTERS = set("GMSTDFXYZIJKERLQ")
 # The dialect's codes: {code: Code(modal group, addresses it takes, meaning)} (core.Code). The
 # helix and jump codes are each a group of their own.
 G_CODES = {
-    0: Code("motion", "XYZ", "rapid"),
-    1: Code("motion", "XYZF", "linear feed"),
-    2: Code("motion", "XYZIJKF", "clockwise arc (helix with G09), centre I/J/K from the start"),
-    3: Code("motion", "XYZIJKF", "counter-clockwise arc (helix with G09), centre I/J/K from the start"),
-    9: Code("helix on", "", "helix on"),
-    10: Code("helix pitch", "XYZ", "helix pitch"),
-    17: Code("plane", "", "plane XY"),
-    18: Code("plane", "", "plane ZX"),
-    19: Code("plane", "", "plane YZ"),
-    33: Code("motion", "XYZFIJE", "thread: lead F, start angle I, runout J, lead-in E"),
-    73: Code("jump", "LQ", "jump"),
-    90: Code("dist", "", "absolute"),
-    91: Code("dist", "", "incremental"),
-    94: Code("feed", "", "feed per minute"),
-    95: Code("feed", "", "feed per revolution"),
-    98: Code("helix off", "", "helix off"),
+    0: Code(Group.MOTION, "XYZ", "rapid"),
+    1: Code(Group.MOTION, "XYZF", "linear feed"),
+    2: Code(Group.MOTION, "XYZIJKF", "clockwise arc (helix with G09), centre I/J/K from the start"),
+    3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc (helix with G09), centre I/J/K from the start"),
+    9: Code(Group.HELIX_ON, "", "helix on"),
+    10: Code(Group.HELIX_PITCH, "XYZ", "helix pitch"),
+    17: Code(Group.PLANE, "", "plane XY"),
+    18: Code(Group.PLANE, "", "plane ZX"),
+    19: Code(Group.PLANE, "", "plane YZ"),
+    33: Code(Group.MOTION, "XYZFIJE", "thread: lead F, start angle I, runout J, lead-in E"),
+    73: Code(Group.JUMP, "LQ", "jump"),
+    90: Code(Group.DISTANCE, "", "absolute"),
+    91: Code(Group.DISTANCE, "", "incremental"),
+    94: Code(Group.FEED, "", "feed per minute"),
+    95: Code(Group.FEED, "", "feed per revolution"),
+    98: Code(Group.HELIX_OFF, "", "helix off"),
 }
 # M words: spindle, program end, stops, coolant and gear ranges (the last ones have no geometric effect).
 M_CODES = {
-    0: Code("stop", "", "program stop"),
-    1: Code("stop", "", "optional stop"),
-    2: Code("end", "", "program end"),
-    3: Code("spindle", "S", "spindle clockwise"),
-    4: Code("spindle", "S", "spindle counter-clockwise"),
-    5: Code("spindle", "", "spindle stop"),
-    8: Code("coolant", "", "coolant on"),
-    9: Code("coolant", "", "coolant off"),
-    30: Code("end", "", "program end"),
-    **{m: Code("gear", "", f"gear range {m - 40}") for m in (41, 42, 43, 44)},
+    0: Code(Group.STOP, "", "program stop"),
+    1: Code(Group.STOP, "", "optional stop"),
+    2: Code(Group.END, "", "program end"),
+    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
+    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+    5: Code(Group.SPINDLE, "", "spindle stop"),
+    8: Code(Group.COOLANT, "", "coolant on"),
+    9: Code(Group.COOLANT, "", "coolant off"),
+    30: Code(Group.END, "", "program end"),
+    **{m: Code(Group.GEAR, "", f"gear range {m - 40}") for m in (41, 42, 43, 44)},
 }
 MAX_DIRECT_LEAD = 99.99
 MIN_LEAD = 0.001  # mm/rev
@@ -555,7 +555,7 @@ class Cnc8x6(Interpreter):
         return values
 
     def standalone(self, st: Step) -> bool:
-        g98 = st.g.get("helix off")
+        g98 = st.g.get(Group.HELIX_OFF)
         if g98 is None:
             return False
         if len(st.block.words) != 1 or st.block.assigns:
@@ -577,10 +577,10 @@ class Cnc8x6(Interpreter):
     def convert_nonmodal(self, st: Step) -> None:
         """G73 (the jump the run loop takes), G10 (helix pitch), G09 (helix on)."""
         b, words = st.block, st.words
-        if "jump" in st.g:
+        if Group.JUMP in st.g:
             labels, pc = st.context
-            st.jump = self.parse_jump(b, words, labels, pc, st.g["jump"])
-        g10 = st.g.get("helix pitch")
+            st.jump = self.parse_jump(b, words, labels, pc, st.g[Group.JUMP])
+        g10 = st.g.get(Group.HELIX_PITCH)
         if g10 is not None:  # trailing-axis pitch for the helix: not a motion
             axes = [a for a in AXES if a in words]
             if len(axes) != 1:
@@ -589,7 +589,7 @@ class Cnc8x6(Interpreter):
             self.helix_axis = axes[0]
             if st.motion is not None or any(a in words for a in AXES):
                 raise self.error(b.line, g10.col, "G10 sets the helix pitch and cannot move the tool")
-        g09 = st.g.get("helix on")
+        g09 = st.g.get(Group.HELIX_ON)
         if g09 is not None:
             if self.helix_pitch is None:
                 raise self.error(b.line, g09.col, "G09 switches the helix on, but no pitch was set with G10")
@@ -625,7 +625,7 @@ class Cnc8x6(Interpreter):
                     raise self.error(b.line, words[a].col, f"address {a} without a motion")
 
     def convert_end(self, st: Step) -> None:
-        st.result = bool(self.m_group(st, "end"))
+        st.result = bool(self.m_group(st, Group.END))
         if st.result:
             self.end(st.src)
 

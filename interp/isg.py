@@ -17,7 +17,7 @@ import unicodedata
 
 from . import canon
 from .canon import Src
-from .core import Code, Interpreter, Step
+from .core import Code, Group, Interpreter, Step
 from .errors import CutsimError
 from .isg_commands import IDENTITY, command, frame, mat_vec, to_program
 from . import isg_fast
@@ -42,41 +42,41 @@ VALID_VAR = re.compile(r"V\.G\.@P\[(\d+)\]\.VALID")
 ZERO_VAR = re.compile(r"V\.G\.NP(?:\[(\d+)\]|_AKT)\.V\.([XYZ])")
 
 G_CODES = {
-    0: Code("motion", "XYZ", "rapid"),
-    1: Code("motion", "XYZF", "linear feed"),
-    2: Code("motion", "XYZIJKF", "clockwise arc, centre I/J/K from the start"),
-    3: Code("motion", "XYZIJKF", "counter-clockwise arc, centre I/J/K from the start"),
-    17: Code("plane", "", "plane XY"),
-    18: Code("plane", "", "plane ZX"),
-    19: Code("plane", "", "plane YZ"),
-    33: Code("motion", "XYZIJK", "thread, lead on I/J/K (mm/rev)"),
-    40: Code("radius comp", "", "tool radius compensation off"),
-    41: Code("radius comp", "", "tool radius compensation left"),
-    42: Code("radius comp", "", "tool radius compensation right"),
-    51: Code("diameter", "", "diameter programming on (lathe)"),
-    52: Code("diameter", "", "diameter programming off"),
-    53: Code("zero offset", "", "zero offset off"),
-    **{n: Code("zero offset", "", f"zero offset G{n}") for n in range(54, 60)},
-    90: Code("dist", "", "absolute"),
-    91: Code("dist", "", "incremental"),
-    92: Code("g92", "XYZ", "reference point offset"),
-    94: Code("feed", "", "feed per minute"),
-    95: Code("feed", "", "feed per revolution"),
-    161: Code("centre", "", "circle centre absolute"),
-    162: Code("centre", "", "circle centre relative to the start"),
-    71: Code("units", "", "millimetres"),
-    70: Code("units", "", "inches"),
-    25: Code("trc transition", "", "linear transitions at outside corners with tool radius compensation"),
-    26: Code("trc transition", "", "circular transitions at outside corners with tool radius compensation"),
-    138: Code("trc selection", "", "direct selection/deselection of tool radius compensation"),
-    139: Code("trc selection", "", "indirect selection/deselection of tool radius compensation"),
-    20: Code("mirror", "", "mirroring off"),
-    21: Code("mirror", "", "mirroring of X (on the Y axis)"),
-    22: Code("mirror", "", "mirroring of Y (on the X axis)"),
-    23: Code("mirror", "", "mirroring of X and Y"),
-    351: Code("mirror axes", "XYZ", "mirroring of the axes given (-1 on, 1 off)"),
-    68: Code("rotation", "XYZR", "contour rotation by R about X/Y in the plane"),
-    69: Code("rotation", "", "contour rotation off"),
+    0: Code(Group.MOTION, "XYZ", "rapid"),
+    1: Code(Group.MOTION, "XYZF", "linear feed"),
+    2: Code(Group.MOTION, "XYZIJKF", "clockwise arc, centre I/J/K from the start"),
+    3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc, centre I/J/K from the start"),
+    17: Code(Group.PLANE, "", "plane XY"),
+    18: Code(Group.PLANE, "", "plane ZX"),
+    19: Code(Group.PLANE, "", "plane YZ"),
+    33: Code(Group.MOTION, "XYZIJK", "thread, lead on I/J/K (mm/rev)"),
+    40: Code(Group.RADIUS_COMP, "", "tool radius compensation off"),
+    41: Code(Group.RADIUS_COMP, "", "tool radius compensation left"),
+    42: Code(Group.RADIUS_COMP, "", "tool radius compensation right"),
+    51: Code(Group.DIAMETER, "", "diameter programming on (lathe)"),
+    52: Code(Group.DIAMETER, "", "diameter programming off"),
+    53: Code(Group.ZERO_OFFSET, "", "zero offset off"),
+    **{n: Code(Group.ZERO_OFFSET, "", f"zero offset G{n}") for n in range(54, 60)},
+    90: Code(Group.DISTANCE, "", "absolute"),
+    91: Code(Group.DISTANCE, "", "incremental"),
+    92: Code(Group.REFERENCE, "XYZ", "reference point offset"),
+    94: Code(Group.FEED, "", "feed per minute"),
+    95: Code(Group.FEED, "", "feed per revolution"),
+    161: Code(Group.CENTRE, "", "circle centre absolute"),
+    162: Code(Group.CENTRE, "", "circle centre relative to the start"),
+    71: Code(Group.UNITS, "", "millimetres"),
+    70: Code(Group.UNITS, "", "inches"),
+    25: Code(Group.TRC_TRANSITION, "", "linear transitions at outside corners with tool radius compensation"),
+    26: Code(Group.TRC_TRANSITION, "", "circular transitions at outside corners with tool radius compensation"),
+    138: Code(Group.TRC_SELECTION, "", "direct selection/deselection of tool radius compensation"),
+    139: Code(Group.TRC_SELECTION, "", "indirect selection/deselection of tool radius compensation"),
+    20: Code(Group.MIRROR, "", "mirroring off"),
+    21: Code(Group.MIRROR, "", "mirroring of X (on the Y axis)"),
+    22: Code(Group.MIRROR, "", "mirroring of Y (on the X axis)"),
+    23: Code(Group.MIRROR, "", "mirroring of X and Y"),
+    351: Code(Group.MIRROR_AXES, "XYZ", "mirroring of the axes given (-1 on, 1 off)"),
+    68: Code(Group.ROTATION, "XYZR", "contour rotation by R about X/Y in the plane"),
+    69: Code(Group.ROTATION, "", "contour rotation off"),
 }
 MIRRORS = {20: (False, False), 21: (True, False), 22: (False, True), 23: (True, True)}
 # G codes that do not change the tool path (TwinCAT CNC programming manual, "G functions"):
@@ -114,19 +114,19 @@ G_NOT_MODELLED = {
 # subprogram the machine maker configures for it once, at the end of its block ("no modal effect")
 IMPLICIT_CALLS = set(range(80, 90)) | set(range(800, 820))
 M_CODES = {
-    0: Code("stop", "", "program stop"),
-    1: Code("stop", "", "optional stop"),
-    2: Code("end", "", "program end"),
-    3: Code("spindle", "S", "spindle clockwise"),
-    4: Code("spindle", "S", "spindle counter-clockwise"),
-    5: Code("spindle", "", "spindle stop (after the motion)"),
-    6: Code("tool", "TD", "tool change"),
-    7: Code("coolant", "", "coolant"),
-    8: Code("coolant", "", "coolant"),
-    9: Code("coolant", "", "coolant off"),
-    17: Code("end", "", "subprogram end"),
-    29: Code("end", "", "subprogram end"),
-    30: Code("end", "", "program end"),
+    0: Code(Group.STOP, "", "program stop"),
+    1: Code(Group.STOP, "", "optional stop"),
+    2: Code(Group.END, "", "program end"),
+    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
+    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+    5: Code(Group.SPINDLE, "", "spindle stop (after the motion)"),
+    6: Code(Group.TOOL, "TD", "tool change"),
+    7: Code(Group.COOLANT, "", "coolant"),
+    8: Code(Group.COOLANT, "", "coolant"),
+    9: Code(Group.COOLANT, "", "coolant off"),
+    17: Code(Group.END, "", "subprogram end"),
+    29: Code(Group.END, "", "subprogram end"),
+    30: Code(Group.END, "", "program end"),
 }
 LEADS = {"I": "X", "J": "Y", "K": "Z"}
 MIN_LEAD = 0.0001  # mm/rev: the programming resolution
@@ -579,7 +579,7 @@ class Isg(Interpreter):
                 raise self.error(line, g.col, f"unknown G code G{g.raw}")
             if code in TRC_METHODS:
                 if code == 5:
-                    st.g["trc tangential"] = g  # non-modal: this block only
+                    st.g[Group.TRC_SELECTION] = g  # G5 tangential: non-modal, this block only
                 else:
                     self.trc_method = (code, g)
                 continue
@@ -617,38 +617,32 @@ class Isg(Interpreter):
 
     def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
         line = st.block.line
-        if row.group == "diameter":  # G51/G52 act at once
+        if row.group is Group.DIAMETER:  # G51/G52 act at once
             if self.cfg.machine_kind != "lathe":
                 raise self.error(line, g.col, f"G{g.raw} (diameter programming) needs a lathe")
             self.set_diameter(code == 51)
-        elif row.group == "zero offset":
+        elif row.group is Group.ZERO_OFFSET:
             self.zero_offset(st, code, g)
-        elif row.group == "radius comp":
-            st.g["radius comp"] = g
-        elif row.group == "trc transition":
+        elif row.group is Group.TRC_TRANSITION:
             self.trc_linear = code == 25
-        elif row.group == "trc selection":
+        elif row.group is Group.TRC_SELECTION:
             self.trc_method = (code, g)
-        elif row.group == "centre":
+        elif row.group is Group.CENTRE:
             self.centre_abs = code == 161
-        elif row.group == "mirror":
+        elif row.group is Group.MIRROR:
             self.mirror[0], self.mirror[1] = MIRRORS[code]
             self.frame_changed(line, g.col)
             if code != 20:
                 self.warn_once(("G", code), st.src, f"G{g.raw} mirrors the program ({row.meaning}; on this controller "
                                "it is not the millimetre input of other controls)")
-        elif row.group == "mirror axes":
-            st.g["mirror axes"] = g
         elif code == 69:
             self.rotation = None
             self.frame_changed(line, g.col)
-        elif code == 68:
-            st.g["contour rotation"] = g
-        elif row.group == "units":
+        elif row.group is Group.UNITS:
             if code == 70:
                 raise self.error(line, g.col, "G70 (inch programming) is not modelled: the simulator works in millimetres")
-        else:
-            st.g[row.meaning] = g
+        else:  # G41/G42/G40, G351, G68, G92: act in convert_nonmodal / convert_motion
+            st.g[row.group] = g
 
     def zero_table(self, m, line: int, col: int) -> tuple[list, int | None]:
         """The zero offset V.G.NP[i] (i = 1..6: G54..G59) or V.G.NP_AKT (the active one) a variable
@@ -700,7 +694,7 @@ class Isg(Interpreter):
                 raise self.error(st.block.line, m.col, f"unknown M code M{m.raw}: not an ISG M function and not declared "
                                  f"as a machine function (declare it in the setup: [machine] m_functions = [{m.raw}])")
         super().check_m(st, keep)
-        ends = self.m_group(st, "end")
+        ends = self.m_group(st, Group.END)
         if len(ends) > 1:
             raise self.error(st.block.line, ends[1][1].col, "two program-end M codes in one block")
 
@@ -733,12 +727,12 @@ class Isg(Interpreter):
             self.offset = w.value
         for name, text, col in st.block.commands:
             command(self, st, name, text, col)
-        if "reference point offset" in st.g:
+        if Group.REFERENCE in st.g:
             self.set_position(st)
-        if "mirror axes" in st.g:
-            self.mirror_axes(st, st.g["mirror axes"])
-        if "contour rotation" in st.g:
-            self.g68(st, st.g["contour rotation"])
+        if Group.MIRROR_AXES in st.g:
+            self.mirror_axes(st, st.g[Group.MIRROR_AXES])
+        if Group.ROTATION in st.g:
+            self.g68(st, st.g[Group.ROTATION])
 
     def set_position(self, st: Step) -> None:
         """G92 X.. Y.. Z..: the reference point offset (an additive zero offset) of the axes given, set
@@ -882,7 +876,7 @@ class Isg(Interpreter):
 
     def check_trc_method(self, st: Step, g: Word, what: str) -> None:
         """G41/G42/G40 (word ``g``) under a selection method the simulator does not model: an error."""
-        t = st.g.get("trc tangential")
+        t = st.g.get(Group.TRC_SELECTION)
         code = 5 if t is not None else self.trc_method[0]
         if code in TRC_METHODS:
             raise self.error(st.block.line, g.col, f"G{g.raw} under G{code} ({TRC_METHODS[code]} of tool radius "
@@ -935,7 +929,7 @@ class Isg(Interpreter):
                 break
 
     def convert_motion(self, st: Step) -> None:
-        g = st.g.get("radius comp")
+        g = st.g.get(Group.RADIUS_COMP)
         if g is not None:
             self.radius_comp(st, g)
         if self.comp_buf is not None and self.plane != self.comp_plane:
@@ -997,7 +991,7 @@ class Isg(Interpreter):
         if self.ended:
             st.result = True
             return
-        ends = self.m_group(st, "end")
+        ends = self.m_group(st, Group.END)
         if ends and self.M_CODES[ends[0][0]].meaning == "program end":
             self.end(src)
             self.ended = True

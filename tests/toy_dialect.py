@@ -8,24 +8,24 @@ spindle, M30 ends the program; S, F, T and D as on every controller.
 from __future__ import annotations
 
 from cutsim.interp.canon import Program, Src
-from cutsim.interp.core import Code, Interpreter, Step
+from cutsim.interp.core import Code, Group, Interpreter, Step
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.lexer import COORD_LIMIT, Block, Word, iter_lines, parse_number
 from cutsim.interp.modal import AXES, InterpConfig
 
 G_CODES = {
-    0: Code("motion", "XYZ", "rapid"),
-    1: Code("motion", "XYZF", "linear feed"),
-    2: Code("motion", "XYZIJKF", "clockwise arc"),
-    3: Code("motion", "XYZIJKF", "counter-clockwise arc"),
-    90: Code("dist", "", "absolute"),
-    91: Code("dist", "", "incremental"),
+    0: Code(Group.MOTION, "XYZ", "rapid"),
+    1: Code(Group.MOTION, "XYZF", "linear feed"),
+    2: Code(Group.MOTION, "XYZIJKF", "clockwise arc"),
+    3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc"),
+    90: Code(Group.DISTANCE, "", "absolute"),
+    91: Code(Group.DISTANCE, "", "incremental"),
 }
 M_CODES = {
-    3: Code("spindle", "S", "spindle clockwise"),
-    4: Code("spindle", "S", "spindle counter-clockwise"),
-    5: Code("spindle", "", "spindle stop"),
-    30: Code("end", "", "program end"),
+    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
+    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+    5: Code(Group.SPINDLE, "", "spindle stop"),
+    30: Code(Group.END, "", "program end"),
 }
 
 
@@ -72,7 +72,7 @@ class Toy(Interpreter):
             (self.rapid if self.motion == 0 else self.linear)(st.src, end)
 
     def convert_end(self, st: Step) -> None:
-        st.result = bool(self.m_group(st, "end"))
+        st.result = bool(self.m_group(st, Group.END))
         if st.result:
             self.end(st.src)
 

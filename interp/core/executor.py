@@ -24,13 +24,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .canon import Src, Vec3
+from ..canon import Src, Vec3
 from .lexer import Block, Word
-from .modal import PLANE_AXES, ModalMachine
+from .modal import PLANE_AXES, Group, ModalMachine
 
 # Groups every dialect has and the executor applies itself (ModalMachine.common_g).
-MOTION = "motion"
-COMMON_GROUPS = ("dist", "feed", "plane")
+MOTION = Group.MOTION
+COMMON_GROUPS = (Group.DISTANCE, Group.FEED, Group.PLANE)
 CENTRE_WORDS = {0: "I", 1: "J", 2: "K"}  # axis index -> its arc-centre offset address
 
 
@@ -40,7 +40,7 @@ class Code:
     in a block; a code alone in its group gets a group of its own), the addresses it takes besides
     the words every block may carry, and what it means."""
 
-    group: str
+    group: Group
     words: str
     meaning: str
 
@@ -53,8 +53,8 @@ class Step:
     src: Src
     words: dict[str, Word]  # the words that are neither G nor M, by letter (consumed as they act)
     motion: int | None = None  # the block's motion code
-    g: dict[str, Word] = field(default_factory=dict)  # the dialect's own G codes: meaning -> word
-    groups: dict[str, Word] = field(default_factory=dict)  # modal group -> its G word
+    g: dict[Group, Word] = field(default_factory=dict)  # the dialect's own G codes: group -> word
+    groups: dict[Group, Word] = field(default_factory=dict)  # modal group -> its G word
     m: list[tuple[int, Word]] = field(default_factory=list)
     direction: int | None = None  # spindle: +1, -1, 0 (M3/M4/M5), None without one
     speed: Word | None = None  # S, once convert_settings took it
@@ -148,8 +148,8 @@ class Interpreter(ModalMachine):
                 self.g_code(st, code, row, g)
 
     def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
-        """A G code of the dialect's own (not motion, distance, feed or plane): noted by meaning."""
-        st.g[row.meaning] = g
+        """A G code of the dialect's own (not motion, distance, feed or plane): noted by its group."""
+        st.g[row.group] = g
 
     def standalone(self, st: Step) -> bool:
         return False
@@ -163,7 +163,7 @@ class Interpreter(ModalMachine):
             st.m.append((int(m.value), m))
         st.direction = self.spindle_code(st.block.line, [(c, m.col) for c, m in st.m])
 
-    def m_group(self, st: Step, group: str) -> list[tuple[int, Word]]:
+    def m_group(self, st: Step, group: Group) -> list[tuple[int, Word]]:
         """The block's M words (code, word) whose table row is in ``group``."""
         if not st.m:
             return []

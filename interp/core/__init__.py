@@ -1,0 +1,13 @@
+"""The core every word-address dialect runs on (docs/architecture.md):
+
+- ``lexer``         numbers, words, blocks, line splitting and the limits every number keeps;
+- ``modal``         the modal machine (position, modal groups, canonical records) and InterpConfig;
+- ``executor``      the block executor read -> check -> convert driven by a dialect's code tables;
+- ``compensation``  cutter radius compensation of a chain of records.
+
+The executor's names are re-exported here: a dialect writes ``from ..core import Interpreter``.
+"""
+from .executor import CENTRE_WORDS, COMMON_GROUPS, MOTION, Code, Interpreter, Step, arc_centre, sweep_degrees
+from .modal import Group
+
+__all__ = ["CENTRE_WORDS", "COMMON_GROUPS", "MOTION", "Code", "Group", "Interpreter", "Step", "arc_centre", "sweep_degrees"]
