@@ -12,14 +12,15 @@ from __future__ import annotations
 import math
 import os
 import re
-import stat
 import unicodedata
 
 from . import canon
 from .canon import Src
-from .core import Code, Group, Interpreter, Step
+from .core.files import Unreadable, find_subprogram, read_bounded
+from .core.frames import IDENTITY, Affine, turn
+from .core import Code, FullCircle, Group, Interpreter, RadiusTooSmall, Step, radius_centre
 from .errors import CutsimError
-from .isg_commands import IDENTITY, command, frame, mat_vec, to_program
+from .isg_commands import command
 from . import isg_fast
 from .isg_lang import SCOPES, truth
 from .isg_scan import LIMITS, Ctrl, IsgBlock, Section, expand_macros, nfc, parse, scan
@@ -764,23 +765,43 @@ class Isg(Interpreter):
         """End point (machine values) from axis words: absolute words are shifted by the active zero
         offset, #CS translation and G92; incremental ones add to the position."""
         if self.turned:
-            L, t = frame(self)
-            p = to_program(L, t, self.pos)
+            f = self.program_frame()
+            p = f.inverse_apply(self.pos)
             for i, v in values.items():
                 p[i] = v if self.absolute else p[i] + v
-            q = mat_vec(L, p)
-            return (q[0] + t[0], q[1] + t[1], q[2] + t[2])
+            return f.apply(p)
         end = list(self.pos)
         sh = self.shift()
         for i, v in values.items():
             end[i] = v + sh[i] if self.absolute else self.pos[i] + v
         return (end[0], end[1], end[2])
 
-    # -- rotation and mirroring (#ROTATION, #CS about Z, G20..G23, G351; frame in isg_commands) -------
+    # -- rotation and mirroring (#ROTATION, #CS about Z, G20..G23, G351) ------------------------------
+    def program_frame(self) -> Affine:
+        """The map program coordinates -> machine coordinates. Applied in order: the contour rotation
+        about its centre, the mirroring of the program axes, the #CS stack (the last one switched on
+        first), the zero offset and G92 (docs/dialects/isg.md, "Rotation and mirroring")."""
+        steps = []
+        if self.rotation is not None:
+            deg, plane, c1, c2 = self.rotation
+            a, c, _ = PLANE_AXES[plane]
+            cen = [0.0, 0.0, 0.0]
+            cen[a], cen[c] = c1, c2
+            steps.append(Affine.rotation(deg, a, c, cen))
+        if any(self.mirror):
+            steps.append(Affine.mirror(self.mirror))
+        for cs in reversed(self.cs):
+            steps.append(Affine(turn(cs[3], 0, 1), (cs[0], cs[1], cs[2])))
+        f = Affine()
+        for step in steps:
+            f = step.then(f)
+        z, g = self.zero, self.g92
+        return f.shifted((z[0] + g[0], z[1] + g[1], z[2] + g[2]))
+
     def frame_changed(self, line: int, col: int) -> None:
         """A rotation, mirroring or #CS changed: whether targets go the long way, and what may not change."""
         self.turned = self.rotation is not None or any(self.mirror) or any(c[3] % 360.0 != 0.0 for c in self.cs)
-        lin = frame(self)[0] if self.turned else IDENTITY
+        lin = self.program_frame().L if self.turned else IDENTITY
         if lin != IDENTITY and self.cfg.machine_kind == "lathe":
             raise self.error(line, col, "rotating or mirroring the program coordinates on a lathe is not modelled by "
                              "the simulator")
@@ -799,7 +820,7 @@ class Isg(Interpreter):
             w = st.words[AXES[n]]
             raise self.error(st.block.line, w.col, f"G68 takes the centre in the axes of the plane {self.plane}, "
                              f"not {AXES[n]}")
-        here = to_program(*frame(self), self.pos) if self.turned else [self.pos[i] - self.shift()[i] for i in range(3)]
+        here = self.program_frame().inverse_apply(self.pos) if self.turned else [self.pos[i] - self.shift()[i] for i in range(3)]
         cen = [st.words.pop(AXES[i]).value if AXES[i] in st.words else here[i] for i in (a, c)]
         self.rotation = (0.0 if r is None else r.value, self.plane, cen[0], cen[1])
         self.frame_changed(st.block.line, g.col)
@@ -1170,17 +1191,9 @@ class Isg(Interpreter):
         case, with or without ``.nc``."""
         base = fname.replace("\\", "/").rsplit("/", 1)[-1]
         dirs = [os.path.dirname(os.path.abspath(self.name)), *self.cfg.subprogram_path]
-        wanted = {(base + ext).upper() for ext in SUB_EXTENSIONS}
-        for d in dirs:
-            try:
-                names = sorted(os.listdir(d))
-            except OSError:
-                continue
-            for n in names:
-                if n.upper() in wanted:
-                    return os.path.join(d, n)
-        if missing_ok:
-            return None
+        path = find_subprogram(base, dirs, SUB_EXTENSIONS)
+        if path is not None or missing_ok:
+            return path
         alt = "" if base.upper().endswith(".NC") else f" (or {base}.nc)"
         raise self.error(line, col, f"global subprogram '{fname}': no file {base}{alt} in "
                          f"{' or '.join(dirs)} (give its folder in the setup: [machine] subprogram_path, or, when the "
@@ -1191,18 +1204,17 @@ class Isg(Interpreter):
     def read_file(self, path: str, fname: str, line: int, col: int) -> str:
         what = f"subprogram {fname}: {path}"
         try:
-            st = os.stat(path)
-            if stat.S_ISDIR(st.st_mode):
-                raise self.error(line, col, f"{what} is a directory, not a program file")
-            if not stat.S_ISREG(st.st_mode):
-                raise self.error(line, col, f"{what} is not a regular file")
-            if st.st_size > MAX_SUB_BYTES:
-                raise self.error(line, col, f"{what} has {st.st_size:,} bytes, more than the {MAX_SUB_BYTES:,} a "
-                                 "subprogram file may have")
-            with open(path, "rb") as f:
-                data = f.read(MAX_SUB_BYTES + 1)
-        except OSError as e:
-            raise self.error(line, col, f"{what} cannot be read ({e.strerror})") from None
+            data = read_bounded(path, MAX_SUB_BYTES)
+        except Unreadable as e:
+            if e.kind == "directory":
+                raise self.error(line, col, f"{what} is a directory, not a program file") from None
+            if e.kind == "special":
+                raise self.error(line, col, f"{what} is not a regular file") from None
+            if e.kind == "large":
+                size = f"{e.size:,}" if e.size >= 0 else "more"
+                raise self.error(line, col, f"{what} has {size} bytes, more than the {MAX_SUB_BYTES:,} a "
+                                 "subprogram file may have") from None
+            raise self.error(line, col, f"{what} cannot be read ({e.reason})") from None
         return data.decode("utf-8-sig", errors="replace")
 
     # -- G33 -------------------------------------------------------------------------------------
@@ -1260,24 +1272,25 @@ class Isg(Interpreter):
                       cols: dict[int, int]) -> None:
         """A circle in rotated or mirrored coordinates: its centre offsets turn with the frame; a mirrored
         plane reverses its direction (G02 <-> G03). The plane must map onto itself."""
-        L, t = frame(self)
+        f = self.program_frame()
+        L = f.L
         a, c, n = PLANE_AXES[self.plane]
         if abs(abs(L[n][n]) - 1.0) > 1e-12:
             raise self.error(b.line, 1, f"a circle in the plane {self.plane} under a coordinate system rotated about Z "
                              "lies in a tilted plane: not modelled by the simulator (program it in G17)")
         if self.centre_abs:  # G161: absolute centre coordinates of the program frame -> relative to the start
-            p = to_program(L, t, self.pos)
+            p = f.inverse_apply(self.pos)
             words = {k: Word(k, w.value - p["IJK".index(k)], w.raw, w.col) for k, w in words.items()}
         end = self.target(values)
         self.check_position(b.line, end, cols)
         cw = self.motion == 2
-        if L[a][a] * L[c][c] - L[a][c] * L[c][a] < 0:
+        if f.plane_flips(a, c):
             cw = not cw
         if not words and self.circle_r is not None:
             centre = self.radius_centre(b.line, end, cw)
         else:
             prog_centre = self.centre_words(b.line, words, ", relative to the start; or its radius R")
-            d = mat_vec(L, tuple(prog_centre[i] - self.pos[i] for i in range(3)))
+            d = f.linear(tuple(prog_centre[i] - self.pos[i] for i in range(3)))
             centre = (self.pos[0] + d[0], self.pos[1] + d[1], self.pos[2] + d[2])
         self.arc(src, end, centre, cw)
 
@@ -1285,29 +1298,14 @@ class Isg(Interpreter):
         """The centre of a circle given by its radius R (modal): the shorter arc for R > 0, the
         longer one for R < 0 (manual: "Radius programming (R, G163)"); the chord in the plane."""
         r, col = self.circle_r, self.r_col
-        a, c, _ = PLANE_AXES[self.plane]
-        k = 0.5 if self.diameter else 1.0  # X as a diameter
-
-        def phys(p, i):
-            return p[i] * k if i == 0 else p[i]
-        s2 = (phys(self.pos, a), phys(self.pos, c))
-        e2 = (phys(end, a), phys(end, c))
-        dx, dy = e2[0] - s2[0], e2[1] - s2[1]
-        chord = math.hypot(dx, dy)
-        if chord < 1e-9:
+        try:
+            return radius_centre(self.pos, end, r, self.plane, cw, self.diameter)
+        except FullCircle:
             raise self.error(line, col, "a full circle cannot be programmed with its radius R (start and end point "
-                             "coincide): program its centre with I, J, K")
-        if chord > 2 * abs(r) + 1e-4:
-            raise self.error(line, col, f"circle radius R{abs(r):g} is too small for the distance {chord:.4f} between "
-                             "the start and the end point")
-        h = math.sqrt(max(r * r - chord * chord / 4, 0.0))
-        side = (-1.0 if cw else 1.0) * (1.0 if r > 0 else -1.0)  # centre left of the chord for a short CCW arc
-        mx, my = (s2[0] + e2[0]) / 2, (s2[1] + e2[1]) / 2
-        cen = list(self.pos)
-        ca, cc = mx + side * h * -dy / chord, my + side * h * dx / chord
-        cen[a] = ca / k if a == 0 else ca
-        cen[c] = cc / k if c == 0 else cc
-        return (cen[0], cen[1], cen[2])
+                             "coincide): program its centre with I, J, K") from None
+        except RadiusTooSmall as e:
+            raise self.error(line, col, f"circle radius R{abs(r):g} is too small for the distance {e.chord:.4f} between "
+                             "the start and the end point") from None
 
 
 def _element_keys(name: str, dims: tuple) -> list[str]:

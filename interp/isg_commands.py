@@ -9,7 +9,6 @@ import re
 
 from .errors import CutsimError
 from .isg_lang import Cursor, expression
-from .modal import PLANE_AXES
 
 # commands without effect on the tool path -> what they do
 PASSIVE = {
@@ -280,61 +279,3 @@ def rotation(m, st, text: str, col: int, first: str) -> None:
         raise m.error(line, col, f"unexpected '{text[cur.i]}' after #ROTATION ON [...]")
     m.rotation = (vals["ANGLE"], m.plane, vals["CENTER1"], vals["CENTER2"])
     m.frame_changed(line, col)
-
-
-# -- the program frame: contour rotation, mirroring, #CS (with a rotation about Z), zero offsets ----------
-IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-
-
-def turn(deg: float, a: int, c: int) -> tuple:
-    """The rotation by ``deg`` degrees in the plane of axes ``a`` -> ``c`` (positive from a towards c:
-    counter-clockwise in G17 seen from +Z)."""
-    r = math.radians(deg % 360.0)
-    co, si = math.cos(r), math.sin(r)
-    if deg % 90.0 == 0.0:  # exact quarter turns
-        co, si = round(co), round(si)
-    rows = [list(row) for row in IDENTITY]
-    rows[a][a], rows[a][c], rows[c][a], rows[c][c] = co, -si, si, co
-    return tuple(tuple(row) for row in rows)
-
-
-def mat_vec(L, v) -> tuple:
-    return tuple(L[i][0] * v[0] + L[i][1] * v[1] + L[i][2] * v[2] for i in range(3))
-
-
-def _mat_mul(A, B) -> tuple:
-    return tuple(tuple(sum(A[i][k] * B[k][j] for k in range(3)) for j in range(3)) for i in range(3))
-
-
-def frame(m) -> tuple:
-    """The map program coordinates -> machine coordinates as (L, t): q = L p + t. Applied in order:
-    the contour rotation about its centre, the mirroring of the program axes, the #CS stack (the
-    last one switched on first), the zero offset and G92 (docs/dialects/isg.md, "Rotation and
-    mirroring")."""
-    steps = []
-    if m.rotation is not None:
-        deg, plane, c1, c2 = m.rotation
-        a, c, _ = PLANE_AXES[plane]
-        R = turn(deg, a, c)
-        cen = [0.0, 0.0, 0.0]
-        cen[a], cen[c] = c1, c2
-        rc = mat_vec(R, cen)
-        steps.append((R, tuple(cen[i] - rc[i] for i in range(3))))
-    if any(m.mirror):
-        steps.append((tuple(tuple((-1.0 if m.mirror[i] else 1.0) if i == j else 0.0 for j in range(3))
-                            for i in range(3)), (0.0, 0.0, 0.0)))
-    for cs in reversed(m.cs):
-        steps.append((turn(cs[3], 0, 1), (cs[0], cs[1], cs[2])))
-    L, t = IDENTITY, (0.0, 0.0, 0.0)
-    for Ls, ts in steps:
-        L = _mat_mul(Ls, L)
-        lt = mat_vec(Ls, t)
-        t = tuple(lt[i] + ts[i] for i in range(3))
-    sh = (m.zero[0] + m.g92[0], m.zero[1] + m.g92[1], m.zero[2] + m.g92[2])
-    return L, tuple(t[i] + sh[i] for i in range(3))
-
-
-def to_program(L, t, q) -> list:
-    """The inverse of the frame (L is orthogonal): program coordinates of the machine point ``q``."""
-    d = (q[0] - t[0], q[1] - t[1], q[2] - t[2])
-    return [L[0][i] * d[0] + L[1][i] * d[1] + L[2][i] * d[2] for i in range(3)]

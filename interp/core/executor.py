@@ -1,6 +1,5 @@
-"""The shared block executor of the word-address dialects (CNC8x6, ISG) and the geometry every
-dialect computes the same way: the arc centre from I/J/K and the arc sweep angle (the guard on
-executed blocks is modal.ModalMachine.count_block).
+"""The shared block executor of the word-address dialects (CNC8x6, ISG; the guard on executed
+blocks is modal.ModalMachine.count_block).
 
 A dialect is a table of its G and M codes, ``{code: Code(modal group, words, meaning)}`` (compare
 CAMotics' ``Codes.cpp`` rows), plus the few hooks where it truly differs. ``Interpreter.execute``
@@ -21,11 +20,11 @@ runs one block in a fixed order, as LinuxCNC's rs274ngc ``read_* -> check_* -> c
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from ..canon import Src, Vec3
 from .lexer import Block, Word
+from .geometry import arc_centre
 from .modal import PLANE_AXES, Group, ModalMachine
 
 # Groups every dialect has and the executor applies itself (ModalMachine.common_g).
@@ -62,37 +61,6 @@ class Step:
     context: object = None  # the dialect's run-loop state for this block (ISG: the call stack)
     done: bool = False  # the block ended early (standalone)
     result: object = None  # what the dialect's hooks hand back to its run loop
-
-
-def arc_centre(pos, plane: str, diameter: bool, offsets: dict[int, float]) -> list[float]:
-    """The absolute centre of an arc whose centre is given incrementally from the start ``pos``
-    (I/J/K: axis index -> value) in ``plane``. I is a radius even in diameter mode, so it counts
-    twice on the X (diameter) value."""
-    a, c, _ = PLANE_AXES[plane]
-    centre = list(pos)
-    for i in (a, c):
-        if i in offsets:
-            centre[i] = pos[i] + offsets[i] * (2.0 if (i == 0 and diameter) else 1.0)
-    return centre
-
-
-def sweep_degrees(start, end, centre, plane: str, clockwise: bool, diameter: bool) -> float:
-    """The angle (degrees, in (0, 360]) an arc turns through from ``start`` to ``end`` about
-    ``centre`` in ``plane``; start = end is a full circle. X values are diameters when ``diameter``."""
-    a, c, _ = PLANE_AXES[plane]
-
-    def phys(p, i):
-        return p[i] / 2.0 if (i == 0 and diameter) else p[i]
-
-    a0 = math.atan2(phys(start, c) - phys(centre, c), phys(start, a) - phys(centre, a))
-    a1 = math.atan2(phys(end, c) - phys(centre, c), phys(end, a) - phys(centre, a))
-    d = math.degrees(a1 - a0)
-    if clockwise:
-        d = -d
-    d %= 360.0
-    if d < 1e-9:
-        d = 360.0
-    return d
 
 
 class Interpreter(ModalMachine):
