@@ -14,6 +14,7 @@ from .canon import Ramp, Src
 from .errors import CutsimError
 from .lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                     check_range, digits_end, fmt_count, foreign_digit, iter_lines, parse_number, read_whole)
+from .core.fast import ANY_NUMBER as _NUM, PlainReader
 from .core import Code, Group, Interpreter, Step, sweep_degrees
 from .modal import AXES, InterpConfig
 
@@ -63,53 +64,26 @@ LIMITS = {**{a: (COORD_LIMIT, "mm") for a in "XYZIJKE"}, "F": (COORD_LIMIT, "mm/
           "S": (SPEED_LIMIT, "rpm"), **{a: (CODE_LIMIT, "") for a in "GMTDLQ"}}
 
 
-# The happy path of ``scan``: a line of plain words ``<letter><number>`` (no comment, no R, no &,
-# no parameter values) with an optional block number first. Such a line is split by one regular
-# expression; every other line (and any word of it that needs a check to fail) goes the long way,
-# which gives the same Block or the error. Only blanks and tabs separate words here.
-# Atomic groups: a number or word, once read, is never re-split (a shorter number would leave a digit
-# next, which nothing here accepts), so a line that fails to match fails in linear time instead of
-# trying every split of a 30,000-digit number (fuzz 20261124/11152 hung).
-_NUM = r"(?>[+\-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"
-PLAIN_LINE = re.compile(rf"[ \t]*(?:[Nn]([0-9]+)[ \t]*)?((?>[A-MO-QS-Za-mo-qs-z]{_NUM}[ \t]*)*)")
-PLAIN_WORD = re.compile(rf"([A-Za-z])({_NUM})([ \t]*)")
-# letter as written -> (address, the largest magnitude it accepts)
-_PLAIN_LIMITS = {c: (k, v[0]) for k, v in LIMITS.items() if k in LETTERS for c in (k, k.lower())}
+# The happy path of ``scan`` (core.fast): a line of plain words ``<letter><number>`` (no comment, no
+# R, no &, no parameter values) with an optional block number first; any number, read atomically.
+# Only blanks and tabs separate words here.
+READER = PlainReader("GMSTDFXYZIJKELQ", {k: v[0] for k, v in LIMITS.items()}, None, r"[Nn]([0-9]+)")
 
 
 def scan_plain(lineno: int, text: str) -> Block | None | bool:
-    """``text`` as a Block when it is a plain line (see PLAIN_LINE) whose words all pass their
-    checks; None for an empty line; False when the line needs the full scanner."""
-    m = PLAIN_LINE.fullmatch(text)
-    if m is None:
+    """``text`` as a Block when it is a plain line whose words all pass their checks; None for an
+    empty line; False when the line needs the full scanner."""
+    r = READER.read(text)
+    if r is None:
         return False
-    number, rest = m.groups()
-    block = Block(lineno, 1)
-    if number is not None:
-        if len(number) > 8 and len(number.lstrip("0")) > 8:  # beyond 99 999 999: the long way says so
-            return False
-        block.label = "N" + number
-    elif not rest:
-        return None if not text.strip() else False
-    if rest:
-        words = block.words
-        seen = ""
-        new = tuple.__new__
-        col = m.start(2) + 1
-        for letter, raw, gap in PLAIN_WORD.findall(rest):
-            row = _PLAIN_LIMITS.get(letter)
-            if row is None:
-                return False
-            letter, limit = row
-            if letter in seen and letter not in "GM":
-                return False
-            seen += letter
-            value = float(raw)
-            if not -limit <= value <= limit:
-                return False
-            words.append(new(Word, (letter, value, raw, col, None)))
-            col += 1 + len(raw) + len(gap)
-    return block
+    number, words = r
+    if number is None:
+        if not words:
+            return None if not text.strip() else False
+        return Block(lineno, 1, "", words)
+    if len(number) > 8 and len(number.lstrip("0")) > 8:  # beyond 99 999 999: the long way says so
+        return False
+    return Block(lineno, 1, "N" + number, words)
 
 
 def scan(name: str, lineno: int, text: str) -> Block | None:
@@ -190,8 +164,8 @@ PLAIN_AXES = {"X": 0, "Y": 1, "Z": 2}
 # A plain move in the usual order, N G00/G01 X Y Z F, each word at most once (plain_line)
 MOVE_LINE = re.compile(rf"[ \t]*(?:[Nn]([0-9]{{1,8}})[ \t]*)?(?:[Gg]0?([01])[ \t]*)?(?:[Xx]({_NUM})[ \t]*)?"
                        rf"(?:[Yy]({_NUM})[ \t]*)?(?:[Zz]({_NUM})[ \t]*)?(?:[Ff]({_NUM})[ \t]*)?")
-# The words of a plain move as written -> (address, axis index or -1 for F, -2 for G, largest magnitude)
-_MOVE_WORDS = {c: (k, {"X": 0, "Y": 1, "Z": 2, "F": -1, "G": -2}[k], LIMITS[k][0]) for k in "XYZFG" for c in (k, k.lower())}
+# The words of a plain move -> axis index, -1 for F, -2 for G
+_MOVE_WORDS = {"X": 0, "Y": 1, "Z": 2, "F": -1, "G": -2}
 # Where a program may jump (a G73 word in any spelling: g73, G073, G+73.0, also inside a comment):
 # a program without one runs streamed (Cnc8x6.stream).
 JUMP = re.compile(r"[Gg]\+?0*73")
@@ -397,7 +371,7 @@ class Cnc8x6(Interpreter):
         return True
 
     def plain_line(self, lineno: int, text: str) -> bool:
-        """``stream``'s shortcut: a plain line (PLAIN_LINE) that plain_block would run without an
+        """``stream``'s shortcut: a plain line (READER) that plain_block would run without an
         error, run straight from its text without building its Block: counted and executed with
         the effect of scan + count_block + block. False (nothing done) for any other line."""
         pos = self.pos
@@ -430,27 +404,22 @@ class Cnc8x6(Interpreter):
                 return False  # N alone or a blank line
             motion = None if g is None else int(g)
             return self.plain_apply(lineno, number, motion, f, end, moves)
-        m = PLAIN_LINE.fullmatch(text)
-        if m is None:
+        r = READER.read(text)
+        if r is None:
             return False
-        number, rest = m.groups()
-        if not rest or (number is not None and len(number) > 8):
+        number, words = r
+        if not words or (number is not None and len(number) > 8):
             return False
         motion = feed = None
-        seen = ""
-        for letter, raw, _ in PLAIN_WORD.findall(rest):
-            row = _MOVE_WORDS.get(letter)
-            if row is None:
+        seen = 0
+        for w in words:
+            index = _MOVE_WORDS.get(w[0])
+            if index is None:
                 return False
-            address, index, limit = row
-            if address in seen and address != "G":  # twice in one block: the scanner's error
-                return False
-            seen += address
-            value = float(raw)
-            if not -limit <= value <= limit:
-                return False
+            value = w[1]
             if index >= 0:
                 end[index] = value if absolute else pos[index] + value
+                seen += 1
             elif index == -1:
                 if value <= 0:
                     return False
@@ -459,8 +428,7 @@ class Cnc8x6(Interpreter):
                 motion = int(value)
             else:
                 return False
-        moves = len(seen) - (motion is not None) - (feed is not None) > 0
-        return self.plain_apply(lineno, number, motion, feed, end, moves)
+        return self.plain_apply(lineno, number, motion, feed, end, seen > 0)
 
     def plain_apply(self, lineno: int, number: str | None, motion: int | None, feed: float | None, end: list,
                     moves: bool) -> bool:

@@ -4,68 +4,48 @@ with an optional ``;`` comment at its end, is split by one regular expression in
 IsgBlock ``scan`` builds. Every other line gives None and goes the long way, which builds the
 block or names the error. tests/test_fast_readers.py checks, line by line, that the two agree.
 
-Conservative on purpose: only blanks and tabs between words, no blank between a letter and its
+core.fast.PlainReader reads it. Conservative on purpose: only blanks and tabs between words, no blank between a letter and its
 number, no ``( )`` comment, no ``/``, ``#``, ``$``, ``"``, ``[``, ``=``, ``@``, ``:``; the letters
 L (calls), H (machine functions), V and P (variables) and N after the first word are left to the
 long way, as is a repeated address other than G and M and any number the long way would refuse
 (out of range, glued to a point or a digit, more digits than the regular expression allows).
 
 ``plain_block`` runs such a block (G00/G01, X, Y, Z, F) without core.Interpreter.execute's
-pipeline, with the same effect (tests/test_fast_readers.py runs every ISG program both ways).
+pipeline, with the same effect (tests/test_fast_readers.py runs every ISG program both ways); which blocks
+it may take follows from IsgBlock's fields (core.fast.plain_fields).
 Hooks: isg_scan.parse(..., fast=read_plain) and the first lines of Isg.block (issue 13).
 """
 from __future__ import annotations
 
-import re
-
 from .core import Step
+from .core.fast import PlainReader, plain_fields
 from .isg_scan import LIMITS, IsgBlock
-from .lexer import Word
 
-# letters whose plain word is just Word(letter, value, raw, col) in isg_scan.word
+# letters whose plain word is just Word(letter, value, raw, col) in isg_scan.word; numbers of at most 12
+# digits before and after the point; a block number of at most 8 digits not followed by ':' (a label)
 _LETTERS = "GMXYZIJKFSTDABCUWR"
-_NUM = r"[+\-]?(?:[0-9]{1,12}(?:\.[0-9]{0,12})?|\.[0-9]{1,12})"
-_CLASS = _LETTERS + _LETTERS.lower()
-PLAIN_LINE = re.compile(
-    rf"[ \t]*(?:[Nn]([0-9]{{1,8}})(?![0-9:])[ \t]*)?((?:[{_CLASS}]{_NUM}(?![0-9.])[ \t]*)*)(?s:;.*)?")
-PLAIN_WORD = re.compile(rf"([{_CLASS}])({_NUM})([ \t]*)")
-# letter as written -> (address, the largest magnitude it accepts)
-_LIMITS = {c: (k, LIMITS[k][0]) for k in _LETTERS for c in (k, k.lower())}
+READER = PlainReader(_LETTERS, {k: LIMITS[k][0] for k in _LETTERS}, 12, r"[Nn]([0-9]{1,8})(?![0-9:])", r"(?s:;.*)?")
 
 
 def read_plain(program: str, lineno: int, text: str) -> IsgBlock | None:
     """``isg_scan.scan(program, lineno, text)`` for a plain line; None for any other line (and for a
     line without words: ``scan`` decides what that is)."""
-    m = PLAIN_LINE.fullmatch(text)
-    if m is None:
+    r = READER.read(text)
+    if r is None:
         return None
-    number, rest = m.groups()
-    if not rest:
+    number, words = r
+    if not words:
         if number is None:
             return None  # blank or comment only: the long way returns None
         return IsgBlock(lineno, 1, "N" + number)
-    words = []
-    items = []
-    seen = ""
-    new = tuple.__new__
-    col = m.start(2) + 1
-    for letter, raw, gap in PLAIN_WORD.findall(rest):
-        address, limit = _LIMITS[letter]
-        if address in seen and address not in "GM":
-            return None  # the long way's "appears twice" error
-        seen += address
-        value = float(raw)
-        if not -limit <= value <= limit:
-            return None  # the long way's range error
-        w = new(Word, (address, value, raw, col, None))
-        words.append(w)
-        items.append(("w", w))
-        col += 1 + len(raw) + len(gap)
-    return IsgBlock(lineno, 1, "" if number is None else "N" + number, words, [], items=items)
+    return IsgBlock(lineno, 1, "" if number is None else "N" + number, words, [], items=[("w", w) for w in words])
 
 
 # -- running a plain block -------------------------------------------------------------------------
 _MOVE_LETTERS = frozenset("XYZ")
+# a block whose other fields (call, command, offset, jump, ...) all hold their defaults; ``items`` are
+# the words when it has as many as words (an expression or assignment adds one)
+_plain = plain_fields(IsgBlock, ("line", "col", "label", "words", "items"))
 
 
 def plain_block(m, b: IsgBlock, src, fr) -> bool:
@@ -76,8 +56,7 @@ def plain_block(m, b: IsgBlock, src, fr) -> bool:
     done) for any other block, which then goes the long way (and raises its errors there).
 
     ``m`` is the Isg interpreter, ``src`` and ``fr`` what Isg.block hands to ``execute``."""
-    if (m.comp_buf is not None or len(b.items) != len(b.words) or b.call is not None or b.gcall is not None
-            or b.offsets or b.commands or b.args or b.gvalues or b.goto is not None or b.deferred):
+    if m.comp_buf is not None or len(b.items) != len(b.words) or not _plain(b):
         return False
     motion = feed = None
     words = {}
