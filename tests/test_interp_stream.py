@@ -102,7 +102,7 @@ def test_random_programs_stream_as_listed(lines, mill):
 def full_scan(line: str):
     """The full scanner alone (the plain-line path switched off)."""
     mp = pytest.MonkeyPatch()
-    mp.setattr(cnc8x6, "scan_plain", lambda lineno, text: False)
+    mp.setattr(cnc8x6.language, "scan_plain", lambda lineno, text: False)
     try:
         return scanned(line)
     finally:

@@ -81,12 +81,16 @@ def fmt_count(n: int) -> str:
     return f"about {10 ** (e - int(e)):.2f}e+{int(e)}"
 
 
-def out_of_range(program: str, line: int, col: int, word: str, lo: float, hi: float, unit: str = "") -> CutsimError:
-    """The one message for a value beyond its permitted range (the controllers' "value exceeds
-    permitted range")."""
+def permitted_range(lo: float, hi: float, unit: str = "") -> str:
+    """The one wording of a range error (the controllers' "value exceeds permitted range"):
+    'exceeds the permitted range -99 999.9999 to 99 999.9999 mm'."""
     u = f" {unit}" if unit else ""
-    return CutsimError(program, line, col, f"{_show(word)}: value exceeds the permitted range "
-                       f"{fmt_limit(lo)} to {fmt_limit(hi)}{u}")
+    return f"exceeds the permitted range {fmt_limit(lo)} to {fmt_limit(hi)}{u}"
+
+
+def out_of_range(program: str, line: int, col: int, word: str, lo: float, hi: float, unit: str = "") -> CutsimError:
+    """The error for the word ``word`` whose value is beyond [lo, hi]."""
+    return CutsimError(program, line, col, f"{_show(word)}: value {permitted_range(lo, hi, unit)}")
 
 
 def check_range(program: str, line: int, col: int, word: str, value: float, lo: float, hi: float,

@@ -12,7 +12,7 @@ from enum import Enum
 from .. import canon
 from ..canon import Src, Vec3
 from ..errors import CutsimError
-from .lexer import COORD_LIMIT, fmt_limit
+from .lexer import COORD_LIMIT, permitted_range
 
 AXES = ("X", "Y", "Z")
 PLANES = {17: "XY", 18: "ZX", 19: "YZ"}
@@ -137,8 +137,7 @@ class ModalMachine:
         for i, v in enumerate(end):
             if not (math.isfinite(v) and abs(v) <= limit):
                 col = (cols or {}).get(i, 1)
-                raise self.error(line, col, f"the {AXES[i]} position {v:.4f} exceeds the permitted range "
-                                 f"{fmt_limit(-limit)} to {fmt_limit(limit)} mm")
+                raise self.error(line, col, f"the {AXES[i]} position {v:.4f} {permitted_range(-limit, limit, 'mm')}")
 
     def set_diameter(self, on: bool) -> None:
         """Switch X between diameter and radius values; the tool does not move."""
