@@ -37,6 +37,7 @@ RANKS = {
     "cutsim.interp": 1,
     "cutsim.interp.core": 1,  # the dialects' packages share the interpreter's rank
     "cutsim.interp.cnc8x6": 1,
+    "cutsim.interp.isg": 1,
     "cutsim.kinematics": 2,
     "cutsim.stock": 3,
     "cutsim.reports": 4,

@@ -4,7 +4,7 @@ variable references (``P1``, ``@P1``, ``V.P.NAME[i]``, ``V.L.``, ``V.S.``, ``V.E
 "Language").
 
 An expression is compiled once, when its line is scanned, into a Python closure ``f(env) -> value``
-(a float or a string); ``env`` is the interpreter (interp/isg.py), which answers ``read_var`` and
+(a float or a string); ``env`` is the interpreter (interpreter.py), which answers ``read_var`` and
 ``read_param``. Every error names the program, the line and the column of the offending token.
 """
 from __future__ import annotations
@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 import re
 
-from .errors import CutsimError
-from .lexer import NUMBER_LIMIT, foreign_digit
+from ..errors import CutsimError
+from ..core.lexer import NUMBER_LIMIT, foreign_digit
 
 NUM = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
