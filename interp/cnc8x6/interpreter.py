@@ -216,10 +216,7 @@ class Cnc8x6(PlainPath, Threads, Interpreter):
         elif axis_words or motion in (2, 3):
             values = {i: w.value for i, w in axis_words.items()}
             if self.motion in (0, 1):
-                allowed = G_CODES[self.motion].words
-                for a in "IJKEQL":
-                    if a in words and a not in allowed:
-                        raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G0{self.motion} block")
+                self.check_words(b.line, words, "IJKEQL", self.motion)
                 end = self.target(values)
                 self.check_position(b.line, end, {i: w.col for i, w in axis_words.items()})
                 (self.rapid if self.motion == 0 else self.linear)(src, end)

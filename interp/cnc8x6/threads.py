@@ -7,7 +7,7 @@ import math
 from ..canon import Ramp, Src
 from ..core.lexer import Block, Word
 from ..core.modal import AXES
-from .language import G_CODES, MAX_DIRECT_LEAD, MIN_LEAD, RESERVED_PARAMS, decode_angle_code
+from .language import MAX_DIRECT_LEAD, MIN_LEAD, RESERVED_PARAMS, decode_angle_code
 
 
 class Threads:
@@ -81,9 +81,7 @@ class Threads:
                 raise self.error(b.line, ew.col, "lead-in length E must be positive")
             if ew.value > 0:
                 leadin = self.ramp(b, ew, "lead-in", ew.value)
-        for a in "KLQ":
-            if a in words and a not in G_CODES[33].words:
-                raise self.error(b.line, words[a].col, f"address {a} has no meaning in a G33 block")
+        self.check_words(b.line, words, "KLQ", 33)
         if leadin or runout:
             travel = self.thread_travel(end)
             total = (leadin.length if leadin else 0.0) + (runout.length if runout else 0.0)

@@ -153,6 +153,14 @@ class Interpreter(ModalMachine):
         pass
 
     # -- pieces the hooks share --------------------------------------------------------------------
+    def check_words(self, line: int, words: dict[str, Word], letters: str, code: int) -> None:
+        """Refuse the first word of ``letters`` (in that order) in ``words`` that the G code ``code``
+        does not take (its table row's ``Code.words``), at the word's column."""
+        takes = self.G_CODES[code].words
+        for a in letters:
+            if a in words and a not in takes:
+                raise self.error(line, words[a].col, f"address {a} has no meaning in a G{code:02d} block")
+
     def tool_words(self, st: Step, tool_number) -> None:
         """T (with its D) changes the tool; D alone only names an offset (no geometric effect).
         ``tool_number(word)`` checks and returns the tool number."""

@@ -59,14 +59,15 @@ class Motion:
             self.thread_block(b, src, centre, values, cols)
         elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
             self.circle(b, src, centre, values, cols)
-        else:
-            for a, w in centre.items():
-                what = f"a G0{self.motion} block" if axis_words or motion is not None else "a block without a motion"
-                raise self.error(b.line, w.col, f"address {a} has no meaning in {what}")
+        elif axis_words or motion is not None:  # G00/G01
+            self.check_words(b.line, centre, "IJK", self.motion)
             if axis_words:
                 end = self.target(values)
                 self.check_position(b.line, end, cols)
                 (self.rapid if self.motion == 0 else self.linear)(src, end)
+        else:
+            for a, w in centre.items():
+                raise self.error(b.line, w.col, f"address {a} has no meaning in a block without a motion")
 
     def thread_block(self, b: IsgBlock, src: Src, leads: dict[str, Word], values: dict[int, float],
                      cols: dict[int, int]) -> None:
