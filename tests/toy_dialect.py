@@ -1,5 +1,6 @@
-"""A toy dialect: the smallest complete one, to prove that a dialect is one module plus one registry
-entry (tests/test_dialect_registry.py registers it; docs/architecture.md, "How to add a dialect").
+"""A toy dialect: the smallest complete one, to prove that a dialect is one module (or subpackage)
+plus one registry entry (tests/test_dialect_registry.py registers it; docs/architecture.md, "How to
+add a dialect").
 
 Blocks are words ``<letter><number>`` separated by blanks, ``;`` starts a comment. G0/G1 move, G2/G3
 cut arcs with the centre on I/K (incremental), G90/G91 switch the distance mode; M3/M4/M5 drive the
@@ -10,8 +11,8 @@ from __future__ import annotations
 from cutsim.interp.canon import Program, Src
 from cutsim.interp.core import Code, Group, Interpreter, Step
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.lexer import COORD_LIMIT, Block, Word, iter_lines, parse_number
-from cutsim.interp.modal import AXES, InterpConfig
+from cutsim.interp.core.lexer import COORD_LIMIT, Block, Word, iter_lines, parse_number
+from cutsim.interp.core.modal import AXES, InterpConfig
 
 G_CODES = {
     0: Code(Group.MOTION, "XYZ", "rapid"),
