@@ -60,7 +60,8 @@ class Motion:
         elif self.motion in (2, 3) and (axis_words or motion in (2, 3)):
             self.circle(b, src, centre, values, cols)
         elif axis_words or motion is not None:  # G00/G01
-            self.check_words(b.line, centre, "IJK", self.motion)
+            if centre:
+                self.check_words(b.line, centre, "IJK", self.motion)
             if axis_words:
                 end = self.target(values)
                 self.check_position(b.line, end, cols)
