@@ -64,12 +64,8 @@ class Cnc8x6(PlainPath, Threads, Interpreter):
                 del loops[pc]
             pc += 1
         else:
-            if self.after_ramp is not None and self.after_ramp[1] == 1:
-                src = self.after_ramp[0]
-                raise self.error(src.line, src.col, "a thread with runout or lead-in must be followed by an empty block")
-        self.program.blocks = self.executed
-        self.program.final_position = tuple(self.pos)
-        return self.program
+            self.ramp_unfinished()
+        return self.finish()
 
     def stream(self, text: str) -> canon.Program:
         """``run`` for a program without G73: each line is scanned and executed in turn and not
@@ -102,9 +98,11 @@ class Cnc8x6(PlainPath, Threads, Interpreter):
                     scan(name, lineno, line)
                 break
         else:
-            if self.after_ramp is not None and self.after_ramp[1] == 1:
-                src = self.after_ramp[0]
-                raise self.error(src.line, src.col, "a thread with runout or lead-in must be followed by an empty block")
+            self.ramp_unfinished()
+        return self.finish()
+
+    def finish(self) -> canon.Program:
+        """The program as run: its block count and where the tool ended."""
         self.program.blocks = self.executed
         self.program.final_position = tuple(self.pos)
         return self.program

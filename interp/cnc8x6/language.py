@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import re
 
-from ..core import Code, Group
+from ..core import ISO_G_CODES, ISO_M_CODES, Code, Group
 from ..core.fast import PlainReader
 from ..core.lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number, check_length,
                           digits_end, foreign_digit, iter_lines, parse_number, read_whole)
@@ -23,24 +23,14 @@ G_CODES = {
     3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc (helix with G09), centre I/J/K from the start"),
     9: Code(Group.HELIX_ON, "", "helix on"),
     10: Code(Group.HELIX_PITCH, "XYZ", "helix pitch"),
-    17: Code(Group.PLANE, "", "plane XY"),
-    18: Code(Group.PLANE, "", "plane ZX"),
-    19: Code(Group.PLANE, "", "plane YZ"),
     33: Code(Group.MOTION, "XYZFIJE", "thread: lead F, start angle I, runout J, lead-in E"),
     73: Code(Group.JUMP, "LQ", "jump"),
-    90: Code(Group.DISTANCE, "", "absolute"),
-    91: Code(Group.DISTANCE, "", "incremental"),
-    94: Code(Group.FEED, "", "feed per minute"),
-    95: Code(Group.FEED, "", "feed per revolution"),
     98: Code(Group.HELIX_OFF, "", "helix off"),
+    **ISO_G_CODES,
 }
 # M words: spindle, program end, stops, coolant and gear ranges (the last ones have no geometric effect).
 M_CODES = {
-    0: Code(Group.STOP, "", "program stop"),
-    1: Code(Group.STOP, "", "optional stop"),
-    2: Code(Group.END, "", "program end"),
-    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
-    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+    **ISO_M_CODES,
     5: Code(Group.SPINDLE, "", "spindle stop"),
     8: Code(Group.COOLANT, "", "coolant on"),
     9: Code(Group.COOLANT, "", "coolant off"),

@@ -22,6 +22,12 @@ class Threads:
         self.lead = None
         self.after_ramp = None
 
+    def ramp_unfinished(self) -> None:
+        """At the end of the file: a ramped thread must have been followed by an empty block."""
+        if self.after_ramp is not None and self.after_ramp[1] == 1:
+            src = self.after_ramp[0]
+            raise self.error(src.line, src.col, "a thread with runout or lead-in must be followed by an empty block")
+
     def ramp_rule(self, b: Block) -> bool:
         """After a thread with runout or lead-in: an empty block, then one with every axis. True
         for the empty block (nothing else to do)."""

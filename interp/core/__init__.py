@@ -8,9 +8,9 @@
 
 The executor's names are re-exported here: a dialect writes ``from ..core import Interpreter``.
 """
-from .executor import CENTRE_WORDS, COMMON_GROUPS, MOTION, Code, Interpreter, Step
+from .executor import CENTRE_WORDS, COMMON_GROUPS, ISO_G_CODES, ISO_M_CODES, MOTION, Code, Interpreter, Step
 from .geometry import FullCircle, RadiusTooSmall, arc_centre, radius_centre, sweep_degrees
 from .modal import Group
 
-__all__ = ["CENTRE_WORDS", "COMMON_GROUPS", "MOTION", "Code", "Group", "Interpreter", "Step", "arc_centre", "sweep_degrees",
+__all__ = ["CENTRE_WORDS", "COMMON_GROUPS", "ISO_G_CODES", "ISO_M_CODES", "MOTION", "Code", "Group", "Interpreter", "Step", "arc_centre", "sweep_degrees",
            "radius_centre", "FullCircle", "RadiusTooSmall"]

@@ -44,6 +44,26 @@ class Code:
     meaning: str
 
 
+# The rows every word-address dialect shares (ISO 6983): the planes, distance and feed modes the
+# executor applies itself; program stop, end and the spindle directions.
+ISO_G_CODES = {
+    17: Code(Group.PLANE, "", "plane XY"),
+    18: Code(Group.PLANE, "", "plane ZX"),
+    19: Code(Group.PLANE, "", "plane YZ"),
+    90: Code(Group.DISTANCE, "", "absolute"),
+    91: Code(Group.DISTANCE, "", "incremental"),
+    94: Code(Group.FEED, "", "feed per minute"),
+    95: Code(Group.FEED, "", "feed per revolution"),
+}
+ISO_M_CODES = {
+    0: Code(Group.STOP, "", "program stop"),
+    1: Code(Group.STOP, "", "optional stop"),
+    2: Code(Group.END, "", "program end"),
+    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
+    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+}
+
+
 @dataclass
 class Step:
     """One block on its way through ``Interpreter.execute``."""

@@ -320,12 +320,9 @@ def primary(cur: Cursor):
     raise cur.error(f"'{m.group(0)}' is not a number, parameter (P1), variable (V.P.NAME) or function")
 
 
-def call(cur: Cursor, name: str):
-    col = cur.i + 1
-    cur.i += len(name)
-    cur.skip()
-    if cur.peek() != "[":
-        raise cur.error(f"{name} needs its argument in '[ ]'")
+def arguments(cur: Cursor, what: str) -> list:
+    """The expressions of the list ``[a, b, ...]`` at the cursor (on its '['), the cursor after its
+    ']'; ``what`` names the list in the error for a missing ']'."""
     cur.i += 1
     args = [expression(cur)]
     cur.skip()
@@ -334,8 +331,18 @@ def call(cur: Cursor, name: str):
         args.append(expression(cur))
         cur.skip()
     if cur.peek() != "]":
-        raise cur.error(f"']' expected to close {name}[")
+        raise cur.error(f"']' expected to close {what}")
     cur.i += 1
+    return args
+
+
+def call(cur: Cursor, name: str):
+    col = cur.i + 1
+    cur.i += len(name)
+    cur.skip()
+    if cur.peek() != "[":
+        raise cur.error(f"{name} needs its argument in '[ ]'")
+    args = arguments(cur, f"{name}[")
     arity, fn = FUNCS[name]
     if len(args) != arity:
         raise CutsimError(cur.prog, cur.line, col, f"{name} takes {arity} argument{'s' if arity > 1 else ''}, "

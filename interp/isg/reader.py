@@ -12,7 +12,7 @@ import unicodedata
 from dataclasses import dataclass, field
 
 from ..errors import CutsimError
-from .lang import CONTROL, IDENT, Cursor, expression, param, primary, var_ref
+from .lang import CONTROL, IDENT, Cursor, arguments, expression, param, primary, var_ref
 from ..core.lexer import (CODE_LIMIT, COORD_LIMIT, SPEED_LIMIT, Block, Word, block_lines, block_number,
                           parse_number)
 
@@ -275,17 +275,7 @@ def code_extras(cur: Cursor, block: IsgBlock, col: int) -> None:
     if j < len(cur.text) and cur.text[j] == "[" and cur.text[cur.i - 1:cur.i].isdigit():
         cur.i = j
     if cur.peek() == "[":
-        cur.i += 1
-        args = [expression(cur)]
-        cur.skip()
-        while cur.peek() == ",":
-            cur.i += 1
-            args.append(expression(cur))
-            cur.skip()
-        if cur.peek() != "]":
-            raise cur.error("']' expected to close the argument list")
-        cur.i += 1
-        block.args[col] = args
+        block.args[col] = arguments(cur, "the argument list")
         return
     j = cur.i
     t = cur.text

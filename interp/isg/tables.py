@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-from ..core import Code, Group
+from ..core import ISO_G_CODES, ISO_M_CODES, Code, Group
 
 # V.G.NP[i].V.X (zero offset i = 1..6, G54..G59) and V.G.NP_AKT.V.X (the active one), X/Y/Z only
 # V.G.@P[i].VALID: in a cycle, 1 when its call programmed @Pi (manual, error ID 21544)
@@ -16,9 +16,6 @@ G_CODES = {
     1: Code(Group.MOTION, "XYZF", "linear feed"),
     2: Code(Group.MOTION, "XYZIJKF", "clockwise arc, centre I/J/K from the start"),
     3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc, centre I/J/K from the start"),
-    17: Code(Group.PLANE, "", "plane XY"),
-    18: Code(Group.PLANE, "", "plane ZX"),
-    19: Code(Group.PLANE, "", "plane YZ"),
     33: Code(Group.MOTION, "XYZIJK", "thread, lead on I/J/K (mm/rev)"),
     40: Code(Group.RADIUS_COMP, "", "tool radius compensation off"),
     41: Code(Group.RADIUS_COMP, "", "tool radius compensation left"),
@@ -27,11 +24,7 @@ G_CODES = {
     52: Code(Group.DIAMETER, "", "diameter programming off"),
     53: Code(Group.ZERO_OFFSET, "", "zero offset off"),
     **{n: Code(Group.ZERO_OFFSET, "", f"zero offset G{n}") for n in range(54, 60)},
-    90: Code(Group.DISTANCE, "", "absolute"),
-    91: Code(Group.DISTANCE, "", "incremental"),
     92: Code(Group.REFERENCE, "XYZ", "reference point offset"),
-    94: Code(Group.FEED, "", "feed per minute"),
-    95: Code(Group.FEED, "", "feed per revolution"),
     161: Code(Group.CENTRE, "", "circle centre absolute"),
     162: Code(Group.CENTRE, "", "circle centre relative to the start"),
     71: Code(Group.UNITS, "", "millimetres"),
@@ -47,6 +40,7 @@ G_CODES = {
     351: Code(Group.MIRROR_AXES, "XYZ", "mirroring of the axes given (-1 on, 1 off)"),
     68: Code(Group.ROTATION, "XYZR", "contour rotation by R about X/Y in the plane"),
     69: Code(Group.ROTATION, "", "contour rotation off"),
+    **ISO_G_CODES,
 }
 MIRRORS = {20: (False, False), 21: (True, False), 22: (False, True), 23: (True, True)}
 # G codes that do not change the tool path (TwinCAT CNC programming manual, "G functions"):
@@ -84,11 +78,7 @@ G_NOT_MODELLED = {
 # subprogram the machine maker configures for it once, at the end of its block ("no modal effect")
 IMPLICIT_CALLS = set(range(80, 90)) | set(range(800, 820))
 M_CODES = {
-    0: Code(Group.STOP, "", "program stop"),
-    1: Code(Group.STOP, "", "optional stop"),
-    2: Code(Group.END, "", "program end"),
-    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
-    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+    **ISO_M_CODES,
     5: Code(Group.SPINDLE, "", "spindle stop (after the motion)"),
     6: Code(Group.TOOL, "TD", "tool change"),
     7: Code(Group.COOLANT, "", "coolant"),
