@@ -14,7 +14,7 @@ from importlib import import_module
 
 from .canon import Program, transcript
 from .errors import CutsimError
-from .modal import InterpConfig
+from .core.modal import InterpConfig
 
 
 @dataclass(frozen=True)
