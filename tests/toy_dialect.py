@@ -1,5 +1,5 @@
 """A toy dialect: the smallest complete one, to prove that a dialect is one module (or subpackage)
-plus one registry entry (tests/test_dialect_registry.py registers it; docs/architecture.md, "How to
+plus one registry entry (tests/interp/core/test_dialect_registry.py registers it; docs/architecture.md, "How to
 add a dialect").
 
 Blocks are words ``<letter><number>`` separated by blanks, ``;`` starts a comment. G0/G1 move, G2/G3

@@ -1,6 +1,6 @@
 """The CNC8x6 plain path: the common block (G00/G01 with X, Y, Z, F) and, when streaming, the plain
 line run without building its block, with exactly the effect and the errors of the long way
-(core.Interpreter.execute). tests/test_interp_stream.py runs programs both ways."""
+(core.Interpreter.execute). tests/interp/cnc8x6/test_interp_stream.py runs programs both ways."""
 from __future__ import annotations
 
 import re
