@@ -17,6 +17,7 @@ from typing import Callable
 
 from cutsim.interp import InterpConfig, interpret
 from cutsim.interp.canon import Program
+from cutsim.interp.core.files import Unreadable, read_bounded
 from cutsim.interp.errors import CutsimError
 from cutsim.setup import Setup, load_setup
 
@@ -129,34 +130,15 @@ def read_program(path: str) -> str:
     """The text of the program file ``path``: UTF-8 (with or without BOM), else Windows-1250.
     Only regular files of at most MAX_PROGRAM_BYTES are read (a directory, a device such as
     /dev/zero or a named pipe is refused); every failure is a CutsimError ``PATH:0:0``."""
-    import stat
-
     def error(text):
         return CutsimError(path, 0, 0, f"cannot read the program: {text}")
 
     try:
-        # O_NONBLOCK: opening a named pipe must not wait for a writer (regular files ignore it)
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except OSError as e:
-        raise error(e.strerror) from None
-    except ValueError:  # a NUL byte in the name
-        raise error("the file name contains a NUL byte") from None
-    try:
-        st = os.fstat(fd)
-        if stat.S_ISDIR(st.st_mode):
-            raise error("it is a directory")
-        if not stat.S_ISREG(st.st_mode):
-            raise error("not a regular file (a device, pipe or socket)")
-        if st.st_size > MAX_PROGRAM_BYTES:
-            raise error(f"the file is larger than {MAX_PROGRAM_BYTES >> 20} MiB")
-        with os.fdopen(os.dup(fd), "rb") as f:
-            raw = f.read(MAX_PROGRAM_BYTES + 1)
-    except OSError as e:
-        raise error(e.strerror) from None
-    finally:
-        os.close(fd)
-    if len(raw) > MAX_PROGRAM_BYTES:  # grew while being read
-        raise error(f"the file is larger than {MAX_PROGRAM_BYTES >> 20} MiB")
+        raw = read_bounded(path, MAX_PROGRAM_BYTES)
+    except Unreadable as e:
+        text = {"directory": "it is a directory", "special": "not a regular file (a device, pipe or socket)",
+                "large": f"the file is larger than {MAX_PROGRAM_BYTES >> 20} MiB"}.get(e.kind, e.reason)
+        raise error(text) from None
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:

@@ -3,7 +3,8 @@
 The one registry of dialects: ``DIALECTS`` maps a dialect's name (``[machine] dialect`` in a setup)
 to its ``Dialect`` entry: the module that interprets it (``interpret(name, text, cfg)``) and the
 setup defaults that belong to it. The setup loader (cutsim/setup/) and the CLI read this table;
-a new dialect is one module plus one line here (docs/architecture.md, "How to add a dialect").
+a new dialect is one subpackage (interp/<name>/, on the shared core: interp/core/) plus one line
+here (docs/architecture.md, "How to add a dialect").
 """
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from importlib import import_module
 
 from .canon import Program, transcript
 from .errors import CutsimError
-from .modal import InterpConfig
+from .core.modal import InterpConfig
 
 
 @dataclass(frozen=True)
@@ -38,8 +39,8 @@ _SINUMERIK_WORK_OFFSETS = WorkOffsets(
 class Dialect:
     """One registry entry.
 
-    ``module``: the module with ``interpret(name, text, cfg) -> Program``; a name starting with a
-    dot is relative to this package (``".cnc8x6"``), any other is absolute (a plug-in).
+    ``module``: the module or package with ``interpret(name, text, cfg) -> Program``; a name
+    starting with a dot is relative to this package (``".cnc8x6"``), any other is absolute (a plug-in).
     ``diameter_programming``: on a lathe, whether X values are diameters when the setup does not
     say (``[machine] diameter_programming``); mills always program radii.
     ``extensions``: the file extensions its programs and subprograms usually have.

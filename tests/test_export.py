@@ -84,7 +84,7 @@ def _test_program_cases():
         if not setup.is_file():
             continue  # not a program with a setup
         cases.append((f"tests/{rel.with_suffix('').as_posix()}", prog, setup))
-    if EXAMPLES.is_dir():  # the shared threads on the short bar (tests/test_isg.py)
+    if EXAMPLES.is_dir():  # the shared threads on the short bar (tests/interp/isg/test_isg.py)
         for name in ("m70x1.5", "two-start"):
             cases.append((f"tests/short/{name}", EXAMPLES / "isg-lathe" / f"{name}.nc", HERE / "isg" / "short.toml"))
     return cases

@@ -1,5 +1,5 @@
-"""The plain-line readers (interp/isg_fast.py, interp/sinumerik_fast.py) are shortcuts of the full
-line readers (isg_scan.scan, sinumerik_lang.scan_line): for every line they give either None
+"""The plain-line readers (interp/isg/fast.py, interp/sinumerik_fast.py) are shortcuts of the full
+line readers (interp/isg/reader.py scan, sinumerik_lang.scan_line): for every line they give either None
 (the line goes the long way) or exactly the object the full reader builds, field by field. A
 line the full reader refuses (an error) must give None.
 
@@ -16,7 +16,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cutsim.interp import isg_fast, isg_scan, sinumerik_fast, sinumerik_lang
+from cutsim.interp import sinumerik_fast, sinumerik_lang
+from cutsim.interp.isg import fast as isg_fast, program as isg_program, reader as isg_scan
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.lexer import split_lines
 
@@ -64,8 +65,8 @@ def check_isg(line: str) -> bool:
     assert fast == full, line
     assert [type(w) for w in fast.words] == [type(w) for w in full.words]
     assert [type(w.value) for w in fast.words] == [type(w.value) for w in full.words]
-    # what isg_scan.parse does before it scans a line leaves a plain line as it is
-    assert isg_scan.expand_macros("p.nc", 7, line, {}) == line
+    # what isg_program.parse does before it scans a line leaves a plain line as it is
+    assert isg_program.expand_macros("p.nc", 7, line, {}) == line
     assert isg_scan.MACRO_DEF.match(line) is None
     assert not line.lstrip().startswith("%") and "\\" not in line.split(";", 1)[0]
     return True
@@ -206,7 +207,7 @@ def test_sinumerik_fast_words_take_no_more_memory(monkeypatch):
     assert fast <= built * 1.02
 
 
-# -- the ISG plain block (isg_fast.plain_block): whole programs run alike with and without it -------
+# -- the ISG plain block (Isg.plain_block): whole programs run alike with and without it -------
 from cutsim.interp import canon, isg  # noqa: E402
 from cutsim.interp.modal import InterpConfig  # noqa: E402
 
@@ -220,18 +221,18 @@ ISG_CFGS = {
 
 def isg_outcome(name: str, text: str, cfg: InterpConfig, short: bool):
     """Run the program with the plain-block path (``short``: every block offered to
-    isg_fast.plain_block first, as the hook in Isg.block does) or without it."""
+    Isg.plain_block first, as the hook in Isg.block does) or without it."""
     mp = pytest.MonkeyPatch()
     original = isg.Isg.block
     if short:
         def block(self, b, fr):
             src = canon.Src(self.name, b.line, 1, b.label, fr.calls)
-            if isg_fast.plain_block(self, b, src, fr):
+            if self.plain_block(b, src, fr):
                 return False
             return original(self, b, fr)
         mp.setattr(isg.Isg, "block", block)
     else:
-        mp.setattr(isg_fast, "plain_block", lambda *a: False)  # the hook, once in place, calls it by module
+        mp.setattr(isg.Isg, "plain_block", lambda *a: False)
     try:
         p = isg.interpret(name, text, cfg)
     except CutsimError as e:
@@ -291,19 +292,19 @@ def test_plain_blocks_take_the_short_way(monkeypatch):
     finally:
         sys.path.pop(0)
     taken, missed = set(), set()
-    real = isg_fast.plain_block
+    real = isg.Isg.plain_block
 
     def spy(m, b, *a):
         ok = real(m, b, *a)
         (taken if ok else missed).add(b.line)
         return ok
-    monkeypatch.setattr(isg_fast, "plain_block", spy)
+    monkeypatch.setattr(isg.Isg, "plain_block", spy)
     text = bench_interp.program("isg-mill", 50)
     original = isg.Isg.block
 
     def block(self, b, fr):
         src = canon.Src(self.name, b.line, 1, b.label, fr.calls)
-        return False if isg_fast.plain_block(self, b, src, fr) else original(self, b, fr)
+        return False if self.plain_block(b, src, fr) else original(self, b, fr)
     monkeypatch.setattr(isg.Isg, "block", block)
     isg.interpret("p.nc", text, ISG_CFGS["mill"])
     assert taken == set(range(2, 52)) and missed == {52}  # the blocks (after %bench); M30 the long way

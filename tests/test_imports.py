@@ -35,6 +35,9 @@ ROOT = Path(__file__).resolve().parents[1]
 RANKS = {
     "cutsim.base": 0,
     "cutsim.interp": 1,
+    "cutsim.interp.core": 1,  # the dialects' packages share the interpreter's rank
+    "cutsim.interp.cnc8x6": 1,
+    "cutsim.interp.isg": 1,
     "cutsim.interp.rs274ngc": 1,  # a dialect as a package (docs/architecture.md, "How to add a dialect")
     "cutsim.kinematics": 2,
     "cutsim.stock": 3,
@@ -231,8 +234,8 @@ def test_the_graph_sees_the_packages_edges():
     """The walker finds real edges of every kind: relative, absolute, from-a-package and lazy."""
     inner, _ = edges(modules(package_dirs()))
     pairs = {(e.src, e.dst, e.lazy) for e in inner}
-    assert ("cutsim.interp.cnc8x6", "cutsim.interp.canon", False) in pairs  # from . import canon
-    assert ("cutsim.interp.cnc8x6", "cutsim.interp.core", False) in pairs  # from .core import ...
+    assert ("cutsim.interp.cnc8x6.interpreter", "cutsim.interp.canon", False) in pairs  # from .. import canon
+    assert ("cutsim.interp.cnc8x6.interpreter", "cutsim.interp.core", False) in pairs  # from ..core import ...
     assert ("cutsim.kinematics.paths", "cutsim.base.specs", False) in pairs  # absolute
     assert ("cutsim.reports.checks", "cutsim.reports.measure", False) in pairs
     assert ("cutsim.cli", "cutsim.reports.output", True) in pairs  # inside a function

@@ -1,5 +1,6 @@
-"""A toy dialect: the smallest complete one, to prove that a dialect is one module plus one registry
-entry (tests/test_dialect_registry.py registers it; docs/architecture.md, "How to add a dialect").
+"""A toy dialect: the smallest complete one, to prove that a dialect is one module (or subpackage)
+plus one registry entry (tests/interp/core/test_dialect_registry.py registers it; docs/architecture.md, "How to
+add a dialect").
 
 Blocks are words ``<letter><number>`` separated by blanks, ``;`` starts a comment. G0/G1 move, G2/G3
 cut arcs with the centre on I/K (incremental), G90/G91 switch the distance mode; M3/M4/M5 drive the
@@ -8,24 +9,24 @@ spindle, M30 ends the program; S, F, T and D as on every controller.
 from __future__ import annotations
 
 from cutsim.interp.canon import Program, Src
-from cutsim.interp.core import Code, Interpreter, Step
+from cutsim.interp.core import Code, Group, Interpreter, Step
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.lexer import COORD_LIMIT, Block, Word, iter_lines, parse_number
-from cutsim.interp.modal import AXES, InterpConfig
+from cutsim.interp.core.lexer import COORD_LIMIT, Block, Word, iter_lines, parse_number
+from cutsim.interp.core.modal import AXES, InterpConfig
 
 G_CODES = {
-    0: Code("motion", "XYZ", "rapid"),
-    1: Code("motion", "XYZF", "linear feed"),
-    2: Code("motion", "XYZIJKF", "clockwise arc"),
-    3: Code("motion", "XYZIJKF", "counter-clockwise arc"),
-    90: Code("dist", "", "absolute"),
-    91: Code("dist", "", "incremental"),
+    0: Code(Group.MOTION, "XYZ", "rapid"),
+    1: Code(Group.MOTION, "XYZF", "linear feed"),
+    2: Code(Group.MOTION, "XYZIJKF", "clockwise arc"),
+    3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc"),
+    90: Code(Group.DISTANCE, "", "absolute"),
+    91: Code(Group.DISTANCE, "", "incremental"),
 }
 M_CODES = {
-    3: Code("spindle", "S", "spindle clockwise"),
-    4: Code("spindle", "S", "spindle counter-clockwise"),
-    5: Code("spindle", "", "spindle stop"),
-    30: Code("end", "", "program end"),
+    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
+    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+    5: Code(Group.SPINDLE, "", "spindle stop"),
+    30: Code(Group.END, "", "program end"),
 }
 
 
@@ -72,7 +73,7 @@ class Toy(Interpreter):
             (self.rapid if self.motion == 0 else self.linear)(st.src, end)
 
     def convert_end(self, st: Step) -> None:
-        st.result = bool(self.m_group(st, "end"))
+        st.result = bool(self.m_group(st, Group.END))
         if st.result:
             self.end(st.src)
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 from cutsim.interp.canon import Src
-from cutsim.interp.core import MOTION, Interpreter, Step
+from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.lexer import COORD_LIMIT, Word
 from cutsim.interp.modal import PLANE_AXES, InterpConfig
 
@@ -106,27 +106,27 @@ class Ngc(Interpreter):
         for code, row, g in codes:
             if row.group == MOTION:
                 st.motion = code if st.motion in (None, 80) else st.motion
-            elif row.group in ("dist", "plane"):
+            elif row.group in (Group.DISTANCE, Group.PLANE):
                 self.common_g(int(code))
             else:
                 self.g_code(st, code, row, g)
 
     def g_code(self, st: Step, code, row, g: Word) -> None:
         group = row.group
-        if group == "units":
+        if group == Group.UNITS:
             self.scale = INCH if code == 20 else 1.0
-        elif group == "arc distance":
+        elif group == Group.ARC_DISTANCE:
             self.arc_abs = code == 90.1
-        elif group == "feed mode":
+        elif group == Group.FEED:
             self.feed_mode = int(code)
             self.per_rev = code == 95
             if code == 93:
                 self.feed_units = None
-        elif group == "lathe":
+        elif group == Group.DIAMETER:
             self.lathe_diameter = code == 7
-        elif group == "retract":
+        elif group == Group.RETRACT:
             self.retract_old = code == 98
-        elif group == "coordinate system":
+        elif group == Group.ZERO_OFFSET:
             offsets.select(self, code)
         else:
             st.g[group] = g
@@ -155,16 +155,16 @@ class Ngc(Interpreter):
         if st.direction is not None:
             self.spindle(self.src(st), st.direction, None)
         offsets.tool_length(self, st)
-        if "path control" in st.g:
+        if Group.PATH_CONTROL in st.g:
             for letter in "PQ":
                 w = st.words.pop(letter, None)
                 if w is not None and w.value < 0:
                     raise self.error(line, w.col, f"G64 {letter} must not be negative")
-        for code, m in self.m_group(st, "override") + self.m_group(st, "io"):
+        for code, m in self.m_group(st, Group.OVERRIDE) + self.m_group(st, Group.IO):
             for letter in self.M_CODES[code].words:
                 st.words.pop(letter, None)
-        if "nonmodal" in st.g and round(st.g["nonmodal"].value, 4) == 4:
-            g = st.g.pop("nonmodal")
+        if Group.NON_MODAL in st.g and round(st.g[Group.NON_MODAL].value, 4) == 4:
+            g = st.g.pop(Group.NON_MODAL)
             p = words.pop("P", None)
             if p is None or p.value < 0:
                 raise self.error(line, g.col, "G4 needs a dwell time P of 0 or more (seconds)")
@@ -178,7 +178,7 @@ class Ngc(Interpreter):
             if code is not None and 100 <= code <= 199 and code in self.cfg.m_functions:
                 continue
             keep.append(m)
-        groups: dict[str, Word] = {}
+        groups: dict[Group, Word] = {}
         for m in keep:
             row = self.M_CODES.get(int(m.value)) if m.value == int(m.value) else None
             if row is not None and row.group in groups:
@@ -189,7 +189,7 @@ class Ngc(Interpreter):
         super().check_m(st, keep)
 
     def tool_m(self, st: Step) -> None:
-        for code, m in self.m_group(st, "tool change"):
+        for code, m in self.m_group(st, Group.TOOL):
             if code == 61:
                 q = st.words.pop("Q", None)
                 if q is None:
@@ -212,7 +212,7 @@ class Ngc(Interpreter):
             raise self.error(st.block.line, w.col, f"requested tool {number} not found in the tool table")
 
     def convert_nonmodal(self, st: Step) -> None:
-        g = st.g.get("nonmodal")
+        g = st.g.get(Group.NON_MODAL)
         if g is not None and round(g.value, 4) != 53:
             offsets.nonmodal(self, st, round(g.value, 4), g)
 
@@ -233,7 +233,7 @@ class Ngc(Interpreter):
 
     def convert_motion(self, st: Step) -> None:
         line = st.block.line
-        g53 = st.g.get("nonmodal")
+        g53 = st.g.get(Group.NON_MODAL)
         if g53 is not None and round(g53.value, 4) == 53:
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
@@ -247,7 +247,7 @@ class Ngc(Interpreter):
         if m in cycles.CYCLE_CODES and has_axes:
             cycles.run(self, st)
         elif not has_axes:
-            if st.motion not in (None, 0, 1, 80) and "nonmodal" not in st.g:
+            if st.motion not in (None, 0, 1, 80) and Group.NON_MODAL not in st.g:
                 raise self.error(line, st.groups[MOTION].col, f"G{st.groups[MOTION].raw}: all axes missing")
             self.check_left(st)
             return
@@ -384,6 +384,6 @@ class Ngc(Interpreter):
         return math.hypot(r * sweep, end[n] - start[n])
 
     def convert_end(self, st: Step) -> None:
-        st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, "stop"))
+        st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, Group.STOP))
         if st.result:
             self.end(self.src(st))

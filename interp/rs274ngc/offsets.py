@@ -5,7 +5,7 @@ active one in #5220; G92 at #5211-#5213 (#5210 = 1 while applied); G28 at #5161-
 """
 from __future__ import annotations
 
-from cutsim.interp.core import Step
+from cutsim.interp.core import Group, Step
 from cutsim.interp.lexer import Word
 
 SYSTEMS = {54: 1, 55: 2, 56: 3, 57: 4, 58: 5, 59: 6, 59.1: 7, 59.2: 8, 59.3: 9}
@@ -39,7 +39,7 @@ def select(m, code: float) -> None:
 
 def tool_length(m, st: Step) -> None:
     """G43 [H], G43.1 X Z, G43.2 H / X Z, G49 (after M6 in the block, as LinuxCNC orders them)."""
-    g = st.g.pop("tool length", None)
+    g = st.g.pop(Group.TOOL_LENGTH, None)
     if g is None:
         return
     code, line = round(g.value, 4), st.block.line

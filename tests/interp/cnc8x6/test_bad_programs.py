@@ -14,7 +14,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-BAD = Path(__file__).parent / "bad"
+BAD = Path(__file__).resolve().parents[2] / "bad"
 PROGRAMS = sorted(BAD.glob("*.nc"))
 RULES = {  # every rule of the issue has its file
     "lead-over-99.99", "e-without-point", "missing-empty-block", "missing-axis", "assign-r00",

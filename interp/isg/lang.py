@@ -4,7 +4,7 @@ variable references (``P1``, ``@P1``, ``V.P.NAME[i]``, ``V.L.``, ``V.S.``, ``V.E
 "Language").
 
 An expression is compiled once, when its line is scanned, into a Python closure ``f(env) -> value``
-(a float or a string); ``env`` is the interpreter (interp/isg.py), which answers ``read_var`` and
+(a float or a string); ``env`` is the interpreter (interpreter.py), which answers ``read_var`` and
 ``read_param``. Every error names the program, the line and the column of the offending token.
 """
 from __future__ import annotations
@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 import re
 
-from .errors import CutsimError
-from .lexer import NUMBER_LIMIT, foreign_digit
+from ..errors import CutsimError
+from ..core.lexer import NUMBER_LIMIT, foreign_digit
 
 NUM = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -320,12 +320,9 @@ def primary(cur: Cursor):
     raise cur.error(f"'{m.group(0)}' is not a number, parameter (P1), variable (V.P.NAME) or function")
 
 
-def call(cur: Cursor, name: str):
-    col = cur.i + 1
-    cur.i += len(name)
-    cur.skip()
-    if cur.peek() != "[":
-        raise cur.error(f"{name} needs its argument in '[ ]'")
+def arguments(cur: Cursor, what: str) -> list:
+    """The expressions of the list ``[a, b, ...]`` at the cursor (on its '['), the cursor after its
+    ']'; ``what`` names the list in the error for a missing ']'."""
     cur.i += 1
     args = [expression(cur)]
     cur.skip()
@@ -334,8 +331,18 @@ def call(cur: Cursor, name: str):
         args.append(expression(cur))
         cur.skip()
     if cur.peek() != "]":
-        raise cur.error(f"']' expected to close {name}[")
+        raise cur.error(f"']' expected to close {what}")
     cur.i += 1
+    return args
+
+
+def call(cur: Cursor, name: str):
+    col = cur.i + 1
+    cur.i += len(name)
+    cur.skip()
+    if cur.peek() != "[":
+        raise cur.error(f"{name} needs its argument in '[ ]'")
+    args = arguments(cur, f"{name}[")
     arity, fn = FUNCS[name]
     if len(args) != arity:
         raise CutsimError(cur.prog, cur.line, col, f"{name} takes {arity} argument{'s' if arity > 1 else ''}, "

@@ -1,7 +1,7 @@
 """Properties of ISG rotation and mirroring on a mill (docs/dialects/isg.md, "Rotation and mirroring"):
 a transformed program must give exactly the moves of the same contour transformed by hand.
 
-The hand model here is independent of interp/isg_commands.frame: numpy matrices built from the
+The hand model here is independent of Isg.program_frame (interp/isg/frames.py): numpy matrices built from the
 documented order - contour rotation about its centre (#ROTATION ON [ANGLE CENTER1 CENTER2] or G68 R X Y),
 then the mirroring about the program zero (G20..G23, G351), then the #CS stack (each a turn about Z
 then a translation; the last one switched on acts first), then G54 and G92. A program P is drawn at

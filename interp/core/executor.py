@@ -1,6 +1,5 @@
-"""The shared block executor of the word-address dialects (CNC8x6, ISG) and the geometry every
-dialect computes the same way: the arc centre from I/J/K and the arc sweep angle (the guard on
-executed blocks is modal.ModalMachine.count_block).
+"""The shared block executor of the word-address dialects (CNC8x6, ISG; the guard on executed
+blocks is modal.ModalMachine.count_block).
 
 A dialect is a table of its G and M codes, ``{code: Code(modal group, words, meaning)}`` (compare
 CAMotics' ``Codes.cpp`` rows), plus the few hooks where it truly differs. ``Interpreter.execute``
@@ -21,16 +20,16 @@ runs one block in a fixed order, as LinuxCNC's rs274ngc ``read_* -> check_* -> c
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
-from .canon import Src, Vec3
+from ..canon import Src, Vec3
 from .lexer import Block, Word
-from .modal import PLANE_AXES, ModalMachine
+from .geometry import arc_centre
+from .modal import PLANE_AXES, Group, ModalMachine
 
 # Groups every dialect has and the executor applies itself (ModalMachine.common_g).
-MOTION = "motion"
-COMMON_GROUPS = ("dist", "feed", "plane")
+MOTION = Group.MOTION
+COMMON_GROUPS = (Group.DISTANCE, Group.FEED, Group.PLANE)
 CENTRE_WORDS = {0: "I", 1: "J", 2: "K"}  # axis index -> its arc-centre offset address
 
 
@@ -40,9 +39,29 @@ class Code:
     in a block; a code alone in its group gets a group of its own), the addresses it takes besides
     the words every block may carry, and what it means."""
 
-    group: str
+    group: Group
     words: str
     meaning: str
+
+
+# The rows every word-address dialect shares (ISO 6983): the planes, distance and feed modes the
+# executor applies itself; program stop, end and the spindle directions.
+ISO_G_CODES = {
+    17: Code(Group.PLANE, "", "plane XY"),
+    18: Code(Group.PLANE, "", "plane ZX"),
+    19: Code(Group.PLANE, "", "plane YZ"),
+    90: Code(Group.DISTANCE, "", "absolute"),
+    91: Code(Group.DISTANCE, "", "incremental"),
+    94: Code(Group.FEED, "", "feed per minute"),
+    95: Code(Group.FEED, "", "feed per revolution"),
+}
+ISO_M_CODES = {
+    0: Code(Group.STOP, "", "program stop"),
+    1: Code(Group.STOP, "", "optional stop"),
+    2: Code(Group.END, "", "program end"),
+    3: Code(Group.SPINDLE, "S", "spindle clockwise"),
+    4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
+}
 
 
 @dataclass
@@ -53,8 +72,8 @@ class Step:
     src: Src
     words: dict[str, Word]  # the words that are neither G nor M, by letter (consumed as they act)
     motion: int | None = None  # the block's motion code
-    g: dict[str, Word] = field(default_factory=dict)  # the dialect's own G codes: meaning -> word
-    groups: dict[str, Word] = field(default_factory=dict)  # modal group -> its G word
+    g: dict[Group, Word] = field(default_factory=dict)  # the dialect's own G codes: group -> word
+    groups: dict[Group, Word] = field(default_factory=dict)  # modal group -> its G word
     m: list[tuple[int, Word]] = field(default_factory=list)
     direction: int | None = None  # spindle: +1, -1, 0 (M3/M4/M5), None without one
     speed: Word | None = None  # S, once convert_settings took it
@@ -62,37 +81,6 @@ class Step:
     context: object = None  # the dialect's run-loop state for this block (ISG: the call stack)
     done: bool = False  # the block ended early (standalone)
     result: object = None  # what the dialect's hooks hand back to its run loop
-
-
-def arc_centre(pos, plane: str, diameter: bool, offsets: dict[int, float]) -> list[float]:
-    """The absolute centre of an arc whose centre is given incrementally from the start ``pos``
-    (I/J/K: axis index -> value) in ``plane``. I is a radius even in diameter mode, so it counts
-    twice on the X (diameter) value."""
-    a, c, _ = PLANE_AXES[plane]
-    centre = list(pos)
-    for i in (a, c):
-        if i in offsets:
-            centre[i] = pos[i] + offsets[i] * (2.0 if (i == 0 and diameter) else 1.0)
-    return centre
-
-
-def sweep_degrees(start, end, centre, plane: str, clockwise: bool, diameter: bool) -> float:
-    """The angle (degrees, in (0, 360]) an arc turns through from ``start`` to ``end`` about
-    ``centre`` in ``plane``; start = end is a full circle. X values are diameters when ``diameter``."""
-    a, c, _ = PLANE_AXES[plane]
-
-    def phys(p, i):
-        return p[i] / 2.0 if (i == 0 and diameter) else p[i]
-
-    a0 = math.atan2(phys(start, c) - phys(centre, c), phys(start, a) - phys(centre, a))
-    a1 = math.atan2(phys(end, c) - phys(centre, c), phys(end, a) - phys(centre, a))
-    d = math.degrees(a1 - a0)
-    if clockwise:
-        d = -d
-    d %= 360.0
-    if d < 1e-9:
-        d = 360.0
-    return d
 
 
 class Interpreter(ModalMachine):
@@ -148,8 +136,8 @@ class Interpreter(ModalMachine):
                 self.g_code(st, code, row, g)
 
     def g_code(self, st: Step, code: int, row: Code, g: Word) -> None:
-        """A G code of the dialect's own (not motion, distance, feed or plane): noted by meaning."""
-        st.g[row.meaning] = g
+        """A G code of the dialect's own (not motion, distance, feed or plane): noted by its group."""
+        st.g[row.group] = g
 
     def standalone(self, st: Step) -> bool:
         return False
@@ -163,7 +151,7 @@ class Interpreter(ModalMachine):
             st.m.append((int(m.value), m))
         st.direction = self.spindle_code(st.block.line, [(c, m.col) for c, m in st.m])
 
-    def m_group(self, st: Step, group: str) -> list[tuple[int, Word]]:
+    def m_group(self, st: Step, group: Group) -> list[tuple[int, Word]]:
         """The block's M words (code, word) whose table row is in ``group``."""
         if not st.m:
             return []
@@ -185,6 +173,14 @@ class Interpreter(ModalMachine):
         pass
 
     # -- pieces the hooks share --------------------------------------------------------------------
+    def check_words(self, line: int, words: dict[str, Word], letters: str, code: int) -> None:
+        """Refuse the first word of ``letters`` (in that order) in ``words`` that the G code ``code``
+        does not take (its table row's ``Code.words``), at the word's column."""
+        takes = self.G_CODES[code].words
+        for a in letters:
+            if a in words and a not in takes:
+                raise self.error(line, words[a].col, f"address {a} has no meaning in a G{code:02d} block")
+
     def tool_words(self, st: Step, tool_number) -> None:
         """T (with its D) changes the tool; D alone only names an offset (no geometric effect).
         ``tool_number(word)`` checks and returns the tool number."""

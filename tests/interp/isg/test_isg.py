@@ -26,7 +26,7 @@ from cutsim.interp import CutsimError, InterpConfig, interpret, transcript
 from cutsim.interp import canon
 from geometry import section, wrap
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[2]  # tests/
 ISG = EXAMPLES / "isg-lathe"
 OWN = HERE / "isg"
 PHIS = (0.0, 90.0, 200.0, 321.7)

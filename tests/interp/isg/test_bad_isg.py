@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from cutsim.cli import main
 from support.bad import assert_stops_at_its_line
 
-BAD = Path(__file__).parent / "bad_isg"
+BAD = Path(__file__).resolve().parents[2] / "bad_isg"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.nc"))
 RULES = {  # one program per rule of docs/dialects/isg.md that a real program can break

@@ -20,7 +20,7 @@ from cutsim.interp import canon, cnc8x6, lexer
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.modal import InterpConfig
 
-TESTS = Path(__file__).parent
+TESTS = Path(__file__).resolve().parents[2]  # tests/
 LATHE = InterpConfig("cnc8x6", "lathe", True, (40.0, 0.0, 5.0), parameters={4: -120.0}, constants={8: 4160000.0},
                      max_blocks=200)
 MILL = InterpConfig("cnc8x6", "mill", False, (0.0, 0.0, 20.0), max_blocks=200)
@@ -102,7 +102,7 @@ def test_random_programs_stream_as_listed(lines, mill):
 def full_scan(line: str):
     """The full scanner alone (the plain-line path switched off)."""
     mp = pytest.MonkeyPatch()
-    mp.setattr(cnc8x6, "scan_plain", lambda lineno, text: False)
+    mp.setattr(cnc8x6.language, "scan_plain", lambda lineno, text: False)
     try:
         return scanned(line)
     finally:

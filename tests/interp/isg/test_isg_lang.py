@@ -77,7 +77,7 @@ from cutsim.cli import main
 from cutsim.interp import CutsimError, InterpConfig, interpret
 from cutsim.interp import canon
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[2]  # tests/
 GOLDEN = HERE / "golden" / "isg-lang"
 SETUP = GOLDEN / "setup.toml"
 NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle", "rotation",
