@@ -1,4 +1,4 @@
-"""Sinumerik drilling cycles (interp/sinumerik_drill.py) and the drill tool (stock/tools.py).
+"""Sinumerik drilling cycles (interp/sinumerik/drilling.py) and the drill tool (stock/tools.py).
 
 On the solid: a drilled hole measured on the part mesh with plane sections and rays
 (tests/sinumerik_measure.py, trimesh only) against the analytic cylinder + cone of the drill
@@ -393,7 +393,7 @@ def test_modal_cycle_runs_in_the_workpiece_coordinates(monkeypatch):
     # G54 = (100, 0, -10) and TRANS X10 Y5 Z-2: WCS -> machine adds (110, 5, -12). The modal CYCLE81
     # after X20 (machine X130, Y15) goes to RFP + SDIS = 2 -> -10, drills to DP -5 -> -17, back to
     # RTP 10 -> -2; HOLES1 puts holes at WCS (10, 0) and (20, 0), from the nearer end (20, 0)
-    from cutsim.interp import sinumerik_machine
+    from cutsim.interp.sinumerik import machine as sinumerik_machine
     monkeypatch.setattr(sinumerik_machine, "MODAL_CYCLES_IN_WCS", True)  # the machine side's guard
     cfg = InterpConfig(dialect="sinumerik", machine_kind="mill", start=(0.0, 0.0, 50.0), tool_radii={1: R},
                        work_offsets={"G54": (100.0, 0.0, -10.0)})

@@ -1,5 +1,5 @@
-"""The plain-line readers (interp/isg/fast.py, interp/sinumerik_fast.py) are shortcuts of the full
-line readers (interp/isg/reader.py scan, sinumerik_lang.scan_line): for every line they give either None
+"""The plain-line readers (interp/isg/fast.py, interp/sinumerik/fast.py) are shortcuts of the full
+line readers (interp/isg/reader.py scan, sinumerik_reader.scan_line): for every line they give either None
 (the line goes the long way) or exactly the object the full reader builds, field by field. A
 line the full reader refuses (an error) must give None.
 
@@ -16,7 +16,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cutsim.interp import sinumerik_fast, sinumerik_lang
+from cutsim.interp.sinumerik import fast as sinumerik_fast
+from cutsim.interp.sinumerik import reader as sinumerik_reader, syntax as sinumerik_syntax
 from cutsim.interp.isg import fast as isg_fast, program as isg_program, reader as isg_scan
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.lexer import split_lines
@@ -50,7 +51,7 @@ def full_isg(line: str):
 
 def full_sinumerik(line: str):
     try:
-        return sinumerik_lang.scan_line("p.mpf", 7, line)
+        return sinumerik_reader.scan_line("p.mpf", 7, line)
     except CutsimError as e:
         return ("error", str(e))
 
@@ -77,7 +78,7 @@ def check_sinumerik(line: str) -> bool:
     if fast is None:
         return False
     full = full_sinumerik(line)
-    assert isinstance(full, sinumerik_lang.Line), (line, full)
+    assert isinstance(full, sinumerik_syntax.Line), (line, full)
     assert fast == full, line
     assert [type(s) for s in fast.stmts] == [type(s) for s in full.stmts]
     assert [type(s.value.value) for s in fast.stmts] == [type(s.value.value) for s in full.stmts]

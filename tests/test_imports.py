@@ -39,6 +39,7 @@ RANKS = {
     "cutsim.interp.cnc8x6": 1,
     "cutsim.interp.isg": 1,
     "cutsim.interp.rs274ngc": 1,  # a dialect as a package (docs/architecture.md, "How to add a dialect")
+    "cutsim.interp.sinumerik": 1,  # a dialect's package shares the interpreter's rank
     "cutsim.kinematics": 2,
     "cutsim.stock": 3,
     "cutsim.reports": 4,

@@ -11,7 +11,8 @@ import pytest
 import cutsim
 from cutsim import CutsimError
 from cutsim.interp import InterpConfig, interpret
-from cutsim.interp import canon, sinumerik_cycles
+from cutsim.interp import canon
+from cutsim.interp.sinumerik import milling as sinumerik_cycles
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "sinumerik"
 

@@ -1,4 +1,4 @@
-"""Sinumerik axis functions (interp/sinumerik_axes.py): AXNAME, AXSTRING, SPI, AXTOSPI and AX[..]
+"""Sinumerik axis functions (interp/sinumerik/axes.py): AXNAME, AXSTRING, SPI, AXTOSPI and AX[..]
 with any AXIS expression. End points worked out by hand from the programs and the setup's values
 (a GUD naming the axis, a user array INI[..] from [variables], the plane's axes $P_AXN1..3)."""
 from __future__ import annotations

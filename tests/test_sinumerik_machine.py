@@ -1,4 +1,4 @@
-"""Sinumerik machine side (interp/sinumerik_machine.py): units, frames, extra axes, tools, spindles
+"""Sinumerik machine side (interp/sinumerik/machine.py): units, frames, extra axes, tools, spindles
 and machine functions, with InterpConfig built directly. Expected numbers come from the geometry
 (a quarter turn, 25.4 mm per inch, a mirror image), never from the code under test.
 """
@@ -100,7 +100,7 @@ def test_rot_plane_angle_rpl():
     m = Sinumerik("t.mpf", cfg())
     try:
         p = m.run(HEAD + "ROT RPL=30\nG1 X10 Y0\nM30\n")
-    except CutsimError as e:  # the reader must give RPL= as a word (interp/sinumerik_lang.py)
+    except CutsimError as e:  # the reader must give RPL= as a word (interp/sinumerik/lang.py)
         pytest.xfail(f"RPL= not read as an address yet: {e}")
     assert close(p.moves[-1].end, (10 * math.cos(math.radians(30)), 5.0, 5.0))
 
@@ -185,7 +185,7 @@ def test_cycle_under_a_frame_is_turned_and_shifted():
 def test_declared_axes_are_tracked_and_warn_once():
     m, p = run(HEAD + "G1 X10 A0.0\nG1 A=90 B=IC(5)\nG1 A=180 B=IC(5)\nG1 X20\nM30\n",
                axes={"A": "rotary", "B": "rotary"})
-    from cutsim.interp.sinumerik_machine import state
+    from cutsim.interp.sinumerik.machine import state
     assert state(m).axis_value(m, "A") == 180.0 and state(m).axis_value(m, "B") == 10.0
     assert state(m).axis_value(m, "X") == 20.0 and state(m).axis_value(m, "C") is None
     ws = warnings(p)

@@ -1,15 +1,15 @@
 """Siemens Sinumerik 840D dialect, milling subset (seed 003, spec/sinumerik.md).
 
-Blocks are read once into the typed syntax tree of interp/sinumerik_lang.py (statements and
+Blocks are read once into the typed syntax tree of interp/sinumerik/lang.py (statements and
 expressions as dataclasses); expressions are evaluated when the block runs. A block runs in
 phases (``block``): evaluate its assignments and words in order, then the modal G codes, then
 spindle, tool and feed, then the motion (with radius compensation), then cycles and subprogram
 calls, then jumps and the program end. Cycles (SLOT1, POCKET1, CYCLE72, ...) expand in
-interp/sinumerik_cycles.py into ordinary moves through the ModalMachine methods. Tool radius
+interp/sinumerik/milling.py into ordinary moves through the ModalMachine methods. Tool radius
 compensation (G41/G42) buffers the compensated moves and offsets them analytically at G40.
 
-Imports flow one way (issue 11): sinumerik -> sinumerik_drill -> sinumerik_cycles, sinumerik_machine
--> sinumerik_lang. This module, the one above them all, registers the drilling cycles into the
+Imports flow one way (issue 11): sinumerik -> drilling -> milling, machine
+-> lang. This module, the one above them all, registers the drilling cycles into the
 cycles' tables and hands ``run_cycle`` and the cycle names to the machine side's hooks.
 
 What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinumerik.md.
@@ -24,20 +24,20 @@ import re
 import stat
 from dataclasses import dataclass, field
 
-from . import canon
-from .canon import Src
-from .core import MOTION, Code, arc_centre
-from . import sinumerik_axes as axes
-from . import sinumerik_machine as machine
-from .errors import CutsimError
-from .modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
-from . import sinumerik_corner as corner
-from . import sinumerik_drill as drill
-from . import sinumerik_fast
-from .sinumerik_cycles import ANGLES, CYCLES, DRILLING, RUNNERS, SPECS, _spec, compensate_records, run_cycle
-from .sinumerik_lang import KEYWORDS as LANG_KEYWORDS
-from .sinumerik_lang import R_NAME, STRING_FUNCS
-from .sinumerik_lang import (COORD_LIMIT, EXPR_ADDRESSES, KNOWN_M, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
+from .. import canon
+from ..canon import Src
+from ..core import MOTION, Code, arc_centre
+from . import axes
+from . import machine
+from ..errors import CutsimError
+from ..modal import PLANE_AXES, PLANES, InterpConfig, ModalMachine
+from . import corners as corner
+from . import drilling as drill
+from . import fast as sinumerik_fast
+from .milling import ANGLES, CYCLES, DRILLING, RUNNERS, SPECS, _spec, compensate_records, run_cycle
+from .lang import KEYWORDS as LANG_KEYWORDS
+from .lang import R_NAME, STRING_FUNCS
+from .lang import (COORD_LIMIT, EXPR_ADDRESSES, KNOWN_M, MACHINE_COMMANDS, PASS_LIMIT, R_LIMIT, RANGES, Assign,
                              BinOp, Branch, Call, Case, Command, Def, Frame, FuncCall, Goto, Index, Line, Neg, Not,
                              Num, Repeat, Ret, RIndex, Stmt, Str, SubCall, SubprogramMissing, Unit, Var, Word,
                              range_message, split_units)
@@ -67,7 +67,7 @@ NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
          "SPOS": "(spindle positioning) changes nothing on the tool path",
          "LIMS": "(the spindle speed limit) changes nothing on the tool path"}
 # what PROC ... SAVE puts back on return: the modal G groups, not F, S, T, D, and the machine
-# functions' modal state (units, settable and programmable frames: sinumerik_machine.Modal)
+# functions' modal state (units, settable and programmable frames: machine.Modal)
 SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"]
 # the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
 drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec, DRILLING)
@@ -220,10 +220,10 @@ class Block:
     ms: list[tuple[int, int]] = field(default_factory=list)
     calls: list[Stmt] = field(default_factory=list)  # Call | SubCall | Ret
     jumps: list[Stmt] = field(default_factory=list)  # Goto | Repeat | Case | Branch
-    # bare machine keywords (name, column) of sinumerik_lang.MACHINE_COMMANDS: ``settings`` removes
+    # bare machine keywords (name, column) of lang.MACHINE_COMMANDS: ``settings`` removes
     # the ones it implements; any left over is an error (``unsupported``)
     commands: list[tuple[str, int]] = field(default_factory=list)
-    corner: dict = field(default_factory=dict)  # CHF CHR RND RNDM FRC FRCM -> (value, column) (sinumerik_corner)
+    corner: dict = field(default_factory=dict)  # CHF CHR RND RNDM FRC FRCM -> (value, column) (corners)
 
 
 class Sinumerik(ModalMachine):
@@ -251,7 +251,7 @@ class Sinumerik(ModalMachine):
         self.warned: set[str] = set()  # command kinds warned about (one warning each)
         # the setup's [machine] external_subprograms, by the name a call uses (call_name)
         self.externals = frozenset(call_name(n) for n in cfg.external_subprograms)
-        self.corners = corner.Corners()  # chamfers and roundings: RNDM, FRCM, the held move (sinumerik_corner)
+        self.corners = corner.Corners()  # chamfers and roundings: RNDM, FRCM, the held move (corners)
         self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
         machine.state(self)  # the machine side's state (its modal part is saved by PROC ... SAVE)
 
@@ -487,7 +487,7 @@ class Sinumerik(ModalMachine):
                 raise CutsimError(rec.src.program, rec.src.line, rec.src.col,
                                   range_message(f"{what} {'XYZ'[i]}", p[i], -COORD_LIMIT, COORD_LIMIT, "mm"))
         cs = self.corners
-        if cs.capture is not None:  # the block's move, for its corner (sinumerik_corner.run_move)
+        if cs.capture is not None:  # the block's move, for its corner (corners.run_move)
             cs.capture.append(rec)
             return
         if cs.hold is not None:  # a move waits for its corner: other records wait behind it
@@ -502,7 +502,7 @@ class Sinumerik(ModalMachine):
 
     def corner_flush(self) -> None:
         """A cycle's moves follow a move held for its corner: the held move goes out as it is
-        (sinumerik_machine.run_mapped calls this before it collects the cycle's records)."""
+        (machine.run_mapped calls this before it collects the cycle's records)."""
         corner.flush(self, "a cycle's move comes next")
 
     # -- main loop -------------------------------------------------------------------------------
@@ -751,7 +751,7 @@ class Sinumerik(ModalMachine):
 
     def axis_word(self, st: Word, ln: Line, blk: Block) -> None:
         """AX[axis]=value: the word of the axis the AXIS expression names (an axis name, an AXIS
-        variable, AXNAME(..), SPI(..): interp/sinumerik_axes.py); an axis the machine does not have
+        variable, AXNAME(..), SPI(..): interp/sinumerik/axes.py); an axis the machine does not have
         is an error at the word. A spindle (AX[SPI(1)]=90) is positioned: one warning, as SPOS."""
         if st.axis is None:
             raise self.error(ln.line, st.col, "AX[..] takes one axis name")
@@ -875,7 +875,7 @@ class Sinumerik(ModalMachine):
 
     def word(self, st: Word, line: int, blk: Block) -> None:
         val = self.ev(st.value, line, st.col)
-        if machine.word(self, st, val, line, blk):  # units, frames, extra axes, T="name", M1=3 (sinumerik_machine)
+        if machine.word(self, st, val, line, blk):  # units, frames, extra axes, T="name", M1=3 (machine)
             return
         if st.address in ("G", "M"):
             v = self.num(val, line, st.col)
@@ -908,7 +908,7 @@ class Sinumerik(ModalMachine):
     def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, int | None]:
         """Apply the block's modal G codes; the motion (G0..G3) and the G40/G41/G42 it names."""
         self.check_groups(gs, line)
-        gs = machine.g_codes(self, gs, line)  # G70/G71/G700/G710, G54.., G53, G64.. (sinumerik_machine)
+        gs = machine.g_codes(self, gs, line)  # G70/G71/G700/G710, G54.., G53, G64.. (machine)
         motion = None
         new_comp = None
         for code, col in gs:
@@ -926,7 +926,7 @@ class Sinumerik(ModalMachine):
 
     def settings(self, src: Src, blk: Block, motion: int | None) -> bool:
         """Spindle, tool (T, D, M6), feed and the motion mode; True when an M2/M30 ends the program."""
-        machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (sinumerik_machine)
+        machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (machine)
         line, words = src.line, blk.words
         direction = self.spindle_code(line, blk.ms)
         end = any(code in (2, 30) for code, _ in blk.ms)
@@ -958,7 +958,7 @@ class Sinumerik(ModalMachine):
         return end
 
     def change_tool(self, src: Src) -> None:
-        if machine.change_tool(self, src):  # T0 M6 empties the spindle (sinumerik_machine)
+        if machine.change_tool(self, src):  # T0 M6 empties the spindle (machine)
             return
         if self.tool_pre is None:
             raise self.error(src.line, 1, "M6 without a tool: program T<number> first")
@@ -1271,7 +1271,7 @@ class Sinumerik(ModalMachine):
 
     def move(self, ln: Line, src: Src, words: dict[str, Value], motion_word) -> None:
         line = ln.line
-        machine.move(self, src, words, run_cycle)  # WCS -> machine: units, frames, extra axes (sinumerik_machine)
+        machine.move(self, src, words, run_cycle)  # WCS -> machine: units, frames, extra axes (machine)
         cols = {i: words[a].col for i, a in enumerate("XYZ") if a in words}
         targets = self.axis_targets(words)
         if not targets and motion_word not in (2, 3) and not any(k in words for k in ("I", "J", "K", "CR")):

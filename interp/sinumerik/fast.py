@@ -1,4 +1,4 @@
-"""The happy path of the Sinumerik block reader (interp/sinumerik_lang.py, ``scan_line``): a line
+"""The happy path of the Sinumerik block reader (interp/sinumerik/lang.py, ``scan_line``): a line
 made only of an optional block number ``N<digits>`` and plain address words ``<letter><number>``
 (``N10 G1 X20.5 Z-1 F100``), with an optional ``;`` comment, is split by one regular expression
 into exactly the Line (with its ``Word(col, address, Num(value))`` statements) ``scan_line``
@@ -13,7 +13,7 @@ R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``
 
 ``plain_evaluate`` is Sinumerik.evaluate for a block of constant G0/G1 X Y Z F words, without the
 per-word hooks (tests/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
-sinumerik_lang.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
+lang.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
 
 ``plain_block`` runs such a block without Sinumerik.block's chain of hooks (ISO cycles, machine
 settings and move, MCALL, compensation) when it can tell that none of them applies; hook: the
@@ -24,8 +24,8 @@ from __future__ import annotations
 import dataclasses
 import re
 
-from .sinumerik_lang import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
-from .sinumerik_machine import MACHINE_G, ZERO
+from .lang import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
+from .machine import MACHINE_G, ZERO
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"
 _CLASS = _LETTERS + _LETTERS.lower()
@@ -57,7 +57,7 @@ _FAST = (_fields(Word) == {"col": dataclasses.MISSING, "address": dataclasses.MI
 
 
 def read_plain(program: str, lineno: int, text: str) -> Line | None:
-    """``sinumerik_lang.scan_line(program, lineno, text)`` for a plain line (blank and comment-only
+    """``lang.scan_line(program, lineno, text)`` for a plain line (blank and comment-only
     lines included); None for any other line."""
     m = PLAIN_LINE.fullmatch(text)
     if m is None or m.end(2) > MAX_BLOCK_CHARS:
@@ -100,7 +100,7 @@ def plain_evaluate(m, ln: Line, block, value):
     no address that is a variable of the running level or an extra axis of the setup): the same
     Block, built without the per-word hooks (which do nothing to these words). None (nothing done)
     for any other block, which then goes the long way and raises its errors there. ``block`` and
-    ``value`` are the interpreter's Block and Value classes (handed in: interp/sinumerik.py imports
+    ``value`` are the interpreter's Block and Value classes (handed in: interp/sinumerik/interpreter.py imports
     this module)."""
     words = {}
     gs = []
@@ -132,7 +132,7 @@ def plain_evaluate(m, ln: Line, block, value):
 def plain_block(m, ln: Line, src) -> bool:
     """``Sinumerik.block(ln, ...)`` for a block of plain constant G0/G1 X Y Z F words (as
     ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.iso), no
-    modal call (MCALL), radius compensation off, no chamfer or rounding waiting or modal (RNDM), the machine state (interp/sinumerik_machine.py)
+    modal call (MCALL), radius compensation off, no chamfer or rounding waiting or modal (RNDM), the machine state (interp/sinumerik/machine.py)
     without inch units, programmable frame, work offset, pending warnings or deferred cycles; one
     motion code (or none) and G0/G1 active; F > 0; the end point within
     COORD_LIMIT. Then each hook of the long way does nothing but what is done here: clear the

@@ -28,11 +28,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from .canon import Arc, Feed, Rapid, Src
-from .errors import CutsimError
-from .modal import PLANE_AXES
-from .sinumerik_lang import COORD_LIMIT, FEED_LIMIT, range_message
-from .sinumerik_machine import state as machine_state
+from ..canon import Arc, Feed, Rapid, Src
+from ..errors import CutsimError
+from ..modal import PLANE_AXES
+from .lang import COORD_LIMIT, FEED_LIMIT, range_message
+from .machine import state as machine_state
 
 EPS = 1e-9
 

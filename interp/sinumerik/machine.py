@@ -1,7 +1,7 @@
 """Sinumerik machine-side semantics: units, frames, extra axes, tools, spindles and machine functions
 (issue 12; docs/dialects/sinumerik.md, "Units, frames and axes").
 
-Pure interpreter logic: the Sinumerik interpreter (interp/sinumerik.py) keeps its position
+Pure interpreter logic: the Sinumerik interpreter (interp/sinumerik/interpreter.py) keeps its position
 ``m.pos`` in **machine coordinates in mm** (what the canonical records carry); the program speaks
 in the **workpiece coordinate system** (WCS) of the active frames and units. The chain, applied to
 every programmed point (end points, arc centres, cycle moves)::
@@ -14,7 +14,7 @@ value (so a changed offset moves only the axes a block names, as on the control)
 
 The interpreter calls in through one small hook in each of ``word``, ``modal_codes``,
 ``settings``, ``move``, ``change_tool`` (and reads ``arc_flip``): see ``state``. Imports flow one
-way: this module imports only sinumerik_lang below it; the interpreter hands in what it needs from
+way: this module imports only lang below it; the interpreter hands in what it needs from
 above (the cycle names to ``settings``, ``run_cycle`` to ``move``).
 """
 from __future__ import annotations
@@ -23,10 +23,10 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
-from . import canon
-from .errors import CutsimError
-from .modal import PLANE_AXES, InterpConfig
-from .sinumerik_lang import COORD_LIMIT, KNOWN_M, range_message
+from .. import canon
+from ..errors import CutsimError
+from ..modal import PLANE_AXES, InterpConfig
+from .lang import COORD_LIMIT, KNOWN_M, range_message
 
 INCH = 25.4
 AXES = "XYZ"
@@ -76,7 +76,7 @@ CALL_ACCEPTED = {"CYCLE832"}
 EPS = 1e-9
 SCALE_MIN, SCALE_MAX = 1e-6, 1e6  # what SCALE/ASCALE may make of an axis in all
 FRAME_SHIFT_MAX = 1e7  # mm: the programmable frame's total shift (positions are checked against COORD_LIMIT anyway)
-# interp/sinumerik_drill.run_modal runs the modal cycle through ``in_wcs``; set False, a modal cycle
+# interp/drilling.run_modal runs the modal cycle through ``in_wcs``; set False, a modal cycle
 # after a move under a frame would be an error (its holes would land in the wrong place)
 MODAL_CYCLES_IN_WCS = True
 
@@ -158,7 +158,7 @@ class Word:
 @dataclass
 class Modal:
     """The modal part of the machine state, which PROC ... SAVE puts back on return: it lives on the
-    interpreter as ``m.machine_modal`` (named in interp/sinumerik.py's SAVED_MODAL), so that the
+    interpreter as ``m.machine_modal`` (named in interp/sinumerik/interpreter.py's SAVED_MODAL), so that the
     interpreter's save_modal/restore_modal copy and restore it with its own G groups."""
     inch: bool = False  # G70/G700: geometry in inch
     inch_feed: bool = False  # G700: F in inch/min (inch/rev)
@@ -402,7 +402,7 @@ def flipped(ms: Machine, plane: str) -> bool:
 def settings(m, src, blk, cycles: set) -> None:
     """The block's machine keywords (``blk.commands``: frames, SUPA, TRAORI, the commands that do not
     change the tool path), CYCLE800/CYCLE832, F under G700, and cycles called under a frame
-    (``cycles``: the names of the cycles, sinumerik_cycles.CYCLES)."""
+    (``cycles``: the names of the cycles, milling.CYCLES)."""
     ms = state(m)
     for msg in ms.pending:
         m.warn(src, msg)
@@ -644,7 +644,7 @@ def plane_image(m, ms: Machine, plane: str, line: int, col: int) -> bool:
 def move(m, src, words: dict, run_cycle) -> None:
     """Turn the block's X/Y/Z, I/J/K and CR into machine values (absolute, mm) and track the extra
     axes; sets ``arc_flip`` for the interpreter's G2/G3. The cycles ``cycles_in_frame`` deferred run
-    first, through ``run_cycle`` (sinumerik_cycles.run_cycle, handed in by the interpreter)."""
+    first, through ``run_cycle`` (milling.run_cycle, handed in by the interpreter)."""
     ms = state(m)
     ms.arc_flip = False
     line = src.line

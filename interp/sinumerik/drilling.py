@@ -2,25 +2,25 @@
 patterns HOLES1, HOLES2 and CYCLE801, and the ISO shell G73/G74/G81...G89/G80 (G98/G99).
 
 Every cycle drills at the position the tool stands on in the G17 plane and expands into plain
-moves (through the Cycle motion helpers of interp/sinumerik_cycles.py), each carrying the cycle
+moves (through the Cycle motion helpers of interp/sinumerik/milling.py), each carrying the cycle
 block's Src. The sequences follow Siemens' cycle manuals ("Drilling cycles and drilling patterns");
 where they are silent the simulator decides as listed in docs/dialects/sinumerik.md, "Drilling
 cycles". Dwells (DTB, DTS, _DTD), spindle stops and orientations change no geometry and are not in
 the moves.
 
-Registered into sinumerik_cycles' SPECS / RUNNERS by interp/sinumerik.py (``register``), the module
-above both: imports flow one way, sinumerik -> sinumerik_drill -> sinumerik_cycles, sinumerik_machine.
+Registered into the milling module's SPECS / RUNNERS by interp/sinumerik/interpreter.py (``register``), the module
+above both: imports flow one way, sinumerik -> drilling -> milling, machine.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
-from .canon import Src
-from .sinumerik_cycles import CYCLES, run_cycle
-from .sinumerik_lang import COORD_LIMIT, Call, SubCall, range_message
-from .sinumerik_machine import in_wcs
-from .sinumerik_machine import state as machine_state
+from ..canon import Src
+from .milling import CYCLES, run_cycle
+from .lang import COORD_LIMIT, Call, SubCall, range_message
+from .machine import in_wcs
+from .machine import state as machine_state
 
 EPS = 1e-9
 CHIP_BREAK_RETRACT = 1.0  # mm: CYCLE83 VARI=0 retraction when _VRT is 0 (manual: 1 mm)
@@ -530,7 +530,7 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
 
 def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
     """Run the modal cycle where the tool stands, in the workpiece coordinates of the active frames
-    and offsets (interp/sinumerik_machine.in_wcs maps its moves into the machine)."""
+    and offsets (interp/machine.in_wcs maps its moves into the machine)."""
     if name is None:
         name, args, col, _ = m.mcall
     in_wcs(m, lambda: run_cycle(m, name, args, src, col), name, src.line, col)
@@ -675,7 +675,7 @@ def iso_drill(m, src: Src) -> None:
 
 
 def register(specs: dict, runners: dict, cycles: set, angles: set, spec, drilling: set) -> None:
-    """Add the drilling cycles to sinumerik_cycles' tables (``spec`` is its _spec; ``drilling`` the
+    """Add the drilling cycles to milling' tables (``spec`` is its _spec; ``drilling`` the
     set of the cycles that drill along the tool axis)."""
     for name, names in NAMES.items():
         specs[name] = spec(names, REQUIRED.get(name, ""))

@@ -13,14 +13,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from . import canon
-from .canon import Src
-from .errors import CutsimError
-from .modal import PLANE_AXES
-from .compensation import Elem, OffsetError, _cross, _dot, _left, _norm, _sub, length, offset_chain, tangent
-from .sinumerik_corner import Corners
-from .sinumerik_corner import finish as finish_corners
-from .sinumerik_lang import (COORD_LIMIT, Branch, Call, Case, Frame, Goto, Num, Repeat, Ret, SubCall,
+from .. import canon
+from ..canon import Src
+from ..errors import CutsimError
+from ..modal import PLANE_AXES
+from ..compensation import Elem, OffsetError, _cross, _dot, _left, _norm, _sub, length, offset_chain, tangent
+from .corners import Corners
+from .corners import finish as finish_corners
+from .lang import (COORD_LIMIT, Branch, Call, Case, Frame, Goto, Num, Repeat, Ret, SubCall,
                              SubprogramMissing, Word, range_message)
 
 SIDE_STEP = 1.0  # pocket/slot roughing: radial step between concentric paths, x tool radius
@@ -184,7 +184,7 @@ SPECS = {
                      "_KNAME _RTP _RFP _DP", "_KNAME"),
 }
 CYCLES = set(SPECS)
-DRILLING: set[str] = set()  # the drilling cycles and patterns (sinumerik_drill.register fills it)
+DRILLING: set[str] = set()  # the drilling cycles and patterns (drilling.register fills it)
 
 
 class Cycle:

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import re
 
-from .sinumerik_lang import R_NAME, FuncCall, Var
-from .sinumerik_machine import AXES, axis_message
+from .lang import R_NAME, FuncCall, Var
+from .machine import AXES, axis_message
 
 AXIS_FUNCS = {"AXNAME", "AXSTRING", "SPI", "AXTOSPI"}
 SPINDLE = re.compile(r"S([1-9][0-9]?)")  # SPI(n): spindles 1 to 99

@@ -9,8 +9,8 @@ runs; statements become ``Stmt`` nodes (``Word``, ``Assign``, ``Def``, ``Goto``,
 ``Call``, ``SubCall``, ``Ret``, ``Proc``, ``Command``, ``Case``, ``Branch``). ``split_units`` groups
 the lines into the main program and its subprograms, and ``lower`` turns the structured control
 flow (IF/ELSE/ENDIF, WHILE, FOR, LOOP, REPEAT/UNTIL) into conditional jumps to line indices
-(``Branch``), so the executor only ever follows jumps. Both the interpreter (interp/sinumerik.py) and the cycles
-(interp/sinumerik_cycles.py) import from here; this module imports neither.
+(``Branch``), so the executor only ever follows jumps. Both the interpreter (interp/sinumerik/interpreter.py) and the cycles
+(interp/sinumerik/milling.py) import from here; this module imports neither.
 """
 from __future__ import annotations
 
@@ -19,8 +19,8 @@ import re
 import unicodedata
 from dataclasses import dataclass, field
 
-from .errors import CutsimError
-from .lexer import split_lines
+from ..errors import CutsimError
+from ..lexer import split_lines
 
 EXTRA_AXES = set("ABCUVW")  # axis letters beyond X/Y/Z: words for them need the setup's [machine] axes
 ADDRESSES = set("GMXYZIJKFSTDLP") | EXTRA_AXES  # single-letter addresses with a number
@@ -32,14 +32,14 @@ KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EX
             "TO", "AND", "OR", "XOR", "NOT", "DIV", "MOD", "B_AND", "B_OR", "B_XOR", "B_NOT"} | STRUCTURED
 TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
 JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
-# the language's own M codes (interp/sinumerik.py); every other M code is the machine side's
-# (interp/sinumerik_machine.py: spindle orientation, gear stages, the setup's m_functions)
+# the language's own M codes (interp/sinumerik/interpreter.py); every other M code is the machine side's
+# (interp/sinumerik/machine.py: spindle orientation, gear stages, the setup's m_functions)
 KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
 # DIAMOF (radius programming) is a mill's only mode: nothing to say about it
 IGNORED_WORDS = {"DIAMOF"}
 # Bare keywords without parameters read as ``Command`` (never a subprogram, never a file name):
 # LANG_COMMANDS change nothing on the tool path and get one warning per kind (docs: "Warnings");
-# MACHINE_COMMANDS are for interp/sinumerik.py's settings (frames, units, compensation...), which
+# MACHINE_COMMANDS are for interp/sinumerik/interpreter.py's settings (frames, units, compensation...), which
 # consumes those it implements from ``Block.commands``; any left over is an error.
 LANG_COMMANDS = {"STOPRE", "DISPLOF", "DISPLON", "SBLOF", "SBLON", "GROUP_BEGIN", "GROUP_END", "ACTBLOCNO",
                  "WAITM", "WAITE", "WAITMC", "PRESETON", "STOPFIFO", "STARTFIFO", "SETMS", "CPRECON", "CPRECOF",
@@ -66,7 +66,7 @@ SYNC_WORDS = {"WHEN", "WHENEVER", "EVERY", "FROM", "DO"}  # synchronized actions
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,
          "POT": 1, "TRUNC": 1, "ROUND": 1, "MINVAL": 2, "MAXVAL": 2, "LN": 1, "EXP": 1, "ROUNDUP": 1,
          "BOUND": 3, "STRLEN": 1, "NUMBER": 1, "ISNUMBER": 1, "TOUPPER": 1, "TOLOWER": 1,
-         "AXNAME": 1, "AXSTRING": 1, "SPI": 1, "AXTOSPI": 1}  # the axis functions: interp/sinumerik_axes.py
+         "AXNAME": 1, "AXSTRING": 1, "SPI": 1, "AXTOSPI": 1}  # the axis functions: interp/sinumerik/axes.py
 STRING_FUNCS = {"STRLEN", "NUMBER", "ISNUMBER", "TOUPPER", "TOLOWER"}  # take a string argument
 LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
 EXT_RE = re.compile(r"([MSL])([0-9]+)\s*([=(])", re.I)  # M1=3, S1=1000, L140(2)
