@@ -185,9 +185,8 @@ def test_cycle_under_a_frame_is_turned_and_shifted():
 def test_declared_axes_are_tracked_and_warn_once():
     m, p = run(HEAD + "G1 X10 A0.0\nG1 A=90 B=IC(5)\nG1 A=180 B=IC(5)\nG1 X20\nM30\n",
                axes={"A": "rotary", "B": "rotary"})
-    from cutsim.interp.sinumerik.machine import state
-    assert state(m).axis_value(m, "A") == 180.0 and state(m).axis_value(m, "B") == 10.0
-    assert state(m).axis_value(m, "X") == 20.0 and state(m).axis_value(m, "C") is None
+    assert m.machine.axis_value(m, "A") == 180.0 and m.machine.axis_value(m, "B") == 10.0
+    assert m.machine.axis_value(m, "X") == 20.0 and m.machine.axis_value(m, "C") is None
     ws = warnings(p)
     assert ws.count("rotary axis A moves; the simulation does not turn the workpiece") == 1
     assert ws.count("rotary axis B moves; the simulation does not turn the workpiece") == 1

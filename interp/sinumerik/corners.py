@@ -32,7 +32,6 @@ from ..canon import Arc, Feed, Rapid, Src
 from ..errors import CutsimError
 from ..modal import PLANE_AXES
 from .lang import COORD_LIMIT, FEED_LIMIT, range_message
-from .machine import state as machine_state
 
 EPS = 1e-9
 
@@ -307,7 +306,7 @@ def word(m, corner: dict, name: str, value: float, line: int, col: int) -> None:
 def _scale(m, line: int, col: int) -> float:
     """Program units -> machine mm for a length in the plane: inch units and a frame's uniform scale;
     a frame that tilts the plane or scales it unevenly is refused (the element would not be a circle)."""
-    ms = machine_state(m)
+    ms = m.machine
     lin = ms.linear_part()
     a, b, n = PLANE_AXES[m.plane]
     cols = [tuple(lin[i][j] for i in range(3)) for j in range(3)]
@@ -332,7 +331,7 @@ def run_move(m, corner: dict, line: int, do_move) -> None:
     if kind is None and cs.hold is None:
         do_move()
         return
-    if machine_state(m).deferred:  # the block's cycles run in its move (under a frame): their moves come next
+    if m.machine.deferred:  # the block's cycles run in its move (under a frame): their moves come next
         flush(m, "a cycle's move comes next")
         if kind in ELEMENT_WORDS:
             _refuse(m, line, corner[kind][1], kind)

@@ -20,7 +20,6 @@ from ..canon import Src
 from .milling import CYCLES, run_cycle
 from .lang import COORD_LIMIT, Call, SubCall, range_message
 from .machine import in_wcs
-from .machine import state as machine_state
 
 EPS = 1e-9
 CHIP_BREAK_RETRACT = 1.0  # mm: CYCLE83 VARI=0 retraction when _VRT is 0 (manual: 1 mm)
@@ -376,7 +375,7 @@ def _count(cy, name: str, lo: int = 1) -> int:
 def hole_budget(cy, n: int) -> None:
     """A pattern of ``n`` holes makes at least MOVES_PER_HOLE moves per hole with a modal cycle (one
     without): more than [simulation] max_blocks is an error before any position is built."""
-    per = MOVES_PER_HOLE if getattr(cy.m, "mcall", None) is not None else 1
+    per = MOVES_PER_HOLE if cy.m.drill.mcall is not None else 1
     budget(cy, n * per, f"{n:,} holes, at least {per} move(s) each")
 
 
@@ -434,7 +433,7 @@ def run_pattern(cy) -> None:
         for c, v in zip("XY", p):
             if abs(v) > COORD_LIMIT:
                 raise cy.err(range_message(f"hole position {c}", v, -COORD_LIMIT, COORD_LIMIT, "mm"))
-    call = getattr(m, "mcall", None)
+    call = m.drill.mcall
     if call is None:
         m.warn(cy.src, f"{cy.name} without a modal cycle (MCALL CYCLE8x(...) before it): the {len(pts)} positions "
                        "are only approached")
@@ -452,7 +451,7 @@ def modal_call(m, blk, line: int) -> list:
     """``MCALL NAME(args)`` / ``MCALL NAME`` / ``MCALL L<n>`` in a block: NAME becomes the modal
     call (a drilling cycle: its arguments evaluated and checked now; a subprogram: it must exist
     now, its arguments are evaluated at each call), ``MCALL`` alone ends it. Returns the block's
-    other calls. (Hook in Sinumerik.calls.) ``m.mcall`` is (name, arguments or the call, column,
+    other calls. (Hook in Sinumerik.calls.) ``m.drill.mcall`` is (name, arguments or the call, column,
     "cycle" | "sub") or None."""
     calls = blk.calls
     if not calls or not (isinstance(calls[0], SubCall) and calls[0].name == "MCALL"):
@@ -465,21 +464,21 @@ def modal_call(m, blk, line: int) -> list:
                                         "CYCLE840) and subprograms as modal calls")
         args = [(None if a.value is None else m.ev(a.value, line, a.col), a.col) for a in st.args]
         dry_run(m, st.name, args, Src(m.unit_program, line, 1), st.col)  # parameter errors at the MCALL
-        m.mcall = (st.name, args, st.col, "cycle")
+        m.drill.mcall = (st.name, args, st.col, "cycle")
     elif rest and isinstance(rest[0], (Call, SubCall)):
         st = rest.pop(0)
         # a missing subprogram is an error at the MCALL; a declared external one: no modal call (it would do nothing)
         found = m.find_unit(st.name, Src(m.unit_program, line, 1), st.col, {}) is not None
-        m.mcall = (st.name, st, st.col, "sub") if found else None
+        m.drill.mcall = (st.name, st, st.col, "sub") if found else None
     elif "L" in blk.words:
         lw = blk.words.pop("L")
         if lw.value != int(lw.value):
             raise m.error(line, lw.col, f"L{lw.value:g}: a subprogram number is a whole number")
         name = f"L{int(lw.value)}"
         found = m.find_unit(name, Src(m.unit_program, line, 1), lw.col, {}) is not None
-        m.mcall = (name, SubCall(lw.col, name), lw.col, "sub") if found else None
+        m.drill.mcall = (name, SubCall(lw.col, name), lw.col, "sub") if found else None
     else:
-        m.mcall = None
+        m.drill.mcall = None
     return rest
 
 
@@ -505,7 +504,7 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
     """Run the modal call after a block that programmed a position (not the MCALL block itself,
     nor a block of the modal subprogram while it runs). (Hook in Sinumerik.block, after the
     block's motion.)"""
-    call = getattr(m, "mcall", None)
+    call = m.drill.mcall
     if not moved or call is None:
         return
     if any(isinstance(c, SubCall) and c.name == "MCALL" for c in blk.calls):
@@ -514,7 +513,7 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
         name, args, col, _ = call
         run_modal(m, src, name, args, col)
         return
-    running = getattr(m, "mcall_frame", None)
+    running = m.drill.mcall_frame
     if running is not None and any(f is running for f in stack):
         return  # the modal subprogram's own moves do not call it again
     name, st, col, _ = call
@@ -525,14 +524,14 @@ def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
         m.call_proc(st, src, {}, stack)
     else:
         m.call_sub(m.find_sub(name, src.line, col), src, {}, stack, col)
-    m.mcall_frame = stack[-1]
+    m.drill.mcall_frame = stack[-1]
 
 
 def run_modal(m, src: Src, name=None, args=None, col=None) -> None:
     """Run the modal cycle where the tool stands, in the workpiece coordinates of the active frames
     and offsets (interp/machine.in_wcs maps its moves into the machine)."""
     if name is None:
-        name, args, col, _ = m.mcall
+        name, args, col, _ = m.drill.mcall
     in_wcs(m, lambda: run_cycle(m, name, args, src, col), name, src.line, col)
 
 
@@ -565,6 +564,16 @@ class IsoCycle:
     here: int = 1  # the column errors of the block being run point at
 
 
+@dataclass
+class DrillState:
+    """The drilling side's modal state of one run, owned by the interpreter (``Sinumerik.drill``)."""
+    mcall: tuple | None = None  # MCALL's modal call: (name, arguments or the call, column, "cycle" or "sub")
+    mcall_frame: object = None  # the program level that ran the modal call last (after_block)
+    iso: IsoCycle | None = None  # the active ISO drilling cycle (G73, G74, G81 ... G89) until G80
+    iso_return: int = 98  # G98 (initial level) or G99 (R plane)
+    iso_warned: bool = False  # G291 warned about once
+
+
 def iso_codes(m, blk, src: Src) -> bool:
     """The block's ISO cycle codes and words (hook in Sinumerik.block, before the modal G codes):
     G73/G74/G81..G89 start or change the modal cycle, G80 and G0..G3 end it, G98/G99 choose the
@@ -584,27 +593,27 @@ def iso_codes(m, blk, src: Src) -> bool:
         raise m.error(line, motion[0][1], f"G{motion[0][0]} and the drilling cycle G{cycle[0][0]} in one block")
     for c, col in codes:
         if c in (98, 99):
-            m.iso_return = c
-        elif c == 291 and not getattr(m, "iso_warned", False):
-            m.iso_warned = True
+            m.drill.iso_return = c
+        elif c == 291 and not m.drill.iso_warned:
+            m.drill.iso_warned = True
             m.warn(src, "G291 (ISO dialect mode): the simulator reads the Siemens language and the ISO drilling "
                         "cycles G73..G89; other ISO forms are errors (warned once)")
-    iso = getattr(m, "iso", None)
+    iso = m.drill.iso
     if motion and iso is not None:
-        m.iso = iso = None  # a G0..G3 ends the cycle mode, as G80
+        m.drill.iso = iso = None  # a G0..G3 ends the cycle mode, as G80
     if cycle:
         c, col = cycle[0]
         if c == 87:
             raise m.error(line, col, "G87 (back boring) is not simulated: the tool would have to pass the bore "
                                      "off-centre; write CYCLE86/CYCLE87 boring from above")
         if c == 80:
-            m.iso = iso = None
+            m.drill.iso = iso = None
         else:
-            if getattr(m, "mcall", None) is not None:
-                raise m.error(line, col, f"G{c} while the modal call MCALL {m.mcall[0]} is active: end it with MCALL first")
+            if m.drill.mcall is not None:
+                raise m.error(line, col, f"G{c} while the modal call MCALL {m.drill.mcall[0]} is active: end it with MCALL first")
             initial = iso.initial if iso is not None else wcs_z(m)
             old = iso
-            m.iso = iso = IsoCycle(c, col, initial, where=(src.program, line))
+            m.drill.iso = iso = IsoCycle(c, col, initial, where=(src.program, line))
             if old is not None:  # the hole data stay until G80 (a new cycle code keeps R, Z, Q, P)
                 iso.r, iso.z, iso.q, iso.p = old.r, old.z, old.q, old.p
     words = blk.words
@@ -620,8 +629,8 @@ def iso_codes(m, blk, src: Src) -> bool:
         return False  # F, S, M, a call (L100 alone is a subprogram call): the cycle waits
     # errors of this block's hole: at the cycle's G word in its own block, else at the first position word
     iso.here = iso.col if iso.where == (src.program, line) else min(words[a].col for a in "XYZR" if a in words)
-    if getattr(m, "mcall", None) is not None:
-        raise m.error(line, iso.here, f"the ISO cycle G{iso.code} and the modal call MCALL {m.mcall[0]} are both "
+    if m.drill.mcall is not None:
+        raise m.error(line, iso.here, f"the ISO cycle G{iso.code} and the modal call MCALL {m.drill.mcall[0]} are both "
                       "active: end one of them (G80 or MCALL alone) first")
     for a in ("K", "L"):
         if a in words:
@@ -643,14 +652,14 @@ def iso_codes(m, blk, src: Src) -> bool:
 
 def wcs_z(m) -> float:
     """The tool's Z in the workpiece coordinates (the initial level of an ISO cycle)."""
-    ms = machine_state(m)
+    ms = m.machine
     return ms.to_wcs(m.pos)[2] / ms.unit()
 
 
 def iso_drill(m, src: Src) -> None:
     """Drill one hole of the active ISO cycle where the tool stands (after the block's positioning),
     as the Siemens cycle of the same sequence (``ISO_CYCLES``), in the workpiece coordinates."""
-    c = m.iso
+    c = m.drill.iso
     code = f"G{c.code}"
     if c.z is None:
         raise m.error(src.line, c.here, f"{code} needs the depth of the hole: Z")
@@ -659,7 +668,7 @@ def iso_drill(m, src: Src) -> None:
     if c.code in (73, 83) and not c.q:
         raise m.error(src.line, c.here, f"{code} needs the peck depth Q (positive)")
     name = ISO_CYCLES[c.code]
-    rtp = c.initial if getattr(m, "iso_return", 98) == 98 else c.r
+    rtp = c.initial if m.drill.iso_return == 98 else c.r
     vals = {"RTP": rtp, "RFP": c.r, "SDIS": 0.0, "DP": c.z}
     if c.code in (73, 83):
         vals.update(FDPR=c.q, DAM=0.0, FRF=1.0, VARI=1.0 if c.code == 83 else 0.0)

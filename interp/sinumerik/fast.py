@@ -131,7 +131,7 @@ def plain_evaluate(m, ln: Line, block, value):
 # -- running a plain block -------------------------------------------------------------------------
 def plain_block(m, ln: Line, src) -> bool:
     """``Sinumerik.block(ln, ...)`` for a block of plain constant G0/G1 X Y Z F words (as
-    ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.iso), no
+    ``plain_evaluate`` takes them) when nothing else can apply: no ISO drilling cycle (m.drill.iso), no
     modal call (MCALL), radius compensation off, no chamfer or rounding waiting or modal (RNDM), the machine state (interp/sinumerik/machine.py)
     without inch units, programmable frame, work offset, pending warnings or deferred cycles; one
     motion code (or none) and G0/G1 active; F > 0; the end point within
@@ -139,13 +139,13 @@ def plain_block(m, ln: Line, src) -> bool:
     block's G53 suppression and arc flip, make F and the motion modal, emit the Rapid or Feed
     (through m.rapid / m.linear). False (nothing done) otherwise: the block goes the long way,
     which raises its errors there."""
-    if m.comp_buf is not None or getattr(m, "iso", None) is not None or getattr(m, "mcall", None) is not None:
+    if m.comp_buf is not None or m.drill.iso is not None or m.drill.mcall is not None:
         return False
-    cs = getattr(m, "corners", None)
-    if cs is not None and (cs.hold is not None or cs.modal_r > 0.0):
+    cs = m.corners
+    if (cs.hold is not None or cs.modal_r > 0.0):
         return False
-    ms = m.__dict__.get("_machine")
-    if ms is None or ms.pending or ms.deferred:
+    ms = m.machine
+    if ms.pending or ms.deferred:
         return False
     modal = m.machine_modal
     if modal.inch or modal.inch_feed or modal.offset != ZERO or not modal.frame.identity():

@@ -253,7 +253,9 @@ class Sinumerik(ModalMachine):
         self.externals = frozenset(call_name(n) for n in cfg.external_subprograms)
         self.corners = corner.Corners()  # chamfers and roundings: RNDM, FRCM, the held move (corners)
         self.repeat_sizes: dict[tuple, int] = {}  # blocks of a REPEAT section (repeat_estimate)
-        machine.state(self)  # the machine side's state (its modal part is saved by PROC ... SAVE)
+        self.machine_modal = machine.Modal()  # the machine side's modal part (saved by PROC ... SAVE)
+        self.machine = machine.Machine(cfg, self)  # the machine side: units, frames, extra axes, spindles
+        self.drill = drill.DrillState()  # MCALL and the ISO drilling cycles
 
     # -- values ----------------------------------------------------------------------------------
     def tool_radius(self) -> float:
@@ -772,7 +774,7 @@ class Sinumerik(ModalMachine):
         if st.name == "EXTERN":
             return  # a declaration: the call finds the subprogram by itself
         if st.name == "SETMS":  # SETMS alone: the master spindle of the machine data again (spindle 1)
-            machine.state(self).master = 1
+            self.machine.master = 1
             return
         what = NOTES.get(st.name, "changes nothing on the tool path")
         self.note(Src(self.unit_program, ln.line, st.col, ln.nlabel or ln.label), st.name, f"{st.name} {what}")
@@ -806,7 +808,7 @@ class Sinumerik(ModalMachine):
         n = 1.0 if not vals or vals[0] is None else self.num(vals[0], line, st.args[0].col)
         if n != int(n) or not 1 <= n <= 99:
             raise self.error(line, st.args[0].col, f"SETMS({n:.10g}): a spindle number is a whole number from 1 to 99")
-        machine.state(self).master = int(n)
+        self.machine.master = int(n)
 
     def dwell(self, blk: Block, line: int) -> None:
         """G4 F<seconds> / G4 S<spindle revolutions>: a dwell, alone in its block with its F or S;
@@ -1253,7 +1255,7 @@ class Sinumerik(ModalMachine):
     def save_modal(self) -> dict:
         """PROC ... SAVE: the modal state to put back on return (the G groups and what settings
         keeps modal; SAVED_MODAL lists the attributes, the machine functions' among them)."""
-        return {a: copy.deepcopy(getattr(self, a)) for a in SAVED_MODAL if hasattr(self, a)}
+        return {a: copy.deepcopy(getattr(self, a)) for a in SAVED_MODAL}
 
     def restore_modal(self, saved: dict) -> None:
         for a, v in saved.items():
@@ -1291,7 +1293,7 @@ class Sinumerik(ModalMachine):
         if AXIS_LETTER[nrm] in words:
             raise self.error(line, words[AXIS_LETTER[nrm]].col,
                              f"{AXIS_LETTER[nrm]} is not in the plane {self.plane} of the circle")
-        cw = (self.motion == 2) != machine.state(self).arc_flip  # a mirror turns G2 into G3
+        cw = (self.motion == 2) != self.machine.arc_flip  # a mirror turns G2 into G3
         centre = self.radius_centre(line, words, end, cw) if "CR" in words else self.given_centre(line, words)
         self.arc(src, end, (centre[0], centre[1], centre[2]), cw)
 

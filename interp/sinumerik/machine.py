@@ -243,15 +243,6 @@ class Machine:
         return None
 
 
-def state(m) -> Machine:
-    """The machine state of interpreter ``m`` (created at its first use)."""
-    st = m.__dict__.get("_machine")
-    if st is None:
-        m.machine_modal = Modal()
-        st = m.__dict__["_machine"] = Machine(m.cfg, m)
-    return st
-
-
 def axis_message(name: str) -> str:
     kind = "rotary" if name[:1] in ROTARY_LETTERS else "linear"
     return f"axis {name} is not on this machine (declare it in the setup: [machine] axes = {{ {name} = \"{kind}\" }})"
@@ -262,7 +253,7 @@ def word(m, st, val, line: int, blk) -> bool:
     """Addresses this module owns: the machine G codes (units, settable frames, path modes), M codes
     beyond the language's (the setup's machine M functions), extra axes, ``T="name"``, spindle
     addresses ``M1=3``/``S1=1000``, ``SPOS``, ``RPL``. True when the word is taken care of."""
-    ms = state(m)
+    ms = m.machine
     addr = st.address.upper()
     ext = getattr(st, "ext", None)
     if ext is not None and addr in ("M", "S"):  # M1=3, S1=1000: spindle 1
@@ -340,7 +331,7 @@ def tool_number(m, name: str, line: int, col: int) -> int:
 def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
     """Apply units, settable frames, G53 and the path-mode codes; the rest is returned for the
     interpreter (G41/G42 swapped while a mirror turns the plane over)."""
-    ms = state(m)
+    ms = m.machine
     ms.suppress = False
     rest = []
     seen: dict[str, tuple[int, int]] = {}
@@ -403,7 +394,7 @@ def settings(m, src, blk, cycles: set) -> None:
     """The block's machine keywords (``blk.commands``: frames, SUPA, TRAORI, the commands that do not
     change the tool path), CYCLE800/CYCLE832, F under G700, and cycles called under a frame
     (``cycles``: the names of the cycles, milling.CYCLES)."""
-    ms = state(m)
+    ms = m.machine
     for msg in ms.pending:
         m.warn(src, msg)
     ms.pending.clear()
@@ -571,7 +562,7 @@ def in_wcs(m, fn, name: str, line: int, col: int) -> None:
     coordinates (mm) -- in the WCS of the active frames, its moves mapped into the machine. Without
     a frame it just runs. For every caller of a cycle (a modal MCALL cycle too). Inch units and
     SCALE are errors at ``line``:``col`` (the cycles compute with the tool radius in mm)."""
-    ms = state(m)
+    ms = m.machine
     if ms.identity() or ms.sandbox:
         fn()
         return
@@ -588,9 +579,7 @@ def run_mapped(m, ms: Machine, fn) -> None:
     """Run ``fn`` (which moves the interpreter in program coordinates) in the WCS: the position is
     taken back into the WCS, the records ``fn`` emits are mapped into the machine."""
     recs: list = []
-    flush = getattr(m, "corner_flush", None)  # a move held for its corner goes out first, unmapped
-    if flush is not None:
-        flush()
+    m.corner_flush()  # a move held for its corner goes out first, unmapped
     saved_records, saved_pos = m.program.records, list(m.pos)
     m.pos = list(ms.to_wcs(saved_pos))
     m.program.records = recs
@@ -645,7 +634,7 @@ def move(m, src, words: dict, run_cycle) -> None:
     """Turn the block's X/Y/Z, I/J/K and CR into machine values (absolute, mm) and track the extra
     axes; sets ``arc_flip`` for the interpreter's G2/G3. The cycles ``cycles_in_frame`` deferred run
     first, through ``run_cycle`` (milling.run_cycle, handed in by the interpreter)."""
-    ms = state(m)
+    ms = m.machine
     ms.arc_flip = False
     line = src.line
     while ms.deferred:
@@ -656,9 +645,9 @@ def move(m, src, words: dict, run_cycle) -> None:
     arc = m.motion in (2, 3)
     if ms.identity() or ms.sandbox:
         return
-    if getattr(m, "mcall", None) is not None and any(a in words for a in AXES) and not MODAL_CYCLES_IN_WCS:
+    if m.drill.mcall is not None and any(a in words for a in AXES) and not MODAL_CYCLES_IN_WCS:
         raise m.error(line, min(words[a].col for a in AXES if a in words),
-                      f"a modal cycle (MCALL {m.mcall[0]}) under a frame, an offset or inch units is not modelled yet")
+                      f"a modal cycle (MCALL {m.drill.mcall[0]}) under a frame, an offset or inch units is not modelled yet")
     u = ms.unit()
     cur = ms.to_wcs(m.pos)
     given = [a for a in AXES if a in words]
