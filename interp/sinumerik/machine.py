@@ -719,4 +719,4 @@ def change_tool(m, src) -> bool:
     return True
 
 
-__all__ = ["state", "Machine", "word", "g_codes", "settings", "move", "change_tool", "axis_message"]
+__all__ = ["Machine", "word", "g_codes", "settings", "move", "change_tool", "axis_message"]

@@ -1,0 +1,95 @@
+"""The Sinumerik interpreter's tables: the G codes it knows, the calls it ignores or notes, what
+PROC ... SAVE restores, the limits of arrays, subprogram files and the call stack. Importing it
+registers the drilling cycles into the milling cycles' tables (drilling.register).
+"""
+from __future__ import annotations
+
+import os
+import re
+
+from ..core import Code, MOTION
+from ..modal import PLANES
+from . import drilling as drill
+from .lang import KEYWORDS as LANG_KEYWORDS, MACHINE_COMMANDS
+from .milling import _spec, ANGLES, CYCLES, DRILLING, RUNNERS, SPECS
+
+
+KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506,
+           *drill.ISO_G}  # the ISO shell's drilling cycles G73 .. G89 / G80, G98/G99, G290/G291
+
+# modal groups of the language's own G codes (core.Code rows; the machine functions keep theirs)
+G_CODES = {**{c: Code(MOTION, "XYZIJK", m) for c, m in ((0, "rapid"), (1, "line"), (2, "arc cw"), (3, "arc ccw"))},
+           **{c: Code("plane", "", p) for c, p in PLANES.items()},
+           90: Code("distance mode", "", "absolute"), 91: Code("distance mode", "", "incremental"),
+           94: Code("feed mode", "F", "per minute"), 95: Code("feed mode", "F", "per revolution"),
+           40: Code("radius compensation", "", "off"), 41: Code("radius compensation", "", "left"),
+           42: Code("radius compensation", "", "right")}
+
+# calls with no geometric effect (high-speed settings, blank definition for the HMI)
+IGNORED_CALLS = {"WORKPIECE", "CYCLE832"}
+
+# language calls that do not change the tool path: one warning per kind (SETAL: an alarm, exit 2)
+LANG_CALLS = {"MSG", "SETAL", "FGROUP", "G_GROUP", "SETMS", "GROUP_BEGIN", "GROUP_END", "STOPRE", "WAITM",
+              "WAITMC", "WAITE", "SETM", "CLEARM", "CANCEL", "DISPLOF", "DISPLON", "PRESETON", "SPOS", "SPOSA",
+              "FA", "WRTPR", "MSG_", "SBLOF", "SBLON", "STOPFIFO", "STARTFIFO", "WAITP", "WAITS", "WAITC",
+              "RELEASE", "GET", "GETD", "PRIO"}
+
+NOTES = {"STOPRE": "(preprocessing stop) changes nothing on the tool path",
+         "WHENEVER": "(a synchronized action) is not simulated: its condition and action are ignored",
+         "ID": "(a synchronized action) is not simulated: its condition and action are ignored",
+         "MSG": "(a message on the operator screen) changes nothing on the tool path",
+         "FGROUP": "(the axes the feed applies to) is not simulated: F is the path feed of X/Y/Z",
+         "H": "(an auxiliary function for the machine's PLC) changes nothing on the tool path",
+         "SPOS": "(spindle positioning) changes nothing on the tool path",
+         "LIMS": "(the spindle speed limit) changes nothing on the tool path"}
+
+# what PROC ... SAVE puts back on return: the modal G groups, not F, S, T, D, and the machine
+# functions' modal state (units, settable and programmable frames: machine.Modal)
+SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"]
+
+# the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
+drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec, DRILLING)
+
+# keywords that are never a subprogram file, even with a file of that name beside the program
+NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",
+           "CYCLE801", "CYCLE802", "CYCLE832", "CYCLE840", "CYCLE84", "CYCLE86", "CYCLE87", "CYCLE88", "CYCLE89",
+           "CYCLE90", "CYCLE61", "CYCLE76", "CYCLE77", "CYCLE79", "CYCLE899", "CYCLE95", "CYCLE97", "MSG", "SETAL",
+           "WORKPIECE"}
+
+# path words the simulator does not implement: an error naming them, not "unknown variable"
+UNSUPPORTED_NAMES = {"ANG": "a contour angle", "AR": "an arc's opening angle",
+                     "AP": "a polar angle", "RP": "a polar radius", "TURN": "helix turns", "POS": "a positioning axis",
+                     "POSA": "a positioning axis", "OFFN": "a contour offset", "I1": "an intermediate point",
+                     "J1": "an intermediate point", "K1": "an intermediate point"}
+
+# a subprogram file's extensions (find_sub) and its archive form _N_NAME_SPF: stripped from the setup's
+# [machine] external_subprograms names and from EXTCALL/PCALL paths to give the name a call uses
+SUB_EXTENSIONS = (".SPF", ".MPF", ".NC")
+
+ARCHIVE_NAME = re.compile(r"_N_([A-Z0-9_]+)_(?:SPF|MPF)")
+
+MAX_ARRAY = 1_000_000  # elements of one array (DEF REAL A[1000, 1000])
+
+MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
+
+MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
+
+AXIS_LETTER = {0: "I", 1: "J", 2: "K"}  # the centre address of each axis
+
+def call_name(file: str) -> str:
+    """The name a call uses for a subprogram file: "subs/L_VENDOR.SPF" and "_N_L_VENDOR_SPF" are
+    L_VENDOR (folder, extension and archive form removed; upper case)."""
+    name = re.split(r"[/\\]", file.strip())[-1].strip().upper()
+    base, ext = os.path.splitext(name)
+    if ext in SUB_EXTENSIONS:
+        name = base
+    m = ARCHIVE_NAME.fullmatch(name)
+    return m.group(1) if m else name
+
+def missing_hint(name: str) -> str:
+    """What to do about a call the simulator finds no subprogram for (the end of its error)."""
+    return (f"; a subprogram the machine has but the simulator does not is declared in the setup: "
+            f"[machine] external_subprograms = [\"{name}\"]")
+
+COMPARE = {"==": lambda a, b: a == b, "<>": lambda a, b: a != b, "<": lambda a, b: a < b, ">": lambda a, b: a > b,
+           "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b}

@@ -1,0 +1,206 @@
+"""A block's words and commands: addresses, modal G codes and their groups, settings, tools and
+compensation on, language calls and notes.
+"""
+from __future__ import annotations
+
+from ..canon import Src
+from ..modal import PLANES
+from . import axes, machine
+from .lang import Call, Command, KNOWN_M, Line, MACHINE_COMMANDS, range_message, RANGES, Ret, Word
+from .milling import CYCLES
+from .tables import G_CODES, KNOWN_G, NOTES
+from .values import Block, to_text, Value
+
+
+class Words:
+    """A block's words and commands: addresses, modal G codes and their groups, settings, tools and
+    compensation on, language calls and notes.
+
+    A part of ``Sinumerik`` (interpreter.py): its methods work on the state declared in
+    ``Sinumerik.__init__``."""
+
+    def axis_word(self, st: Word, ln: Line, blk: Block) -> None:
+        """AX[axis]=value: the word of the axis the AXIS expression names (an axis name, an AXIS
+        variable, AXNAME(..), SPI(..): interp/sinumerik/axes.py); an axis the machine does not have
+        is an error at the word. A spindle (AX[SPI(1)]=90) is positioned: one warning, as SPOS."""
+        if st.axis is None:
+            raise self.error(ln.line, st.col, "AX[..] takes one axis name")
+        name = axes.axis_of(self, st.axis, ln.line, st.col)
+        if axes.spindle_number(name) is not None:
+            self.ev(st.value, ln.line, st.col)
+            self.note(Src(self.unit_program, ln.line, st.col, ln.nlabel or ln.label), "SPOS",
+                      f"AX[{name}]= positions spindle {name[1:]}: changes nothing on the tool path")
+            return
+        self.word(Word(st.col, name, st.value, st.mode), ln.line, blk)
+
+    def command(self, st: Command, ln: Line, blk: Block) -> None:
+        """A bare keyword: language commands without effect on the tool path get one warning per
+        kind; machine commands go on to ``settings`` through ``Block.commands``."""
+        if st.name in MACHINE_COMMANDS:
+            blk.commands.append((st.name, st.col))
+            return
+        if st.name == "EXTERN":
+            return  # a declaration: the call finds the subprogram by itself
+        if st.name == "SETMS":  # SETMS alone: the master spindle of the machine data again (spindle 1)
+            self.machine.master = 1
+            return
+        what = NOTES.get(st.name, "changes nothing on the tool path")
+        self.note(Src(self.unit_program, ln.line, st.col, ln.nlabel or ln.label), st.name, f"{st.name} {what}")
+
+    def note(self, src: Src, kind: str, message: str) -> None:
+        if kind not in self.warned:
+            self.warned.add(kind)
+            self.warn(src, message + " (warned once)")
+
+    def lang_call(self, st: Call, ln: Line) -> None:
+        """MSG(..), SETAL(..), FGROUP(..), ... : their arguments are evaluated (errors count); SETAL
+        raises the alarm it names: the program stops there (exit 2)."""
+        line = ln.line
+        vals = [None if a.value is None else self.ev(a.value, line, a.col) for a in st.args] \
+            if st.name in ("MSG", "SETAL", "SETMS") else []  # FGROUP(X, Y) & co. take axis names, not values
+        if st.name == "SETMS":
+            self.master_spindle(st, vals, line)
+            return
+        if st.name == "SETAL":
+            raise self.error(line, st.col, f"SETAL({', '.join(to_text(v) for v in vals if v is not None)}): the "
+                             "program raises an alarm here and the controller stops it")
+        src = Src(self.unit_program, line, st.col, ln.nlabel or ln.label)
+        text = f" \"{vals[0]}\"" if st.name == "MSG" and vals and isinstance(vals[0], str) else ""
+        self.note(src, st.name, f"{st.name}{text} {NOTES.get(st.name, 'changes nothing on the tool path')}")
+
+    def master_spindle(self, st: Call, vals: list, line: int) -> None:
+        """SETMS(n): spindle n is the master spindle from now on (S, M3/M4/M5 and Sn=/Mn= of it drive
+        the simulated spindle); SETMS() / SETMS alone: spindle 1 again."""
+        if len(vals) > 1:
+            raise self.error(line, st.args[1].col, "SETMS takes one spindle number")
+        n = 1.0 if not vals or vals[0] is None else self.num(vals[0], line, st.args[0].col)
+        if n != int(n) or not 1 <= n <= 99:
+            raise self.error(line, st.args[0].col, f"SETMS({n:.10g}): a spindle number is a whole number from 1 to 99")
+        self.machine.master = int(n)
+
+    def dwell(self, blk: Block, line: int) -> None:
+        """G4 F<seconds> / G4 S<spindle revolutions>: a dwell, alone in its block with its F or S;
+        the tool stands still (the modal feed and speed stay as they were)."""
+        col = next(c for code, c in blk.gs if code == 4)
+        times = [blk.words.pop(a) for a in ("F", "S") if a in blk.words]
+        if len(times) != 1:
+            raise self.error(line, col, "G4 needs its dwell time: G4 F<seconds> or G4 S<revolutions>")
+        moving = [a for a in blk.words if a in "XYZ" or a in ("I", "J", "K", "CR")]
+        if moving:
+            raise self.error(line, blk.words[moving[0]].col, "G4 (dwell) stands in a block without motion")
+        blk.gs = [(code, c) for code, c in blk.gs if code != 4]
+
+    def word(self, st: Word, line: int, blk: Block) -> None:
+        val = self.ev(st.value, line, st.col)
+        if machine.word(self, st, val, line, blk):  # units, frames, extra axes, T="name", M1=3 (machine)
+            return
+        if st.address in ("G", "M"):
+            v = self.num(val, line, st.col)
+            known = KNOWN_G if st.address == "G" else KNOWN_M
+            if v != int(v) or int(v) not in known:
+                raise self.error(line, st.col, f"unknown {st.address} code {st.address}{v:g}")
+            (blk.gs if st.address == "G" else blk.ms).append((int(v), st.col))
+            return
+        if st.address in blk.words:
+            raise self.error(line, st.col, f"address {st.address} appears twice in one block")
+        v = self.num(val, line, st.col)
+        lo, hi, unit = RANGES[st.address]
+        if not lo <= v <= hi:
+            raise self.error(line, st.col, range_message(st.address, v, lo, hi, unit))
+        blk.words[st.address] = Value(v, st.mode, st.col)
+
+    def check_groups(self, gs: list[tuple[int, int]], line: int) -> None:
+        """Two different G codes of one modal group in a block (G90 G91, G17 G18) are an error at the
+        second (the shared table rows of interp/core.py; the same code twice is harmless)."""
+        seen: dict[str, int] = {}
+        for code, col in gs:
+            row = G_CODES.get(code)
+            if row is None:
+                continue
+            if row.group in seen and seen[row.group] != code:
+                raise self.error(line, col, f"G{code} conflicts with G{seen[row.group]} in the same block "
+                                 f"(both {row.group})")
+            seen[row.group] = code
+
+    def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, int | None]:
+        """Apply the block's modal G codes; the motion (G0..G3) and the G40/G41/G42 it names."""
+        self.check_groups(gs, line)
+        gs = machine.g_codes(self, gs, line)  # G70/G71/G700/G710, G54.., G53, G64.. (machine)
+        motion = None
+        new_comp = None
+        for code, col in gs:
+            if code in (0, 1, 2, 3):
+                if motion is not None and motion != code:
+                    raise self.error(line, col, f"G{code} conflicts with G{motion} in the same block")
+                motion = code
+            elif code in PLANES and self.comp_buf is not None:
+                raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
+            elif code in (40, 41, 42):
+                new_comp = code
+            else:
+                self.common_g(code)  # G90/G91, G94/G95, G17/G18/G19
+        return motion, new_comp
+
+    def settings(self, src: Src, blk: Block, motion: int | None) -> bool:
+        """Spindle, tool (T, D, M6), feed and the motion mode; True when an M2/M30 ends the program."""
+        machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (machine)
+        line, words = src.line, blk.words
+        direction = self.spindle_code(line, blk.ms)
+        end = any(code in (2, 30) for code, _ in blk.ms)
+        change = any(code == 6 for code, _ in blk.ms)
+        blk.calls.extend(Ret(col) for code, col in blk.ms if code == 17)
+        if "S" in words:
+            self.spindle(src, direction, words.pop("S").value)
+        elif direction is not None:
+            self.spindle(src, direction, None)
+        if "T" in words:
+            t = words.pop("T")
+            if t.value != int(t.value):
+                raise self.error(line, t.col, "T must be a whole tool number")
+            self.tool_pre = int(t.value)
+        if "D" in words:
+            d = words.pop("D")
+            if d.value != int(d.value):
+                raise self.error(line, d.col, "D must be a whole offset number")
+            self.d_no = int(d.value)
+        if change:
+            self.change_tool(src)
+        if "F" in words:
+            f = words.pop("F")
+            if f.value <= 0:
+                raise self.error(line, f.col, "feed F must be positive")
+            self.feed = f.value
+        if motion is not None:
+            self.motion = motion
+        return end
+
+    def change_tool(self, src: Src) -> None:
+        if machine.change_tool(self, src):  # T0 M6 empties the spindle (machine)
+            return
+        if self.tool_pre is None:
+            raise self.error(src.line, 1, "M6 without a tool: program T<number> first")
+        if self.cfg.tool_radii and self.tool_pre not in self.cfg.tool_radii:
+            known = ", ".join(f"T{n}" for n in sorted(self.cfg.tool_radii))
+            raise self.error(src.line, 1, f"tool T{self.tool_pre} is not in the setup (tools: {known})")
+        self.tool_no = self.tool_pre
+        self.tool(src, self.tool_pre, self.d_no)
+
+    def comp_on(self, new_comp: int | None, src: Src, line: int) -> None:
+        """G41/G42 switched on: start buffering before the approach move."""
+        if new_comp not in (41, 42):
+            return
+        if self.comp_buf is not None and self.comp != new_comp:
+            self.flush_comp(None, line)
+        if self.comp_buf is None:
+            if self.tool_radius() <= 0:
+                self.warn(src, f"G{new_comp} with tool radius 0 (no tool radius known for D{self.d_no}): "
+                          "the path is not offset")
+            self.comp = new_comp
+            self.comp_buf = []
+            self.comp_src = src
+
+    def unsupported(self, blk: Block, line: int) -> None:
+        """A machine keyword ``settings`` did not take (it implements the ones it knows) is an
+        error at its column: running on as if it were not there would cut elsewhere."""
+        for name, col in blk.commands:
+            raise self.error(line, col, f"{name} is not supported by the simulator")
