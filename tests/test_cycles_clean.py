@@ -245,7 +245,7 @@ def test_cycle72_boss_wall(tmp_path):
 # -- random parameter sets (fixed seed): depth, infeed, allowances, machining type, infeed kind,
 # direction and tool drawn around the cases above
 from cutsim.interp import InterpConfig, canon, interpret  # noqa: E402
-from cutsim.interp.sinumerik.milling import SPECS  # noqa: E402
+from cutsim.interp.sinumerik.cycle import SPECS  # noqa: E402
 
 RADII = {1: 5.0, 2: 3.0, 3: 8.0}
 TENS = {"SLOT1": (0, 1, 3), "SLOT2": (0, 1, 3), "POCKET1": (0, 1), "POCKET2": (0, 1), "POCKET3": (0, 1, 2, 3),

@@ -12,7 +12,7 @@ import cutsim
 from cutsim import CutsimError
 from cutsim.interp import InterpConfig, interpret
 from cutsim.interp import canon
-from cutsim.interp.sinumerik import milling as sinumerik_cycles
+from cutsim.interp.sinumerik import contour as sinumerik_contour
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "sinumerik"
 
@@ -250,7 +250,7 @@ def test_cycle72_unexpected_errors_are_not_turned_into_contour_messages(monkeypa
     propagates, and the CLI reports it as an internal error (exit 3)."""
     def broken(*args):
         raise ZeroDivisionError("injected")
-    monkeypatch.setattr(sinumerik_cycles, "contour_records", broken)
+    monkeypatch.setattr(sinumerik_contour, "contour_records", broken)
     text = ("T1 D1 M6\nF100\nCYCLE72(\"KONT\", 10, 0, 2, -3, 3, 0, 0, 300, 100, 0, 42, 1, 5, 0, 1, 5)\nM30\n"
             "PROC KONT\nG17 G90\nG1 X0 Y0\nG1 X20\nRET\n")
     with pytest.raises(ZeroDivisionError):

@@ -1,14 +1,15 @@
 """Siemens Sinumerik 840D (docs/dialects/sinumerik.md), one package by concern:
 
-- ``lang``        the language: syntax tree, the block reader and the lowering of structured control
-                  flow to jumps (``split_units``);
-- ``fast``        the plain-line shortcut of the reader and of the block evaluation;
-- ``interpreter`` the run: values and variables, subprogram calls, control flow, moves (``Sinumerik``);
-- ``machine``     the machine side as an owned object (units, frames, extra axes, tools, spindles);
-- ``axes``        the axis functions (AXNAME, AXSTRING, SPI, AXTOSPI, AX[..]);
-- ``milling``     the milling cycles (SLOT1/2, POCKET1-4, CYCLE71/72) on ``Cycle``;
-- ``drilling``    the drilling cycles, hole patterns, MCALL and the ISO G81..G89 cycles;
-- ``corners``     chamfers and roundings (CHF, CHR, RND, RNDM, FRC, FRCM).
+- language: ``syntax`` (limits, messages, the syntax tree), ``expressions`` and ``reader`` (a block's
+  text into it), ``lowering`` (structured control flow into jumps), ``fast`` (the plain-line shortcut);
+- the run: ``interpreter`` (``Sinumerik``: blocks and moves) with its parts ``values`` (expressions and
+  variables), ``flow`` (jumps, CASE, REPEAT, the loop guard), ``calls`` (subprograms), ``words`` (a
+  block's words and G codes) and ``tables``;
+- the machine side as an owned object: ``machine`` (units, frames, extra axes, tools, spindles) on
+  ``frames``; ``axes`` (AXNAME, AXSTRING, SPI, AXTOSPI, AX[..]);
+- cycles: ``cycle`` (parameters, ``Cycle``, the contour offset), ``milling`` (SLOT1/2, POCKET1-4,
+  CYCLE71, run_cycle), ``contour`` (CYCLE72), ``drilling`` (CYCLE81..89, patterns, MCALL, ISO G81..G89),
+  ``corners`` (CHF, CHR, RND, RNDM, FRC, FRCM).
 
 ``interpret(name, text, cfg)`` is the registry's entry point (interp/__init__.py).
 """

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-from .lang import R_NAME, FuncCall, Var
+from .syntax import R_NAME, FuncCall, Var
 from .machine import AXES, axis_message
 
 AXIS_FUNCS = {"AXNAME", "AXSTRING", "SPI", "AXTOSPI"}

@@ -11,8 +11,10 @@ import stat
 
 from ..canon import Src
 from . import axes, drilling as drill, fast as sinumerik_fast
-from .lang import Call, Frame, Index, Ret, split_units, SubprogramMissing, Unit, Var
-from .milling import CYCLES, run_cycle
+from .syntax import Call, Frame, Index, Ret, SubprogramMissing, Unit, Var
+from .reader import split_units
+from .cycle import CYCLES
+from .milling import run_cycle
 from .tables import call_name, IGNORED_CALLS, MAX_SUB_BYTES, missing_hint, NOT_FILES, SAVED_MODAL
 from .values import ArrayVar, Block, Slot, to_text, Value
 

@@ -2,7 +2,7 @@
 patterns HOLES1, HOLES2 and CYCLE801, and the ISO shell G73/G74/G81...G89/G80 (G98/G99).
 
 Every cycle drills at the position the tool stands on in the G17 plane and expands into plain
-moves (through the Cycle motion helpers of interp/sinumerik/milling.py), each carrying the cycle
+moves (through the Cycle motion helpers of interp/sinumerik/cycle.py), each carrying the cycle
 block's Src. The sequences follow Siemens' cycle manuals ("Drilling cycles and drilling patterns");
 where they are silent the simulator decides as listed in docs/dialects/sinumerik.md, "Drilling
 cycles". Dwells (DTB, DTS, _DTD), spindle stops and orientations change no geometry and are not in
@@ -17,8 +17,9 @@ import math
 from dataclasses import dataclass
 
 from ..canon import Src
-from .milling import CYCLES, run_cycle
-from .lang import COORD_LIMIT, Call, SubCall, range_message
+from .cycle import CYCLES
+from .milling import run_cycle
+from .syntax import COORD_LIMIT, Call, SubCall, range_message
 from .machine import in_wcs
 
 EPS = 1e-9

@@ -1,4 +1,4 @@
-"""The happy path of the Sinumerik block reader (interp/sinumerik/lang.py, ``scan_line``): a line
+"""The happy path of the Sinumerik block reader (interp/sinumerik/reader.py, ``scan_line``): a line
 made only of an optional block number ``N<digits>`` and plain address words ``<letter><number>``
 (``N10 G1 X20.5 Z-1 F100``), with an optional ``;`` comment, is split by one regular expression
 into exactly the Line (with its ``Word(col, address, Num(value))`` statements) ``scan_line``
@@ -13,7 +13,7 @@ R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``
 
 ``plain_evaluate`` is Sinumerik.evaluate for a block of constant G0/G1 X Y Z F words, without the
 per-word hooks (tests/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
-lang.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
+reader.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
 
 ``plain_block`` runs such a block without Sinumerik.block's chain of hooks (ISO cycles, machine
 settings and move, MCALL, compensation) when it can tell that none of them applies; hook: the
@@ -24,8 +24,9 @@ from __future__ import annotations
 import dataclasses
 import re
 
-from .lang import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
-from .machine import MACHINE_G, ZERO
+from .syntax import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
+from .frames import ZERO
+from .machine import MACHINE_G
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"
 _CLASS = _LETTERS + _LETTERS.lower()
@@ -57,7 +58,7 @@ _FAST = (_fields(Word) == {"col": dataclasses.MISSING, "address": dataclasses.MI
 
 
 def read_plain(program: str, lineno: int, text: str) -> Line | None:
-    """``lang.scan_line(program, lineno, text)`` for a plain line (blank and comment-only
+    """``reader.scan_line(program, lineno, text)`` for a plain line (blank and comment-only
     lines included); None for any other line."""
     m = PLAIN_LINE.fullmatch(text)
     if m is None or m.end(2) > MAX_BLOCK_CHARS:

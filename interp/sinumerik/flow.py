@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 
 from ..errors import CutsimError
-from .lang import Branch, Case, Frame, Goto, Num, PASS_LIMIT, Repeat, Unit
+from .syntax import Branch, Case, Frame, Goto, Num, PASS_LIMIT, Repeat, Unit
 from .tables import MAX_STACK
 from .values import to_text
 

@@ -1,17 +1,17 @@
 """Siemens Sinumerik 840D dialect, milling subset (seed 003, spec/sinumerik.md).
 
-Blocks are read once into the typed syntax tree of interp/sinumerik/lang.py (statements and
+Blocks are read once into the typed syntax tree of interp/sinumerik/syntax.py (statements and
 expressions as dataclasses); expressions are evaluated when the block runs. A block runs in
 phases (``block``): evaluate its assignments and words in order, then the modal G codes, then
 spindle, tool and feed, then the motion (with radius compensation), then cycles and subprogram
 calls, then jumps and the program end. Cycles (SLOT1, POCKET1, CYCLE72, ...) expand in
-interp/sinumerik/milling.py into ordinary moves through the ModalMachine methods. Tool radius
+interp/sinumerik/milling.py, contour.py and drilling.py into ordinary moves through the ModalMachine methods. Tool radius
 compensation (G41/G42) buffers the compensated moves and offsets them analytically at G40.
 
 The class is split by concern into parts on one declared state (``Sinumerik.__init__``):
 values.py (expressions and variables), flow.py (jumps, CASE, REPEAT, the loop guard), calls.py
 (subprograms), words.py (a block's words and G codes); this module runs blocks and moves. Imports
-flow one way: interpreter -> parts -> tables -> drilling -> milling, machine -> lang; tables.py
+flow one way: interpreter -> parts -> tables -> drilling -> milling, machine -> syntax; tables.py
 registers the drilling cycles into the cycles' tables; this module hands ``run_cycle`` and the
 cycle names to the machine side's hooks.
 
@@ -29,9 +29,11 @@ from ..modal import InterpConfig, ModalMachine, PLANE_AXES
 from . import corners as corner, drilling as drill, fast as sinumerik_fast, machine
 from .calls import Calls
 from .flow import Flow
-from .lang import (Assign, Branch, Call, Case, Command, COORD_LIMIT, Def, Frame, Goto, Line, range_message, Repeat,
-    Ret, split_units, SubCall, Unit, Word)
-from .milling import compensate_records, run_cycle
+from .syntax import (Assign, Branch, Call, Case, Command, COORD_LIMIT, Def, Frame, Goto, Line, range_message, Repeat,
+    Ret, SubCall, Unit, Word)
+from .reader import split_units
+from .cycle import compensate_records
+from .milling import run_cycle
 from .tables import AXIS_LETTER, call_name, LANG_CALLS
 from .values import Block, Slot, Value, Values
 from .words import Words

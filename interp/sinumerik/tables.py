@@ -10,8 +10,9 @@ import re
 from ..core import Code, MOTION
 from ..modal import PLANES
 from . import drilling as drill
-from .lang import KEYWORDS as LANG_KEYWORDS, MACHINE_COMMANDS
-from .milling import _spec, ANGLES, CYCLES, DRILLING, RUNNERS, SPECS
+from .syntax import KEYWORDS as LANG_KEYWORDS, MACHINE_COMMANDS
+from .cycle import _spec, ANGLES, CYCLES, DRILLING, SPECS
+from .milling import RUNNERS
 
 
 KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506,

@@ -7,7 +7,7 @@ import math
 
 from ..modal import PLANE_AXES
 from . import axes, corners as corner
-from .lang import (Assign, BinOp, Def, EXPR_ADDRESSES, FuncCall, Index, Neg, Not, Num, R_LIMIT, R_NAME, RIndex, Stmt,
+from .syntax import (Assign, BinOp, Def, EXPR_ADDRESSES, FuncCall, Index, Neg, Not, Num, R_LIMIT, R_NAME, RIndex, Stmt,
     Str, STRING_FUNCS, Var)
 from .tables import COMPARE, MAX_ARRAY, UNSUPPORTED_NAMES
 from dataclasses import dataclass, field
@@ -121,7 +121,7 @@ class Block:
     ms: list[tuple[int, int]] = field(default_factory=list)
     calls: list[Stmt] = field(default_factory=list)  # Call | SubCall | Ret
     jumps: list[Stmt] = field(default_factory=list)  # Goto | Repeat | Case | Branch
-    # bare machine keywords (name, column) of lang.MACHINE_COMMANDS: ``settings`` removes
+    # bare machine keywords (name, column) of syntax.MACHINE_COMMANDS: ``settings`` removes
     # the ones it implements; any left over is an error (``unsupported``)
     commands: list[tuple[str, int]] = field(default_factory=list)
     corner: dict = field(default_factory=dict)  # CHF CHR RND RNDM FRC FRCM -> (value, column) (corners)

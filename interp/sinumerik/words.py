@@ -6,8 +6,8 @@ from __future__ import annotations
 from ..canon import Src
 from ..modal import PLANES
 from . import axes, machine
-from .lang import Call, Command, KNOWN_M, Line, MACHINE_COMMANDS, range_message, RANGES, Ret, Word
-from .milling import CYCLES
+from .syntax import Call, Command, KNOWN_M, Line, MACHINE_COMMANDS, range_message, RANGES, Ret, Word
+from .cycle import CYCLES
 from .tables import G_CODES, KNOWN_G, NOTES
 from .values import Block, to_text, Value
 
