@@ -350,21 +350,44 @@ def applicable(path: SpatialPath, tol: float) -> bool:
     return bool(np.allclose(ends, path.points[[0, -1]], rtol=0.0, atol=1e-6))
 
 
+class ArcRun:
+    """Consecutive arcs of one tool on one helix (a helix programmed as a circle per turn), joined
+    into one path as they come: swept as one, its turns are merged directly instead of overlapping
+    as separate solids. The chords are gathered piece by piece and stacked once (``path``), so
+    joining n circles costs n, not n squared. The joined path has the first one's source line."""
+
+    def __init__(self, index: int, path: SpatialPath):
+        self.index, self.first, self.arc = index, path, path.arc
+        self.pieces = [path.points]
+
+    def extend(self, path: SpatialPath) -> bool:
+        """Join ``path`` when it continues the run (same tool, rapid or not, an arc on the same
+        helix starting where the run ends); False, and nothing changed, when it does not."""
+        q, end = self.first, self.pieces[-1][-1]
+        if (path.arc is None or self.arc is None or q.tool != path.tool or q.rapid != path.rapid
+                or float(np.max(np.abs(end - path.points[0]))) > 1e-9):
+            return False
+        arc = self.arc.joined(path.arc)
+        if arc is None:
+            return False
+        self.arc = arc
+        self.pieces.append(path.points[1:])
+        return True
+
+    def path(self) -> SpatialPath:
+        if len(self.pieces) > 1:
+            self.first = replace(self.first, points=np.vstack(self.pieces), arc=self.arc)
+            self.pieces = [self.first.points]
+        return self.first
+
+
 def merge_arcs(paths: list[SpatialPath]) -> list[SpatialPath]:
-    """The paths with each run of consecutive arcs of one tool on one helix (a helix programmed as
-    a circle per turn) joined into one path: swept as one, its turns are merged directly instead
-    of overlapping as separate solids. The joined path has the first one's source line."""
-    out: list[SpatialPath] = []
+    """The paths with each run of consecutive arcs of one tool on one helix joined (``ArcRun``)."""
+    runs: list[ArcRun] = []
     for p in paths:
-        q = out[-1] if out else None
-        if (q is not None and q.arc is not None and p.arc is not None and q.tool == p.tool
-                and q.rapid == p.rapid and np.allclose(q.points[-1], p.points[0], rtol=0.0, atol=1e-9)):
-            arc = q.arc.joined(p.arc)
-            if arc is not None:
-                out[-1] = replace(q, points=np.vstack([q.points, p.points[1:]]), arc=arc)
-                continue
-        out.append(p)
-    return out
+        if not (runs and runs[-1].extend(p)):
+            runs.append(ArcRun(len(runs), p))
+    return [r.path() for r in runs]
 
 
 def arc_sweep(path: SpatialPath, tol: float, z_top: float = math.inf) -> list[m3d.Manifold] | None:

@@ -227,7 +227,7 @@ class _Sweeper:
         self.bodies: dict[int, list] = {}
         self.millb = mill.MillBatch(tol)
         self.chain = mill.Chain()
-        self.arcs: list = []  # [index, path]: consecutive arcs on one helix, joined (stock/helix.py)
+        self.arcs: list = []  # the pending helix.ArcRun: consecutive arcs on one helix, joined
         self.screws = threads.ScrewGroups(tol)  # thread cuts, swept grouped by helix in finish()
         self.gauges: list = []  # (index, GaugePath): moves with no tool, checked by stock/gauge.py
 
@@ -306,12 +306,9 @@ class _Sweeper:
         self.gauges.append((i, path))
 
     def helix(self, i: int, path: SpatialPath) -> None:
-        joined = helix.merge_arcs([self.arcs[0][1], path]) if self.arcs else []
-        if len(joined) == 1:
-            self.arcs[0][1] = joined[0]
-        else:
+        if not (self.arcs and self.arcs[0].extend(path)):
             self.flush()
-            self.arcs.append([i, path])
+            self.arcs.append(helix.ArcRun(i, path))
 
     def tube(self, i: int, path: SpatialPath) -> None:
         if self.arcs or not self.chain.continues(path):
@@ -332,7 +329,8 @@ class _Sweeper:
                     cut.build = functools.partial(self._chain_piece, cut, pts, tool)
                     self.cuts.append(cut)
         if self.arcs:
-            index, p = self.arcs.pop()
+            run = self.arcs.pop()
+            index, p = run.index, run.path()
             solids = helix.arc_sweep(p, tol, self.f.top)
             if solids is not None:
                 self.add_cut(index, solids)
@@ -767,7 +765,7 @@ class Work:
         self.cap = mill.cap_height(frame.top, tol)
         self.screw_pieces: dict[int, list] = {}
         self.screws = threads.ScrewGroups(tol)
-        self.arc: list = []  # [index, path] of the pending arc (consecutive arcs on one helix joined)
+        self.arc: list = []  # the pending helix.ArcRun (consecutive arcs on one helix joined)
         self.chain: list = []  # [tool, src, points...]: consecutive 3D feeds joined as mill.Chain does
         self.lazy_total, self.lazy_piece, self.lazy_src = 0, 0, None
         for i, (path, kind) in enumerate(zip(paths, kinds)):
@@ -837,12 +835,9 @@ class Work:
         self.add(2 * tris, path.src, "this move (its sweep and its collision check)")
 
     def helix(self, i: int, path: SpatialPath) -> None:
-        joined = helix.merge_arcs([self.arc[0][1], path]) if self.arc else []
-        if len(joined) == 1:
-            self.arc[0][1] = joined[0]
-        else:
+        if not (self.arc and self.arc[0].extend(path)):
             self.flush()
-            self.arc.append([i, path])
+            self.arc.append(helix.ArcRun(i, path))
 
     def tube(self, i: int, path: SpatialPath) -> None:
         chain = self.chain
@@ -867,7 +862,7 @@ class Work:
                     self.add(self.lazy_piece, src, "these 3D milling moves (one piece of their sweep)")
             self.lazy_src = self.lazy_src or src
         if self.arc:
-            _, p = self.arc.pop()
+            p = self.arc.pop().path()
             verts = _body_vertices(p.tool, self.tol)
             self.add(_arc_triangles(p, self.tol, self.frame.top, self.cap, verts), p.src, "this arc or helix")
 
