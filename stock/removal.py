@@ -978,6 +978,9 @@ def _screw_triangles(path: ScrewPath, prof: m3d.CrossSection, s0: float, s1: flo
 
 def _arc_triangles(path: SpatialPath, tol: float, top: float, cap: float, body: int) -> int:
     """Triangles of ``helix.arc_sweep`` (or of the hull sweep it falls back to) without building it."""
+    fine = helix.revolved_triangles(path, tol, top)  # a helix finer than the tolerance: revolved
+    if fine is not None:
+        return fine
     segs = max(1, sum(len(p) - 1 for p in mill.below_cap(path.points, cap)))
     hulls = 4 * segs * body
     if not helix.applicable(path, tol):
