@@ -614,21 +614,56 @@ def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh,
             cands.append((i, p.src, p.tool, zmin, lambda p=p: shank_hulls(p, top, tol), key, low))
     out, warned = [], set()
     clean: dict[tuple, list[np.ndarray]] = {}  # key -> the lower ends of candidates that found nothing
-    for idx, src, tool, z, solids, key, low in sorted(cands, key=lambda c: c[0]):
+
+    found: dict[int, float] = {}
+
+    def volume(c) -> float:
+        idx, src, tool, z, solids, key, low = c
+        if idx not in found:
+            sol = [] if any(_shadowed(low, b, bottom) for b in clean.get(key, ())) else solids()
+            found[idx] = fresh(idx, sol) if sol else 0.0
+        return found[idx]
+
+    for group in _deepening_runs(sorted(cands, key=lambda c: c[0]), paths, bottom):
+        tool = group[0][2]
         if tool.number in warned:
             continue
-        if any(_shadowed(low, b, bottom) for b in clean.get(key, ())):
-            continue
-        sol = solids()
-        if not sol:
-            continue
-        vol = fresh(idx, sol)
-        if vol > 1e-3:
+        hit = next((c for c in group[:1] if volume(c) > 1e-3), None)
+        rest = group[1:]
+        if hit is None and rest and volume(rest[-1]) > 1e-3:  # bisect for the first that meets material
+            lo, hi = 0, len(rest) - 1
+            while lo < hi:
+                mid = (lo + hi) // 2
+                lo, hi = (lo, mid) if volume(rest[mid]) > 1e-3 else (mid + 1, hi)
+            hit = rest[lo]
+        if hit is not None:
             warned.add(tool.number)
-            out.append((src, flute_message(tool, z, top, vol)))
+            out.append((hit[1], flute_message(tool, hit[3], top, found[hit[0]])))
         else:
-            clean.setdefault(key, []).append(low)
+            clean.setdefault(group[-1][5], []).append(group[-1][6])
     return out
+
+
+def _deepening_runs(cands: list, paths: list, bottom: float) -> list[list]:
+    """The flute candidates (in program order) in groups: a group after its first member holds the
+    consecutive arcs the sweep joins into one helix (``helix.ArcRun``: one cut, before all of
+    them) whose shanks each contain the one before (same XY path, lower ends no higher). Those see
+    the same earlier cuts, so the fresh material their shanks meet can only grow along the group:
+    the first that meets any is found by bisection (a helix of 20,000 turns descending below its
+    flutes: 15 checks, not 20,000). Every other candidate is a group of its own."""
+    from .helix import ArcRun
+
+    groups: list[list] = []
+    for c in cands:
+        g = groups[-1] if groups else None
+        if g is not None and g[-1][0] + 1 == c[0] and g[-1][5] == c[5] and c[5][0] == "path":
+            p, q = paths[g[-1][0]], paths[c[0]]
+            if (not plunges(p) and not plunges(q) and ArcRun(0, p).extend(q)
+                    and _shadowed(g[-1][6], c[6], bottom)):
+                g.append(c)
+                continue
+        groups.append([c])
+    return groups
 
 
 def _xy_key(pts: np.ndarray) -> bytes:
