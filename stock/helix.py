@@ -398,7 +398,7 @@ def fine_pitch(arc: ArcGeom, tol: float) -> float | None:
     if U < 2 * math.pi * (1 - 1e-12):
         return None
     pitch = abs(arc.z1 - arc.z0) * 2 * math.pi / U
-    return pitch if pitch <= tol else None
+    return pitch if pitch <= tol * (1 + 1e-9) else None  # a pitch written as the tolerance, up to rounding
 
 
 def lower_section(tool, tol: float) -> np.ndarray:
