@@ -20,7 +20,7 @@ import time
 
 import click
 
-from cutsim.interp.errors import CutsimError
+from cutsim.interp.errors import CutsimError, location, printable
 from cutsim.setup import MIN_TOLERANCE
 
 FORMATS = ("stl", "3mf", "glb")
@@ -125,17 +125,17 @@ def _fail(e: BaseException, where: str, written: bool | None = None) -> int:
         _silence_stdout()
         return 141
     if isinstance(e, MemoryError):
-        click.echo(f"{where}:0:0: error: out of memory", err=True)
+        click.echo(f"{location(where, 0, 0)}: error: out of memory", err=True)
         return 2
     if isinstance(e, OSError) and (e.filename or e.errno in _ENV_ERRNOS):
         path = e.filename if isinstance(e.filename, str) and e.filename else where
-        click.echo(f"{path}:0:0: error: {e.strerror or e}", err=True)
+        click.echo(f"{location(path, 0, 0)}: error: {printable(str(e.strerror or e))}", err=True)
         return 2
     if os.environ.get("CUTSIM_DEBUG"):
         import traceback
 
         traceback.print_exception(e)
-    click.echo(f"{where}:0:0: error: internal error in cutsim ({type(e).__name__}: {e}); "
+    click.echo(f"{location(where, 0, 0)}: error: internal error in cutsim ({type(e).__name__}: {printable(str(e))}); "
                "please report it with the program and setup", err=True)
     return 3
 
@@ -291,8 +291,8 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
 
             click.echo(format_failures(failed), err=True)
         if not quiet:
-            click.echo(f"{rep['program']}: {rep['blocks']} blocks, {rep['moves']} moves, removed "
-                       f"{rep['removed_volume']:.3f} mm^3, {len(rep['warnings'])} warning(s) -> {out_dir}")
+            click.echo(f"{printable(rep['program'])}: {rep['blocks']} blocks, {rep['moves']} moves, removed "
+                       f"{rep['removed_volume']:.3f} mm^3, {len(rep['warnings'])} warning(s) -> {printable(str(out_dir))}")
         if failed or (result.setup.fail_on_warning and rep["warnings"]):
             return 1
         return 0

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 
+from cutsim.interp.errors import location, printable
 from .mesh import closed_mesh, part_bytes, stl_bytes, threemf_bytes  # noqa: F401 - the exporters live in mesh.py
 
 
@@ -56,12 +57,12 @@ def called_from(w: dict) -> str:
     if not lines:
         return ""
     programs = w.get("called_from_programs") or [w["program"]] * len(lines)
-    return " (called from " + ", from ".join(f"{p}:{line}" for p, line in zip(programs, lines)) + ")"
+    return " (called from " + ", from ".join(f"{printable(p)}:{line}" for p, line in zip(programs, lines)) + ")"
 
 
 def warning_text(w: dict) -> str:
     """A warning record as the CLI prints it: ``PROGRAM:LINE:COL: warning: TEXT (called from ...)``."""
-    return f"{w['program']}:{w['line']}:{w['column']}: warning: {w['message']}{called_from(w)}"
+    return f"{location(w['program'], w['line'], w['column'])}: warning: {printable(w['message'])}{called_from(w)}"
 
 
 def mesh_arrays(part):
