@@ -5,25 +5,11 @@ import sys
 
 import pytest
 
+from conftest import REPO_EXAMPLES
 from cutsim.interp.errors import CutsimError, location, printable
 
-SETUP = """[machine]
-kind = "mill"
-dialect = "cnc8x6"
-start = [0.0, 0.0, 50.0]
-
-[stock]
-shape = "box"
-x = [0.0, 100.0]
-y = [0.0, 80.0]
-z = [-20.0, 0.0]
-
-[[tool]]
-number = 1
-kind = "endmill"
-diameter = 10.0
-length = 40.0
-"""
+# the shipped mill helix's setup without its checks
+SETUP = (REPO_EXAMPLES / "cnc8x6-mill" / "helix-groove.toml").read_text().split("[[check]]")[0]
 PROG = "bad\nname\t.nc"
 SET = "set\tup\n.toml"
 
