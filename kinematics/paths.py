@@ -15,7 +15,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -131,6 +131,37 @@ class GaugePath:
     src: Src
     points: np.ndarray  # (k, 3): the gauge point, physical coordinates
     rapid: bool
+
+
+class ArcRun:
+    """Consecutive arcs of one tool on one helix (a helix programmed as a circle per turn), joined
+    into one path as they come: swept as one, its turns are merged directly instead of overlapping
+    as separate solids. The chords are gathered piece by piece and stacked once (``path``), so
+    joining n circles costs n, not n squared. The joined path has the first one's source line."""
+
+    def __init__(self, index: int, path: SpatialPath):
+        self.index, self.first, self.arc = index, path, path.arc
+        self.pieces = [path.points]
+
+    def extend(self, path: SpatialPath) -> bool:
+        """Join ``path`` when it continues the run (same tool, rapid or not, an arc on the same
+        helix starting where the run ends); False, and nothing changed, when it does not."""
+        q, end = self.first, self.pieces[-1][-1]
+        if (path.arc is None or self.arc is None or q.tool != path.tool or q.rapid != path.rapid
+                or float(np.max(np.abs(end - path.points[0]))) > 1e-9):
+            return False
+        arc = self.arc.joined(path.arc)
+        if arc is None:
+            return False
+        self.arc = arc
+        self.pieces.append(path.points[1:])
+        return True
+
+    def path(self) -> SpatialPath:
+        if len(self.pieces) > 1:
+            self.first = replace(self.first, points=np.vstack(self.pieces), arc=self.arc)
+            self.pieces = [self.first.points]
+        return self.first
 
 
 # Start and end radius of an arc agree when they differ by at most this fraction of the radius

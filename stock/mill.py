@@ -20,7 +20,7 @@ import manifold3d as m3d
 import numpy as np
 import pyclipper
 
-from cutsim.kinematics.paths import SpatialPath, segment_angle
+from cutsim.kinematics.paths import ArcRun, SpatialPath, segment_angle
 
 from cutsim.base.specs import ToolSpec
 
@@ -646,13 +646,11 @@ def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh,
 
 def _deepening_runs(cands: list, paths: list, bottom: float) -> list[list]:
     """The flute candidates (in program order) in groups: a group after its first member holds the
-    consecutive arcs the sweep joins into one helix (``helix.ArcRun``: one cut, before all of
+    consecutive arcs the sweep joins into one helix (``ArcRun``: one cut, before all of
     them) whose shanks each contain the one before (same XY path, lower ends no higher). Those see
     the same earlier cuts, so the fresh material their shanks meet can only grow along the group:
     the first that meets any is found by bisection (a helix of 20,000 turns descending below its
     flutes: 15 checks, not 20,000). Every other candidate is a group of its own."""
-    from .helix import ArcRun
-
     groups: list[list] = []
     for c in cands:
         g = groups[-1] if groups else None

@@ -21,7 +21,7 @@ import manifold3d as m3d
 import numpy as np
 
 from cutsim.interp.errors import CutsimError
-from cutsim.kinematics.paths import GaugePath, PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
+from cutsim.kinematics.paths import ArcRun, GaugePath, PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
 
 from . import gauge, helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
@@ -227,7 +227,7 @@ class _Sweeper:
         self.bodies: dict[int, list] = {}
         self.millb = mill.MillBatch(tol)
         self.chain = mill.Chain()
-        self.arcs: list = []  # the pending helix.ArcRun: consecutive arcs on one helix, joined
+        self.arcs: list = []  # the pending ArcRun (kinematics.paths): consecutive arcs on one helix, joined
         self.screws = threads.ScrewGroups(tol)  # thread cuts, swept grouped by helix in finish()
         self.gauges: list = []  # (index, GaugePath): moves with no tool, checked by stock/gauge.py
 
@@ -308,7 +308,7 @@ class _Sweeper:
     def helix(self, i: int, path: SpatialPath) -> None:
         if not (self.arcs and self.arcs[0].extend(path)):
             self.flush()
-            self.arcs.append(helix.ArcRun(i, path))
+            self.arcs.append(ArcRun(i, path))
 
     def tube(self, i: int, path: SpatialPath) -> None:
         if self.arcs or not self.chain.continues(path):
@@ -765,7 +765,7 @@ class Work:
         self.cap = mill.cap_height(frame.top, tol)
         self.screw_pieces: dict[int, list] = {}
         self.screws = threads.ScrewGroups(tol)
-        self.arc: list = []  # the pending helix.ArcRun (consecutive arcs on one helix joined)
+        self.arc: list = []  # the pending ArcRun (kinematics.paths) (consecutive arcs on one helix joined)
         self.chain: list = []  # [tool, src, points...]: consecutive 3D feeds joined as mill.Chain does
         self.lazy_total, self.lazy_piece, self.lazy_src = 0, 0, None
         for i, (path, kind) in enumerate(zip(paths, kinds)):
@@ -837,7 +837,7 @@ class Work:
     def helix(self, i: int, path: SpatialPath) -> None:
         if not (self.arc and self.arc[0].extend(path)):
             self.flush()
-            self.arc.append(helix.ArcRun(i, path))
+            self.arc.append(ArcRun(i, path))
 
     def tube(self, i: int, path: SpatialPath) -> None:
         chain = self.chain
