@@ -21,7 +21,8 @@ import manifold3d as m3d
 import numpy as np
 
 from cutsim.interp.errors import CutsimError
-from cutsim.kinematics.paths import ArcRun, GaugePath, PlanarPath, ScrewPath, SpatialPath, circle_segments, segment_angle
+from cutsim.kinematics.paths import (ArcRun, GaugePath, PlanarPath, ScrewPath, SpatialPath, circle_segments,
+                                     segment_angle)
 
 from . import gauge, helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
