@@ -89,7 +89,7 @@ def seam_free_angles(solids, phis, window: float = 1.0) -> tuple[np.ndarray, np.
     for i, phi in enumerate(phis):
         p0 = phi % 180.0
         j0 = max(int(np.searchsorted(ext, p0 - window, "right")) - 1, 0)
-        j1 = min(int(np.searchsorted(ext, p0 + window, "left")), len(ext) - 1)
+        j1 = max(min(int(np.searchsorted(ext, p0 + window, "left")), len(ext) - 1), j0 + 1)
         lo, hi = ext[j0:j1], ext[j0 + 1:j1 + 1]
         p = np.clip(0.5 * (lo + hi), p0 - window, p0 + window)
         c = np.minimum(p - lo, hi - p)
