@@ -76,24 +76,27 @@ class Case:
         if variant == "deep":
             xs[-1] -= 0.1
         spin = "M03" if self.hand == "right" else "M04"
-        out_x, turn_end = self.bar + 4.0, self.zend - 3.0
-        if self.dialect == "cnc8x6":
-            blocks = ["G95 G00 T1 D1 S1200 M03", f"G00 X{_f(self.turned)} Z2.", f"G01 Z{_f(turn_end)} F0.2",
-                      f"X{_f(self.bar + 2.0)}", f"G00 X{_f(self.bar + 20.0)} Z20.", f"T2 D2 S400 {spin}"]
-            for a in offs:
-                for x in xs:
-                    blocks += [f"G00 Z{_f(self.z0)}", f"X{_f(x)}", f"G33 Z{_f(self.zend)} F{_f(lead)} I{_f(a)}",
-                               f"G00 X{_f(out_x)}"]
-            blocks.append("M30")
-            return "".join(f"N{10 * (i + 1)} {b}\n" for i, b in enumerate(blocks))
-        blocks = ["G51", "T1 D1 M03 S1200", f"G00 X{_f(self.turned)} Z2", f"G01 Z{_f(turn_end)} F200",
-                  f"G01 X{_f(self.bar + 2.0)}", f"G00 X{_f(self.bar + 20.0)} Z20", f"T2 D2 {spin} S400"]
+        w = WORDS[self.dialect]
+        blocks = [b.format(spin=spin, turned=_f(self.turned), end=_f(self.zend - 3.0), out=_f(self.bar + 2.0),
+                           away=_f(self.bar + 20.0)) for b in w["head"]]
         for a in offs:
             for x in xs:
-                blocks += [f"G00 Z{_f(self.z0)}", f"G00 X{_f(x)}", f"G33 Z{_f(self.zend)} K{_f(lead)} S.OFFSET={_f(a)}",
-                           f"G00 X{_f(out_x)}"]
+                blocks += [f"G00 Z{_f(self.z0)}", w["to_x"].format(x=_f(x)),
+                           w["g33"].format(z=_f(self.zend), lead=_f(lead), a=_f(a)), f"G00 X{_f(self.bar + 4.0)}"]
         blocks.append("M30")
-        return "".join(f"N{5 * (i + 1)} {b}\n" for i, b in enumerate(blocks))
+        return "".join(f"N{w['step'] * (i + 1)} {b}\n" for i, b in enumerate(blocks))
+
+
+# each dialect's words: turn to a diameter from Z2, then thread passes (G95 mm/rev on CNC8x6, G51
+# diameter programming on ISG)
+WORDS = {
+    "cnc8x6": {"step": 10, "to_x": "X{x}", "g33": "G33 Z{z} F{lead} I{a}",
+               "head": ["G95 G00 T1 D1 S1200 M03", "G00 X{turned} Z2.", "G01 Z{end} F0.2", "X{out}",
+                        "G00 X{away} Z20.", "T2 D2 S400 {spin}"]},
+    "isg": {"step": 5, "to_x": "G00 X{x}", "g33": "G33 Z{z} K{lead} S.OFFSET={a}",
+            "head": ["G51", "T1 D1 M03 S1200", "G00 X{turned} Z2", "G01 Z{end} F200", "G01 X{out}",
+                     "G00 X{away} Z20", "T2 D2 {spin} S400"]},
+}
 
 
 def make_case(seed: int) -> Case:
@@ -101,8 +104,7 @@ def make_case(seed: int) -> Case:
     rng = np.random.default_rng(seed)
     dialect = ("cnc8x6", "isg")[seed % 2]
     starts = int(rng.integers(1, 4))
-    lead = round(float(rng.uniform(1.0, 3.0)) * starts if starts > 1 else float(rng.uniform(1.0, 3.0)), 3)
-    lead = min(lead, 6.0)
+    lead = min(round(float(rng.uniform(1.0, 3.0)) * starts, 3), 6.0)  # pitch 1 to 3, lead at most 6
     pitch = lead / starts
     bar = round(float(rng.uniform(16.0, 30.0)), 2)
     turned = round(bar - float(rng.uniform(0.6, 3.0)), 3)
