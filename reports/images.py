@@ -12,13 +12,14 @@ to the right and X up.
 
 Lathe:
 - ``iso.png``: the part as it sits in the lathe, the stock's outline and axes with round ticks;
-- ``section.png``: the full-length half-section at C0 (the half-plane through +X): part in grey,
+- ``section.png``: the full-length half-section near C0 (the half-plane through +X, moved under 1
+  degree clear of construction seams, ``section_angle``): part in grey,
   the material removed from the stock in orange, the stock outline in red; Z along the bottom,
   the radius on the left and the diameter on the right;
 - ``thread-N.png`` for the N-th ``thread`` check: two and a half pitches around the middle of its
-  range at C0 with the measured root and crest diameters, the pitch and both flank angles;
-- ``ramp-N.png`` for the N-th ``ramp`` check (lead-in, runout): the section at C0 over the ramp with
-  the root radius measured over all angles and the ramp the check expects.
+  range at that angle with the measured root and crest diameters, the pitch and both flank angles;
+- ``ramp-N.png`` for the N-th ``ramp`` check (lead-in, runout): the section at that angle over the
+  ramp with the root radius measured over all angles and the ramp the check expects.
 
 Mill:
 - ``top.png``: the part from above coloured over the cut depth range (stock top to deepest floor),
@@ -70,12 +71,24 @@ def _polys(cs):
 # ------------------------------------------------------------------------------------------------
 # lathe
 # ------------------------------------------------------------------------------------------------
-def _lathe_sections(result, window=None):
-    """(part, stock, removed) half-sections at C0 as (z, r) polygon lists, clipped to ``window``."""
+def section_angle(result) -> float:
+    """The angle of the lathe images' half-sections: C0 moved (by under 1 degree) to the plane
+    clearest of the part's and the stock's construction seams, as the thread check's sections are
+    (measure.seam_free_angles): the plane at exactly C0 holds the seams of revolved solids and of
+    threads cut from the zero pulse, where a section can come out wrong."""
     from cutsim.reports import measure as M
 
-    part = _cs(_swap(M.half_plane_section(result.part, 0.0)))
-    stock = _cs(_swap(M.half_plane_section(result.stock, 0.0)))
+    return float(M.seam_free_angles([result.part, result.stock], [0.0])[0][0])
+
+
+def _lathe_sections(result, window=None, phi: float | None = None):
+    """(part, stock, removed) half-sections at ``phi`` (default ``section_angle``) as (z, r)
+    polygon lists, clipped to ``window``."""
+    from cutsim.reports import measure as M
+
+    phi = section_angle(result) if phi is None else phi
+    part = _cs(_swap(M.half_plane_section(result.part, phi)))
+    stock = _cs(_swap(M.half_plane_section(result.stock, phi)))
     removed = stock - part
     if window is not None:
         w = _rect(*window)
@@ -84,7 +97,8 @@ def _lathe_sections(result, window=None):
 
 
 def section_view(result) -> View:
-    """Lathe: the full-length half-section at C0 in true coordinates (Z across, radius up)."""
+    """Lathe: the full-length half-section near C0 (``section_angle``) in true coordinates (Z
+    across, radius up)."""
     sb = result.stock.bounding_box()
     pb = result.part.bounding_box()
     z0, z1 = min(sb[2], pb[2]), max(sb[5], pb[5])
@@ -97,7 +111,8 @@ def section_view(result) -> View:
     need = (rmax + mr) * s_est + margins[2] + margins[3]
     p = _plotter(size=(WIDTH, 2 * int(math.ceil(min(HEIGHT, max(SECTION_MIN_HEIGHT, need)) / 2))))
     ch = _Chart(p, (z0 - mz, z1 + mz, 0.0, rmax + mr), margins=margins, anchor_v0=True, widen_v=False)
-    part, stock, removed = _lathe_sections(result)
+    phi = section_angle(result)
+    part, stock, removed = _lathe_sections(result, phi=phi)
     ch.fill(part, PART_COLOR)
     ch.fill(removed, REMOVED_COLOR, dz=0.1)
     ch.lines(part, color="#333333", width=1.0, dz=0.5)
@@ -106,10 +121,12 @@ def section_view(result) -> View:
     ch.lines([((u0, 0.0), (u1, 0.0))], color="#555555", width=1.0, dashed=True, dz=0.9)
     ch.axes("Z mm", "radius mm", v2=lambda r: 2 * r, v2title="\u00d8 mm")
     _mark_checks(ch, result)
-    ch.title(f"{result.report.get('program', '')}: half-section at C0 (+X), Z {_num(z0, 2)} \u2026 {_num(z1, 2)}")
+    ch.title(f"{result.report.get('program', '')}: half-section at C{_num(phi, 2)}\u00b0 (+X), "
+             f"Z {_num(z0, 2)} \u2026 {_num(z1, 2)}")
     ch.legend([("part", PART_COLOR), ("removed", REMOVED_COLOR), ("stock outline", STOCK_COLOR)])
-    return View("section.png", "Half-section at C0 (the half-plane through +X) in workpiece coordinates: "
-                "part grey, removed material orange, stock outline red; radius left, diameter right.",
+    return View("section.png", f"Half-section at C{_num(phi, 2)}\u00b0 (the half-plane through +X, moved off C0 "
+                "clear of construction seams) in workpiece coordinates: part grey, removed material orange, "
+                "stock outline red; radius left, diameter right.",
                 p, ch.ticks, pixel=ch.pixel)
 
 
@@ -145,8 +162,9 @@ def _fit_flank(z, r, lo, hi):
 
 
 def thread_view(result, spec, index: int) -> View:
-    """Lathe: 2.5 pitches of the ``thread`` check ``spec`` around the middle of its range at C0,
-    with measured root and crest diameters, pitch and flank angles."""
+    """Lathe: 2.5 pitches of the ``thread`` check ``spec`` around the middle of its range at the
+    section angle (C0 moved clear of seams), with measured root and crest diameters, pitch and
+    flank angles."""
     from cutsim.reports import measure as M
 
     zlo, zhi = spec["z"]
@@ -154,7 +172,8 @@ def thread_view(result, spec, index: int) -> View:
     pitch = m["pitch"] or spec["lead"] / max(1, spec["starts"])
     zc = 0.5 * (zlo + zhi)
     za, zb = zc - 1.25 * pitch, zc + 1.25 * pitch
-    z, r = M.outer_profile(result.part, 0.0, za - pitch, zb + pitch, step=pitch / 400.0)
+    phi = section_angle(result)
+    z, r = M.outer_profile(result.part, phi, za - pitch, zb + pitch, step=pitch / 400.0)
     ok = np.isfinite(r)
     z, r = z[ok], r[ok]
     inwin = (z >= za) & (z <= zb)
@@ -166,7 +185,7 @@ def thread_view(result, spec, index: int) -> View:
     p = _plotter()
     ch = _Chart(p, (za, zb, v0, v1), margins=(90, 90, 70, 85))
     win = ch.box
-    part, stock, removed = _lathe_sections(result, win)
+    part, stock, removed = _lathe_sections(result, win, phi)
     ch.fill(part, PART_COLOR)
     ch.fill(removed, REMOVED_COLOR, dz=0.1)
     ch.lines([np.vstack([q, q[:1]]) for q in part], color="#333333", width=1.2, dz=0.5)
@@ -231,17 +250,17 @@ def thread_view(result, spec, index: int) -> View:
             ch.text(zr, r_crest + 0.28 * h, ftxt, size=13, color="#b03030", bold=True)
             notes.append(ftxt)
     name = spec["name"]
-    ch.title(f"{name}: tooth detail at C0 (+X); checked Z {_num(zlo, 2)} \u2026 {_num(zhi, 2)}, "
+    ch.title(f"{name}: tooth detail at C{_num(phi, 2)}\u00b0 (+X); checked Z {_num(zlo, 2)} \u2026 {_num(zhi, 2)}, "
              f"{m['starts'] or '?'} start(s), {m['hand'] or '?'} hand")
     ch.legend([("part", PART_COLOR), ("removed", REMOVED_COLOR)])
-    return View(f"thread-{index}.png", f"Thread check \u201c{name}\u201d: two and a half pitches at C0 around "
+    return View(f"thread-{index}.png", f"Thread check \u201c{name}\u201d: two and a half pitches at C{_num(phi, 2)}\u00b0 around "
                 f"Z {_num(zc, 2)} with the measured root and crest diameters, pitch and flank angles.",
                 p, ch.ticks, notes, pixel=ch.pixel)
 
 
 def ramp_view(result, spec, index: int) -> View:
-    """Lathe: the section at C0 over a ``ramp`` check with the measured root radius (over all
-    angles) and the expected ramp."""
+    """Lathe: the section near C0 (``section_angle``) over a ``ramp`` check with the measured root
+    radius (over all angles) and the expected ramp."""
     from cutsim.reports import measure as M
 
     (za, zb), (ra, rb) = spec["z"], spec["radius"]
@@ -254,7 +273,8 @@ def ramp_view(result, spec, index: int) -> View:
     v0, v1 = lo - 0.25 * (rtop - lo) - 0.2, rtop + 0.25 * (rtop - lo) + 0.2
     p = _plotter()
     ch = _Chart(p, (zlo, zhi, v0, v1), margins=(90, 90, 70, 85))
-    part, stock, removed = _lathe_sections(result, ch.box)
+    phi = section_angle(result)
+    part, stock, removed = _lathe_sections(result, ch.box, phi)
     ch.fill(part, PART_COLOR)
     ch.fill(removed, REMOVED_COLOR, dz=0.1)
     ch.lines([np.vstack([q, q[:1]]) for q in part], color="#333333", width=1.0, dz=0.5)
@@ -267,9 +287,9 @@ def ramp_view(result, spec, index: int) -> View:
     txt = (f"expected r {_num(ra)} to {_num(rb)} over Z {_num(za, 2)} \u2026 {_num(zb, 2)}; measured root "
            f"{_num(float(rs[0]))} to {_num(float(rs[-1]))}, worst {_num(worst)} (\u00b1{spec['tolerance']:g})")
     ch.text(ch.box[0] + ch.px(8), ch.box[3] - ch.px(8), txt, size=13, halign="left", valign="top", bold=True)
-    ch.title(f"{spec['name']}: ramp at C0 (+X) and the root radius over all angles")
-    ch.legend([("root radius (all angles)", "#1f5fa8"), ("expected ramp", "#2a8a3a"), ("part at C0", PART_COLOR)])
-    return View(f"ramp-{index}.png", f"Ramp check \u201c{spec['name']}\u201d: section at C0, the root radius "
+    ch.title(f"{spec['name']}: ramp at C{_num(phi, 2)}\u00b0 (+X) and the root radius over all angles")
+    ch.legend([("root radius (all angles)", "#1f5fa8"), ("expected ramp", "#2a8a3a"), (f"part at C{_num(phi, 2)}\u00b0", PART_COLOR)])
+    return View(f"ramp-{index}.png", f"Ramp check \u201c{spec['name']}\u201d: section at C{_num(phi, 2)}\u00b0, the root radius "
                 "measured over all angles (blue) and the ramp the check expects (wide green line).",
                 p, ch.ticks, [txt], pixel=ch.pixel)
 

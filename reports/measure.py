@@ -45,6 +45,59 @@ def half_plane_section(part, phi: float) -> list[np.ndarray]:
     return _polygons(cs ^ box)
 
 
+# --------------------------------------------------------------------------------------------
+# measuring angles clear of construction seams
+# --------------------------------------------------------------------------------------------
+# Every solid cutsim builds has its vertices on construction seams: a revolved solid (stock,
+# turning) has its outline in the half-planes at k * 360 / segments from C0, a screw sweep has
+# the tool profile in the half-plane of every station (one at the angle where the cut starts,
+# others a turn apart), and a boolean leaves vertices where two surfaces meet. A section by a
+# plane that holds such a seam is degenerate (whole edges lie in the plane), and manifold3d's
+# slice can then join the wrong pieces: at C0 of a G33 cut started at the zero pulse the groove
+# roots vanish from the section. Sections by a plane that holds no vertex cut every triangle
+# transversally, so the measuring angles are moved into the widest vertex-free gap near the
+# angle asked for, read from the solids themselves (whatever built them).
+SEAM_RADIUS = 1e-6  # mm: vertices nearer the axis lie in every half-plane and have no angle
+
+
+def vertex_angles(solids) -> np.ndarray:
+    """Sorted, distinct angles (degrees in [0, 180)) of the vertices of ``solids`` off the axis,
+    modulo 180: a half-plane section slices the whole plane, so a vertex on the far side
+    (phi + 180) matters as much as one at phi."""
+    out = [np.zeros(0)]
+    for s in solids:
+        v = np.asarray(s.to_mesh().vert_properties, dtype=np.float64)
+        if not len(v):
+            continue
+        x, y = v[:, 0], v[:, 1]
+        off = np.hypot(x, y) > SEAM_RADIUS * max(1.0, float(np.abs(v[:, :3]).max()))
+        out.append(np.degrees(np.arctan2(y[off], x[off])) % 180.0)
+    return np.unique(np.concatenate(out))
+
+
+def seam_free_angles(solids, phis, window: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """For each angle in ``phis`` (degrees) the angle within +-``window`` of it whose plane
+    through the axis lies farthest (in angle) from every vertex of ``solids``, and that
+    clearance (degrees; inf when no vertex is off the axis). Ties go to the angle nearest the
+    one asked for, so the choice is deterministic."""
+    phis = np.atleast_1d(np.asarray(phis, dtype=np.float64))
+    a = vertex_angles(solids)
+    if not len(a):
+        return phis.copy(), np.full(phis.shape, np.inf)
+    ext = np.concatenate([a - 180.0, a, a + 180.0, a[:1] + 360.0])
+    out, clear = np.empty_like(phis), np.empty_like(phis)
+    for i, phi in enumerate(phis):
+        p0 = phi % 180.0
+        j0 = max(int(np.searchsorted(ext, p0 - window, "right")) - 1, 0)
+        j1 = max(min(int(np.searchsorted(ext, p0 + window, "left")), len(ext) - 1), j0 + 1)
+        lo, hi = ext[j0:j1], ext[j0 + 1:j1 + 1]
+        p = np.clip(0.5 * (lo + hi), p0 - window, p0 + window)
+        c = np.minimum(p - lo, hi - p)
+        k = int(np.lexsort((np.abs(p - p0), -c))[0])
+        out[i], clear[i] = phi + (p[k] - p0), c[k]
+    return out, clear
+
+
 def plane_section(part, axis: str, at: float) -> list[np.ndarray]:
     """The section by the plane ``axis = at`` (axis "x", "y" or "z"): polygons in the other two
     coordinates in order (x: (y, z); y: (x, z); z: (x, y))."""
@@ -190,25 +243,34 @@ def _circ_diff(a, b):
     return (np.asarray(a) - np.asarray(b) + 180.0) % 360.0 - 180.0
 
 
+def thread_angles(part, angles: int = 36) -> np.ndarray:
+    """The ``angles`` measuring angles of a thread on ``part``: equally spaced from C0, each moved
+    (by at most a tenth of the spacing, and 1 degree) to the plane clearest of construction seams
+    (``seam_free_angles``). Measurements use the angle actually sectioned, so the move changes no
+    result: a groove's z at angle phi is z0 + lead * phi / 360 whatever phi is."""
+    nominal = np.arange(angles) * 360.0 / angles
+    return seam_free_angles([part], nominal, min(1.0, 36.0 / angles))[0]
+
+
 def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float = 0.01) -> dict:
     """Lead, hand, number of starts, root diameter and the grooves' roots of a thread between
     ``zlo`` and ``zhi``.
 
-    The grooves' roots are found in half-plane sections at ``angles`` equally spaced angles. One
-    groove near the middle of the range is followed from angle to angle (the nearest root at the
-    next angle); the slope of its z against the angle gives the lead (mm per turn) and the hand
-    (z rising with the angle about +Z: right-hand). The pitch is the median distance between
-    neighbouring roots at one angle; starts = lead / pitch rounded. The root diameter is twice
-    the median root radius.
+    The grooves' roots are found in half-plane sections at ``angles`` angles (``thread_angles``:
+    about equally spaced, none on a construction seam). One groove near the middle of the range is
+    followed from angle to angle (the nearest root at the next angle); the slope of its z against
+    the angle gives the lead (mm per turn) and the hand (z rising with the angle about +Z:
+    right-hand). The pitch is the median distance between neighbouring roots at one angle;
+    starts = lead / pitch rounded. The root diameter is twice the median root radius.
     """
-    phis = np.arange(angles) * 360.0 / angles
+    phis = thread_angles(part, angles)
     per_angle = []
     for phi in phis:
         z, r = outer_profile(part, float(phi), zlo, zhi, step)
         per_angle.append(groove_roots(z, r))
     roots = [(float(phi), float(zr), float(rr)) for phi, rs in zip(phis, per_angle) for zr, rr in rs]
-    out = {"roots": roots, "lead": None, "hand": None, "starts": None, "pitch": None,
-           "root_diameter": None, "root_diameter_min": None, "root_diameter_max": None}
+    out = {"roots": roots, "angles": [float(p) for p in phis], "lead": None, "hand": None, "starts": None,
+           "pitch": None, "root_diameter": None, "root_diameter_min": None, "root_diameter_max": None}
     if not roots:
         return out
     rr = np.array([r for _, _, r in roots])
@@ -218,28 +280,7 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     gaps = np.concatenate([np.diff(np.sort(rs[:, 0])) for rs in per_angle if len(rs) > 1] or [np.zeros(0)])
     pitch = float(np.median(gaps)) if len(gaps) else None
     out["pitch"] = pitch
-    # follow one groove: start at the angle with a root nearest the middle of the range
-    mid = 0.5 * (zlo + zhi)
-    j0 = min((j for j in range(angles) if len(per_angle[j])),
-             key=lambda j: (np.min(np.abs(per_angle[j][:, 0] - mid)), j))
-    zs = per_angle[j0][:, 0]
-    zcur = float(zs[np.argmin(np.abs(zs - mid))])
-    track = [(0.0, zcur)]
-    limit = 0.45 * pitch if pitch else 0.45 * (zhi - zlo)
-    slope = None
-    for k in range(1, angles + 1):
-        rs = per_angle[(j0 + k) % angles]
-        if not len(rs):
-            break
-        guess = zcur + (slope or 0.0) * (360.0 / angles)
-        i = int(np.argmin(np.abs(rs[:, 0] - guess)))
-        if abs(rs[i, 0] - guess) > limit:
-            break
-        zcur = float(rs[i, 0])
-        track.append((k * 360.0 / angles, zcur))
-        if len(track) >= 2:
-            a = np.array(track)
-            slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0]) if len(a) > 2 else (a[1, 1] - a[0, 1]) / (a[1, 0] - a[0, 0])
+    track = _follow_groove(per_angle, phis, 0.5 * (zlo + zhi), 0.45 * pitch if pitch else 0.45 * (zhi - zlo))
     if len(track) >= 3:
         a = np.array(track)
         slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0])
@@ -251,6 +292,32 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
         else:
             out["starts"] = 1
     return out
+
+
+def _follow_groove(per_angle: list[np.ndarray], phis: np.ndarray, mid: float, limit: float) -> list[tuple]:
+    """(angle travelled, z) of one groove followed once around from the root nearest ``mid``: at
+    each next angle the root nearest the line fitted so far, until none lies within ``limit``."""
+    n = len(phis)
+    j0 = min((j for j in range(n) if len(per_angle[j])),
+             key=lambda j: (np.min(np.abs(per_angle[j][:, 0] - mid)), j))
+    zs = per_angle[j0][:, 0]
+    zcur = float(zs[np.argmin(np.abs(zs - mid))])
+    track = [(0.0, zcur)]
+    slope = None
+    for k in range(1, n + 1):
+        rs = per_angle[(j0 + k) % n]
+        if not len(rs):
+            break
+        t = float(phis[(j0 + k) % n] + 360.0 * ((j0 + k) // n) - phis[j0])
+        guess = zcur + (slope or 0.0) * (t - track[-1][0])
+        i = int(np.argmin(np.abs(rs[:, 0] - guess)))
+        if abs(rs[i, 0] - guess) > limit:
+            break
+        zcur = float(rs[i, 0])
+        track.append((t, zcur))
+        a = np.array(track)
+        slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0]) if len(a) > 2 else (a[1, 1] - a[0, 1]) / (a[1, 0] - a[0, 0])
+    return track
 
 
 def thread_phases(roots, lead: float, hand: str, phase_z: float) -> np.ndarray:

@@ -158,7 +158,10 @@ def test_thread_detail(multipass):
         notes = " ".join(view.notes)
         root = float(re.search(r"root \u00d8 (\d+\.\d+)", notes).group(1))
         assert abs(root - 26.177) <= spec["tolerance"]
-        assert re.search(r"crest \u00d8 27\.0", notes)
+        # the bar is a polygon inside the 27 mm circle (chords of the tolerance): its radius at the
+        # section angle (clear of the polygon's vertices) reads up to the tolerance small
+        crest = float(re.search(r"crest \u00d8 (\d+\.\d+)", notes).group(1))
+        assert 27.0 - 2 * multipass.report["tolerance"] - 0.001 <= crest <= 27.0
         assert "P 1.500" in notes
         flanks = [float(a) for a in re.findall(r"(\d+\.\d)\u00b0", notes)]
         assert len(flanks) == 3 and all(abs(a - 30.0) < 0.5 for a in flanks[:2]) and abs(flanks[2] - 60) < 1.0
