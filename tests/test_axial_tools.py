@@ -146,3 +146,37 @@ def test_tap_off_the_axis_and_drill_g33_refused(tmp_path):
     drill = 'kind = "drill"\ndiameter = 8'
     with pytest.raises(CutsimError, match='kind = "tap"'):
         _run(tmp_path, STOCK, drill, "G00 X0 Z3.\nM03 S200\nG33 Z-10. F1.5\n")
+
+
+def _groove(d: float, p: float, rb: float) -> float:
+    """Material per mm of the ISO 68-1 nut groove of M d x p between the bore rb and d/2."""
+    def integral(r: float) -> float:
+        return (p / 8.0 + 2.0 * T30 * d / 2.0) * r * r / 2.0 - 2.0 * T30 * r ** 3 / 3.0
+    return 2.0 * math.pi / p * (integral(d / 2.0) - integral(rb))
+
+
+@pytest.mark.parametrize("d,p,depth_frac,chamfer,tol", [
+    (3.0, 0.5, 1.0, 1.5, 0.002), (6.0, 1.0, 0.6, 0.0, 0.002), (16.0, 2.0, 0.8, 6.0, 0.01),
+    (24.0, 1.5, 1.0, 3.0, 0.005), (4.0, 1.0, 0.3, 4.0, 0.002)])
+def test_tap_groove_over_the_range(tmp_path, d, p, depth_frac, chamfer, tol):
+    """Coarse and fine pitches, a bore from D1 (depth_frac 1: the full 5H/8) to a shallow thread,
+    chamfers from none to 4 pitches: the slab clear of the chamfer loses the groove per mm."""
+    h = math.sqrt(3.0) / 2.0 * p
+    rb = d / 2.0 - depth_frac * 5.0 * h / 8.0
+    ro = d / 2.0 + 5.0
+    leads = math.ceil((10.0 + chamfer + 3.0) / p)
+    z_end = 3.0 - leads * p
+    stock = f'shape = "revolve"\nprofile = [[{rb:.6f}, 0], [{ro}, 0], [{ro}, -30], [{rb:.6f}, -30]]'
+    tool = f'kind = "tap"\ndiameter = {d}\npitch = {p}\nchamfer = {chamfer}\nlength = {2 * d + 20}'
+    res = _run(tmp_path, stock, tool, f"G00 X0 Z3.\nM03 S200\nG33 Z{z_end:.6f} F{p}\nM04\nG33 Z3. F{p}\n", tol=tol)
+    assert res.report["warnings"] == []
+    area = math.pi * (ro * ro - rb * rb)
+    k = _k(res, area * 30.0)
+    z1 = z_end + chamfer + 1.0
+    removed = k * area * 8.0 - _slab(res.part, z1, z1 + 8.0, ro)
+    expect = 8.0 * _groove(d, p, rb)
+    # the sweep's chords lie on the axis side of the helices (docs/setup.md): the groove comes out
+    # shallower, by at most a layer ``tol`` thick over its surface (flanks and root: 1.375 P of
+    # profile per pitch at full depth, 2 pi r of it per turn), never deeper
+    layer = tol * 1.375 * 2.0 * math.pi * (d / 2.0) * 8.0
+    assert -layer <= removed - expect <= 1e-3 * expect, (removed, expect, layer)
