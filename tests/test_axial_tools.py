@@ -180,3 +180,18 @@ def test_tap_groove_over_the_range(tmp_path, d, p, depth_frac, chamfer, tol):
     # profile per pitch at full depth, 2 pi r of it per turn), never deeper
     layer = tol * 1.375 * 2.0 * math.pi * (d / 2.0) * 8.0
     assert -layer <= removed - expect <= 1e-3 * expect, (removed, expect, layer)
+
+
+def test_axial_defaults_from_the_setup(tmp_path):
+    """The loader's defaults (docs/setup.md): DIN 333 A proportions, a form C chamfer of 3 pitches,
+    a thread length of 2 D; a key of another kind is refused at its line."""
+    setup = tmp_path / "s.toml"
+    setup.write_text('[machine]\nkind = "lathe"\ndialect = "cnc8x6"\n[stock]\nshape = "cylinder"\ndiameter = 30\n'
+                     'z = [-40, 0]\n[[tool]]\nkind = "centredrill"\ndiameter = 2\n[[tool]]\nkind = "tap"\n'
+                     'diameter = 10\npitch = 1.5\n')
+    cd, tap = cutsim.load_setup(str(setup)).tools
+    assert (cd.body_diameter, cd.pilot_length, cd.countersink, cd.point_angle, cd.length) == (5.0, 2.4, 60.0, 118.0, 30.0)
+    assert (tap.chamfer, tap.length) == (4.5, 20.0)
+    setup.write_text(setup.read_text() + "countersink = 60\n")
+    with pytest.raises(CutsimError, match=r"s.toml:15:1: .*countersink: unknown key for a tap tool"):
+        cutsim.load_setup(str(setup))
