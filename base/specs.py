@@ -43,7 +43,7 @@ class StockSpec:
 @dataclass(frozen=True)
 class ToolSpec:
     number: int
-    kind: str  # "thread" | "turning" | "grooving" | "profile" | "endmill" | "ballmill" | "drill"
+    kind: str  # "thread" | "turning" | "grooving" | "profile" | "centredrill" | "tap" | "endmill" | "ballmill" | "drill"
     angle: float = 60.0  # thread/turning: included angle of the V, degrees
     tip_radius: float = 0.0  # thread/turning: nose radius
     height: float = 10.0  # lathe tools: how far the profile reaches out from the tip, mm
@@ -62,6 +62,10 @@ class ToolSpec:
     form: str = "partial"  # thread: "partial" (the V) | "full" (ISO metric 60 degree profile of ``pitch``)
     pitch: float = 0.0  # thread, full form: the pitch the insert is ground for, mm
     width: float = 0.0  # grooving: width of the cutting edge, mm (corner radii: ``corner_radius``)
+    pilot_length: float = 0.0  # centre drill: from the tip to where the countersink starts, mm
+    body_diameter: float = 0.0  # centre drill: the body's diameter (the countersink's widest), mm
+    countersink: float = 60.0  # centre drill: included angle of the countersink, 60 or 90 degrees
+    chamfer: float = 0.0  # tap: length of the chamfered lead (from the tip), mm
     name: str = field(default="", compare=False)  # [[tool]] name (T="DRILL 8.5"); not part of the shape
     # where the tool is defined: the setup file and the line/column of its [[tool]] header, for
     # errors about the tool's shape found when it is built (not part of the tool's identity)
@@ -71,15 +75,23 @@ class ToolSpec:
 
     @property
     def is_lathe_tool(self) -> bool:
-        return self.kind in ("thread", "turning", "grooving", "profile")
+        """A tool only a lathe holds: the turret's tools and the axial tools the spindle axis
+        takes only on a lathe (centre drill, tap; a twist drill works on a mill too)."""
+        return self.kind in ("thread", "turning", "grooving", "profile") or self.is_axial
+
+    @property
+    def is_axial(self) -> bool:
+        """A lathe tool on the spindle axis, given as a solid of revolution (centre drill, tap)."""
+        return self.kind in ("centredrill", "tap")
 
     @property
     def tip_direction(self) -> tuple[int, int]:
         """Where the tool's point lies from the centre of its nose, as signs (dx, dz) in the
         workpiece's X-Z plane: what the cutting edge position (``edge_position``) encodes. The
         outside tool of hand R points to -X and -Z, hand L to -X and +Z, a neutral tool to -X;
-        an inside tool mirrors X, a face tool swaps X and Z. A profile tool has no direction."""
-        if self.kind == "profile":
+        an inside tool mirrors X, a face tool swaps X and Z. A profile tool has no direction, nor
+        has an axial tool (its point lies on its axis)."""
+        if self.kind == "profile" or self.is_axial:
             return (0, 0)
         dz = {"R": -1, "L": 1}.get(self.hand, 0) if self.kind in ("turning", "grooving") and (
             self.kind == "grooving" or self.insert) else 0

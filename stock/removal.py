@@ -24,7 +24,7 @@ from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import (ArcRun, GaugePath, PlanarPath, ScrewPath, SpatialPath, circle_segments,
                                      segment_angle)
 
-from . import gauge, helix, mill, threads, tube
+from . import axial, gauge, helix, mill, threads, tube
 from .build import DEFAULT_MAX_TRIANGLES, stock_outline
 from cutsim.base.specs import StockSpec, ToolSpec
 from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, inner_trim, planar_region,
@@ -250,6 +250,8 @@ class _Sweeper:
         return None
 
     def screw(self, i: int, path: ScrewPath) -> None:
+        if path.tool.kind == "tap":  # its core, moved along the axis: a revolved region (stock/axial.py)
+            self.region_cut(i, axial.core_region(path.tool, path.z0, path.z1), path)
         parts = []
         for s0, s1, h in self.screw_parts.pop(i):
             prof = clipped_profile(self.profile(path.tool, path), h)
@@ -276,6 +278,10 @@ class _Sweeper:
             return
         region = m3d.CrossSection.batch_boolean([planar_region(path, p) for p in prof.to_polygons()],
                                                 m3d.OpType.Add)
+        self.region_cut(i, region, path)
+
+    def region_cut(self, i: int, region: m3d.CrossSection, path) -> None:
+        """A cut that is ``region`` revolved (unioned with the other regions, revolved once)."""
         if self.f.outline_cs is not None and (region ^ self.f.outline_cs).area() <= 0:
             return
         b = region.bounds()
@@ -283,7 +289,7 @@ class _Sweeper:
         cut = _Cut(i, [], region, np.array([-r_out, -r_out, b[1]]), np.array([r_out, r_out, b[3]]))
         if self.f.meets(cut.lo, cut.hi):
             self.cuts.append(cut)
-            if path.rapid:
+            if getattr(path, "rapid", False):
                 self.checks.append((cut, path))
 
     def hull(self, i: int, path: SpatialPath) -> None:
@@ -367,6 +373,8 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     profiles: dict[int, np.ndarray] = {}
 
     def profile(tool: ToolSpec, path=None) -> np.ndarray:
+        if tool.kind == "tap" and isinstance(path, ScrewPath):  # under screw motion: its teeth (stock/axial.py)
+            return axial_tool(tool, path)
         if tool.number not in profiles:
             profiles[tool.number] = lathe_profile(tool, tol)
         if path is not None and tool.side == "inside":  # a boring tool: only what can reach the bore
@@ -600,6 +608,22 @@ def _path_rz(path) -> tuple[np.ndarray, np.ndarray]:
     return r, z
 
 
+@functools.lru_cache(maxsize=64)
+def _tap_teeth(tool: ToolSpec) -> np.ndarray:
+    return axial.tap_teeth(tool)
+
+
+def axial_tool(tool: ToolSpec, path: ScrewPath) -> np.ndarray:
+    """A tap's teeth for a thread cut, which it makes on the spindle axis only: straight along Z
+    at X0, without lead-in or runout ramps (CutsimError at the move's line otherwise)."""
+    if max(abs(path.r0), abs(path.r1)) > 1e-9 or path.ramps or abs(path.z1 - path.z0) <= 0:
+        raise CutsimError(path.src.program, path.src.line, path.src.col,
+                          f"a tap cuts its thread on the spindle axis: a thread cut with tool {tool.number} "
+                          f"must run along Z at X0 without lead-in or runout (it runs from X{2 * path.r0:g} "
+                          f"Z{path.z0:g} to X{2 * path.r1:g} Z{path.z1:g})")
+    return _tap_teeth(tool)
+
+
 def _check_axis(path: ScrewPath, profile: np.ndarray) -> None:
     """A spindle-synchronised cut keeps the whole tool on one side of the spindle axis: a tool that
     reaches the axis (a lead-in ramping past it, a profile reaching behind its control point)
@@ -610,7 +634,9 @@ def _check_axis(path: ScrewPath, profile: np.ndarray) -> None:
         raise CutsimError(path.src.program, path.src.line, path.src.col,
                           f"the tool reaches the spindle axis in this thread cut: its innermost point comes to "
                           f"radius {inner:.4f} mm (tool point at radius {r:.4f} mm); a spindle-synchronised "
-                          f"cut must keep the whole tool on one side of the axis")
+                          f"cut must keep the whole tool on one side of the axis"
+                          + (" (a thread on the spindle axis is cut with a tap: kind = \"tap\")"
+                             if path.tool is not None and path.tool.kind in ("drill", "centredrill") else ""))
 
 
 def drop_debris(part: m3d.Manifold) -> m3d.Manifold:

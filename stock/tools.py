@@ -167,6 +167,8 @@ def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
             return "length", (f"must be at least the height of the point ({h:g} mm for a {a:g} degree point of "
                               f"diameter {tool.diameter:g}) (got {tool.length!r})")
         return None
+    if tool.is_axial:
+        return _axial_problem(tool)
     if tool.kind in MILL_KINDS:
         for key in ("diameter", "length"):
             p = _size(tool, key)
@@ -181,6 +183,44 @@ def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
             return "corner_radius", f"must be 0 or between {SIZE_MIN:g} mm and half the diameter ({r:g}) (got {rc!r})"
         return None
     return "kind", f"is not a tool kind cutsim knows (got {tool.kind!r})"
+
+
+def _axial_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
+    """Ranges of a centre drill or a tap (docs/setup.md)."""
+    from .axial import COUNTERSINKS, countersink_top
+
+    keys = ("diameter", "pilot_length", "body_diameter", "length") if tool.kind == "centredrill" else (
+        "diameter", "pitch", "length")
+    for key in keys:
+        p = _size(tool, key)
+        if p:
+            return p
+    if tool.kind == "tap":
+        if not tool.pitch <= tool.diameter / 2.0:
+            return "pitch", f"must be at most half the diameter ({tool.diameter / 2.0:g} mm) (got {tool.pitch!r})"
+        if not (math.isfinite(tool.chamfer) and 0.0 <= tool.chamfer <= tool.length):
+            return "chamfer", f"must be between 0 and the thread length ({tool.length:g} mm) (got {tool.chamfer!r})"
+        if tool.length > MAX_FLUTE_RATIO * tool.diameter:
+            return "length", (f"must be at most {MAX_FLUTE_RATIO:g} x the diameter ({MAX_FLUTE_RATIO * tool.diameter:g} "
+                              f"mm) (got {tool.length!r})")
+        return None
+    a = tool.point_angle
+    if not (isinstance(a, (int, float)) and math.isfinite(a) and ANGLE_MIN <= a <= POINT_ANGLE_MAX):
+        return "point_angle", f"must be between {ANGLE_MIN:g} and {POINT_ANGLE_MAX:g} degrees (got {a!r})"
+    if tool.countersink not in COUNTERSINKS:
+        return "countersink", f"must be 60 or 90 degrees (got {tool.countersink!r})"
+    if not tool.body_diameter > tool.diameter:
+        return "body_diameter", f"must be larger than the pilot's diameter ({tool.diameter:g} mm) (got {tool.body_diameter!r})"
+    hp = point_height(tool)
+    if not tool.pilot_length > hp:
+        return "pilot_length", (f"must be more than the height of the pilot's point ({hp:g} mm) "
+                                f"(got {tool.pilot_length!r})")
+    top = countersink_top(tool)
+    if not tool.length >= top:
+        return "length", f"must reach at least the top of the countersink ({top:g} mm from the tip) (got {tool.length!r})"
+    if tool.length > MAX_FLUTE_RATIO * tool.body_diameter:
+        return "length", (f"must be at most {MAX_FLUTE_RATIO:g} x the body diameter (got {tool.length!r})")
+    return None
 
 
 def tool_error(tool: ToolSpec, message: str) -> CutsimError:
@@ -267,7 +307,7 @@ def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
     """Counter-clockwise simple polygon (k, 2) of a lathe tool's cutting profile, with positive
     area (a CutsimError at the tool's [[tool]] table otherwise)."""
     check_tool(tool)
-    from . import inserts
+    from . import axial, inserts
 
     if tool.kind == "profile":
         poly = np.array(tool.points, dtype=float)
@@ -283,6 +323,8 @@ def lathe_profile(tool: ToolSpec, tol: float) -> np.ndarray:
             poly = inserts.orient(poly, tool)
     elif tool.kind == "drill":
         poly = drill_section(tool)
+    elif tool.is_axial:
+        poly = axial.section(tool)
     else:
         raise tool_error(tool, f"a {tool.kind} is not a lathe tool")
     poly = counter_clockwise(poly)
@@ -318,6 +360,11 @@ def convex_pieces(poly: np.ndarray) -> list[np.ndarray]:
 def lathe_body(tool: ToolSpec, tol: float) -> list[np.ndarray]:
     """3D convex pieces (vertex arrays) of a lathe tool: its profile in the XZ plane, ``thickness``
     thick along Y (used when the spindle stands still)."""
+    if tool.is_axial:  # a solid of revolution on the spindle axis: its frustums
+        from . import axial
+
+        check_tool(tool)
+        return axial.body(tool, tol)
     out = []
     t = tool.thickness / 2.0
     prof = lathe_profile(tool, tol)

@@ -1,5 +1,5 @@
-"""The [[tool]] tables: lathe tools (thread, turning, grooving, profile) and mill tools (endmill, ballmill,
-drill), their numbers and names (docs/setup.md). Types are checked here; ranges in stock/tools.py,
+"""The [[tool]] tables: lathe tools (thread, turning, grooving, profile; centre drill and tap on the
+spindle axis) and mill tools (endmill, ballmill, drill), their numbers and names (docs/setup.md). Types are checked here; ranges in stock/tools.py,
 shared with tools built in Python."""
 from __future__ import annotations
 
@@ -16,6 +16,8 @@ TOOL_KEYS = {
     "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
     "ballmill": {"diameter", "length"},
     "drill": {"diameter", "length", "point_angle"},
+    "centredrill": {"diameter", "pilot_length", "body_diameter", "countersink", "point_angle", "length"},
+    "tap": {"diameter", "pitch", "length", "chamfer"},
 }
 TOOL_COMMON = {"number", "kind", "name"}  # keys of every [[tool]]
 TOOL_NAME_MAX = 32  # characters (a Sinumerik tool name is a STRING[32])
@@ -92,6 +94,8 @@ def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
             kw["center_cutting"] = t.get("center_cutting", bool, True)
         else:
             kw["corner_radius"] = kw["diameter"] / 2
+    if kind in ("centredrill", "tap"):
+        kw.update(_axial_keys(t, kind))
     if kind == "drill":
         kw["diameter"] = t.get("diameter", float)
         kw["length"] = t.get("length", float, min(DRILL_LENGTH_FACTOR * kw["diameter"], SIZE_MAX))
@@ -134,6 +138,29 @@ def _lathe_keys(t: Reader, kind: str) -> dict:
     kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0)
     kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4)
     kw["height"] = t.get("height", float, 10.0)
+    return kw
+
+
+# DIN 333 form A proportions: body ~ 2.5 x pilot, pilot ~ 1.2 x its diameter long; a tap's chamfer of
+# 3 pitches (form C, for blind holes) and a thread length of 2 x its diameter
+CENTRE_BODY_FACTOR, CENTRE_PILOT_FACTOR, CENTRE_LENGTH_FACTOR = 2.5, 1.2, 6.0
+TAP_CHAMFER_PITCHES, TAP_LENGTH_FACTOR = 3.0, 2.0
+
+
+def _axial_keys(t: Reader, kind: str) -> dict:
+    """A centre drill's or a tap's keys with their defaults (docs/setup.md)."""
+    kw: dict = {"diameter": t.get("diameter", float)}
+    d = kw["diameter"]
+    if kind == "centredrill":
+        kw["body_diameter"] = t.get("body_diameter", float, CENTRE_BODY_FACTOR * d)
+        kw["pilot_length"] = t.get("pilot_length", float, CENTRE_PILOT_FACTOR * d)
+        kw["countersink"] = t.get("countersink", float, 60.0)
+        kw["point_angle"] = t.get("point_angle", float, 118.0)
+        kw["length"] = t.get("length", float, CENTRE_LENGTH_FACTOR * kw["body_diameter"])
+    else:
+        kw["pitch"] = t.get("pitch", float)
+        kw["chamfer"] = t.get("chamfer", float, TAP_CHAMFER_PITCHES * kw["pitch"])
+        kw["length"] = t.get("length", float, TAP_LENGTH_FACTOR * d)
     return kw
 
 
