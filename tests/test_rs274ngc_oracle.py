@@ -129,6 +129,22 @@ def test_rs274_runs_a_do_loop_after_a_while_holding_a_break_once(rs274, tmp_path
     assert theirs == [1.0]
 
 
+DO_HOLDING_WHILE_BREAK = ("G21 F100\n#<d> = 0\no1 do\n#<d> = [#<d> + 1]\n#<n> = 0\no2 while [#<n> lt 1]\n"
+                          "#<n> = [#<n> + 1]\no3 if [#<n> gt 1]\no2 break\no3 endif\no2 endwhile\nG1 X#<d>\n"
+                          "o1 while [#<d> lt 3]\nM2\n")
+
+
+def test_rs274_runs_a_do_loop_holding_a_while_with_a_break_once(rs274, tmp_path):
+    path = tmp_path / "do.ngc"
+    path.write_text(DO_HOLDING_WHILE_BREAK)
+    ours = [m.end[0] for m in cutsim_moves(str(path)).moves]
+    theirs = [m.end[0] for m in run_rs274(str(path)).moves]
+    assert ours == [1.0, 2.0, 3.0]  # the inner while runs once (its break never); the do three times
+    assert theirs == [1.0]
+    # without the (never taken) break rs274 runs the do three times too
+    path.write_text(DO_HOLDING_WHILE_BREAK.replace("o2 break\n", ""))
+    assert [m.end[0] for m in run_rs274(str(path)).moves] == [1.0, 2.0, 3.0]
+
 def test_rs274_m6_after_an_offset_change_reads_a_stale_position(rs274, tmp_path, zero_tools):
     path = tmp_path / "m6.ngc"
     path.write_text("G21\nG0 X0 Y0 Z10\nG43.1 Z5\nT1 M6\nG0 X1\nM2\n")

@@ -58,6 +58,7 @@ class Gen:
         self.lathe = lathe
         self.labels = 100
         self.no_do = False
+        self.in_do = 0  # open do loops: a while in one holds no break (rs274 would run the do once)
 
     def emit(self, s: str) -> None:
         self.out.append(s)
@@ -220,7 +221,7 @@ class Gen:
             for _ in range(rng.randint(1, 3)):
                 self.statement(depth + 1)
             self.emit(f"#<n{depth}> = [#<n{depth}> + 1]")
-            if rng.random() < 0.3:
+            if rng.random() < 0.3 and not self.in_do:
                 self.emit(f"o{label + 1000} if [#<n{depth}> gt 1]")
                 self.emit(f"o{label} break")
                 self.emit(f"o{label + 1000} endif")
@@ -238,7 +239,9 @@ class Gen:
         else:
             self.emit(f"o{label} do")
             self.emit(f"#<_d{depth}> = [#<_d{depth}> + 1]")
+            self.in_do += 1
             self.statement(depth + 1)
+            self.in_do -= 1
             self.emit(f"o{label} while [#<_d{depth}> lt 2]")
 
 
