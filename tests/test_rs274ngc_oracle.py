@@ -145,6 +145,25 @@ def test_rs274_runs_a_do_loop_holding_a_while_with_a_break_once(rs274, tmp_path)
     path.write_text(DO_HOLDING_WHILE_BREAK.replace("o2 break\n", ""))
     assert [m.end[0] for m in run_rs274(str(path)).moves] == [1.0, 2.0, 3.0]
 
+
+def test_rs274_keeps_a_tool_length_offset_in_the_units_it_was_taken_in(rs274, tmp_path):
+    # tool 1 is 25.4 mm (1 in) long; G43 makes program Z the tip. G53 Z2 in G20 puts the spindle at
+    # machine Z 50.8 mm, the tip at 25.4, whatever the units G43 was taken in. rs274 stores a G43
+    # taken in G21 as 25.4 and after G20 still adds 25.4 (now inches) to G53's program Z: its program
+    # Z reads 2 - 25.4 = -23.4 in instead of 2 - 1 = 1 in, a tip 24.4 in too low
+    tbl = tmp_path / "t.tbl"
+    tbl.write_text("T1 P1 Z25.4\n")
+    ends = {}
+    for units in ("G21", "G20"):
+        path = tmp_path / f"{units}.ngc"
+        path.write_text(f"{units} G90 F10\nT1 M6\nG43\nG91 G0 X0 Y0 Z0\nG90 G0 Z1\nG20\nG53 G1 Z2\nM2\n")
+        ends[units] = (cutsim_moves(str(path), str(tbl)).moves[-1].end[2],
+                       run_rs274(str(path), str(tbl)).moves[-1].end[2])
+    assert ends["G20"] == pytest.approx((25.4, 25.4))
+    assert ends["G21"][0] == pytest.approx(25.4)
+    assert ends["G21"][1] == pytest.approx(25.4 - 24.4 * 25.4)
+
+
 def test_rs274_m6_after_an_offset_change_reads_a_stale_position(rs274, tmp_path, zero_tools):
     path = tmp_path / "m6.ngc"
     path.write_text("G21\nG0 X0 Y0 Z10\nG43.1 Z5\nT1 M6\nG0 X1\nM2\n")

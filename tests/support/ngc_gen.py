@@ -150,7 +150,8 @@ class Gen:
             self.emit("G21 " + rng.choice(["G28.1", "G30.1", "G28", "G30", f"G28 {self.axes(span=10)}",
                                            f"G30 G91 {self.axes(span=5)}"]))
         elif choice == 6:
-            self.emit(f"G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
+            # G21 first: rs274 keeps a tool length offset taken in mm when G20 follows (rs274.py)
+            self.emit(f"G21 G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
         elif choice == 7:
             self.emit(f"T{rng.randint(1, 4)} M6")  # G43 in the M6 block: see rs274.py (rs274's stale position)
             self.emit("G21 " + rng.choice(["", "G43", "G43 H2", "G49"]))  # G21: see above CYCLE_CODES
