@@ -164,6 +164,19 @@ def test_rs274_keeps_a_tool_length_offset_in_the_units_it_was_taken_in(rs274, tm
     assert ends["G21"][1] == pytest.approx(25.4 - 24.4 * 25.4)
 
 
+def test_rs274_g10_l1_on_tool_1_loads_it_when_the_spindle_is_empty(rs274, tmp_path):
+    # no tool in the spindle (T0): G43 has no length to apply, so Z10 is the tip at 10. rs274 2.9
+    # copies a G10 L1 P1 entry into the spindle's (#5400 then reads 1) and G43 takes its 3 mm
+    path = tmp_path / "l1.ngc"
+    path.write_text("G21\nG10 L1 P1 Z3\nG43\nG91 G0 X0 Y0 Z0\nG90 G0 Z10\nM2\n")
+    tbl = tmp_path / "t.tbl"
+    tbl.write_text("T1 P1 Z12.5\nT2 P2 Z30\n")
+    assert cutsim_moves(str(path), str(tbl)).moves[-1].end[2] == pytest.approx(10.0)
+    assert run_rs274(str(path), str(tbl)).moves[-1].end[2] == pytest.approx(13.0)
+    path.write_text("G21\nG10 L1 P2 Z3\nG43\nG91 G0 X0 Y0 Z0\nG90 G0 Z10\nM2\n")  # tool 2: no such effect
+    assert run_rs274(str(path), str(tbl)).moves[-1].end[2] == pytest.approx(10.0)
+
+
 def test_rs274_m6_after_an_offset_change_reads_a_stale_position(rs274, tmp_path, zero_tools):
     path = tmp_path / "m6.ngc"
     path.write_text("G21\nG0 X0 Y0 Z10\nG43.1 Z5\nT1 M6\nG0 X1\nM2\n")

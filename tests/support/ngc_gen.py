@@ -58,6 +58,7 @@ class Gen:
         self.lathe = lathe
         self.labels = 100
         self.no_do = False
+        self.loaded = False  # a T M6 ran: rs274 loads tool 1 on G10 L1 P1 into an empty spindle (rs274.py)
         self.in_do = 0  # open do loops: a while in one holds no break (rs274 would run the do once)
 
     def emit(self, s: str) -> None:
@@ -153,12 +154,15 @@ class Gen:
             # G21 first: rs274 keeps a tool length offset taken in mm when G20 follows (rs274.py)
             self.emit(f"G21 G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
         elif choice == 7:
-            self.emit(f"T{rng.randint(1, 4)} M6")  # G43 in the M6 block: see rs274.py (rs274's stale position)
+            self.emit(f"T{rng.randint(1, 4)} M6")
+            self.loaded = True  # G43 in the M6 block: see rs274.py (rs274's stale position)
             self.emit("G21 " + rng.choice(["", "G43", "G43 H2", "G49"]))  # G21: see above CYCLE_CODES
             self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
         else:
             self.emit("G21 " + rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
                                   f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
+            if not self.loaded and self.out[-1].startswith("G21 G10 L1 P1 "):
+                self.out[-1] = self.out[-1].replace(" P1 ", " P2 ")
             self.emit("G91 G0 X0 Y0 Z0")
 
     def modes(self) -> None:
