@@ -125,6 +125,19 @@ def test_drilling_cycles_by_hand():
     assert z == [10, 10, 2, -1, 2, -0.746, -4, 2, -3.746, -5, 10]
 
 
+
+def test_g7_cycle_along_x_reads_r_and_q_as_lengths():
+    # G19 drills along X. In G7 only the X word (the bottom) is a diameter: X4 is radius 2; R8 and Q2
+    # are lengths (8 from the axis, pecks of 2). From X10 (X20 programmed): over the hole at X10, to
+    # R 8, pecks to 6, 4 and the bottom 2, each time back up 0.254 mm (0.010 in); G99: out to R 8
+    m = moves("G21 G19 G90 G7 G99 F100\nG0 X20 Y0 Z0\nG73 Y1 Z1 R8 X4 Q2\nG80\nM2\n", kind="lathe")
+    x = [round(r.end[0], 4) for r in m]
+    assert x == [10, 10, 8, 6, 6.254, 4, 4.254, 2, 8]
+    # G91: R counts from the initial level (10 + 1 = 11: R lies above, so up to it first), the bottom
+    # X-6 is a diameter: 11 - 3 = 8
+    inc = moves("G21 G19 G90 G7 G99 F100\nG0 X20 Y0 Z0\nG91 G81 Y1 Z1 R1 X-6\nG80\nM2\n", kind="lathe")
+    assert [round(r.end[0], 4) for r in inc] == [10, 11, 11, 8, 11]
+
 def test_threads_are_spindle_synchronised():
     m = moves("G21 G18 S300 M3\nG0 X10 Z5\nG33 Z-20 K1.5\nG0 X20\nG17 G0 X0 Y0 Z5\nG33.1 Z-10 K1\nM2\n")
     syncs = [r for r in m if isinstance(r, SyncedFeed)]

@@ -120,13 +120,52 @@ DO_AFTER_WHILE_IF = ("G21 F100\n#<n> = 0\no1 while [#<n> lt 3]\n#<n> = [#<n> + 1
                      "o1 endwhile\n#<d> = 0\no3 do\n#<d> = [#<d> + 1]\nG1 X#<d>\no3 while [#<d> lt 3]\nM2\n")
 
 
-def test_rs274_runs_a_do_loop_after_a_while_holding_a_break_once(rs274, tmp_path):
+DO_HOLDING_WHILE_BREAK = ("G21 F100\n#<d> = 0\no1 do\n#<d> = [#<d> + 1]\n#<n> = 0\no2 while [#<n> lt 1]\n"
+                          "#<n> = [#<n> + 1]\no3 if [#<n> gt 1]\no2 break\no3 endif\no2 endwhile\nG1 X#<d>\n"
+                          "o1 while [#<d> lt 3]\nM2\n")
+
+
+@pytest.mark.parametrize("text", [DO_AFTER_WHILE_IF, DO_HOLDING_WHILE_BREAK, DO_HOLDING_WHILE_BREAK.replace("o2 break\n", "")],
+                         ids=["do after while", "do holding while", "do holding while, no break"])
+def test_rs274_runs_a_do_loop_next_to_a_while_holding_a_break_once(rs274, tmp_path, text):
     path = tmp_path / "do.ngc"
-    path.write_text(DO_AFTER_WHILE_IF)
+    path.write_text(text)
     ours = [m.end[0] for m in cutsim_moves(str(path)).moves]
     theirs = [m.end[0] for m in run_rs274(str(path)).moves]
-    assert ours == [1.0, 2.0, 3.0]  # do ... while [#<d> lt 3] from 0: three passes
-    assert theirs == [1.0]
+    # do ... while [#<d> lt 3] from 0: three passes (an inner while runs once, its break never)
+    assert ours == [1.0, 2.0, 3.0]
+    assert theirs == ([1.0] if "break" in text else ours)  # without the (never taken) break rs274 agrees
+
+
+def test_rs274_keeps_a_tool_length_offset_in_the_units_it_was_taken_in(rs274, tmp_path):
+    # tool 1 is 25.4 mm (1 in) long; G43 makes program Z the tip. G53 Z2 in G20 puts the spindle at
+    # machine Z 50.8 mm, the tip at 25.4, whatever the units G43 was taken in. rs274 stores a G43
+    # taken in G21 as 25.4 and after G20 still adds 25.4 (now inches) to G53's program Z: its program
+    # Z reads 2 - 25.4 = -23.4 in instead of 2 - 1 = 1 in, a tip 24.4 in too low
+    tbl = tmp_path / "t.tbl"
+    tbl.write_text("T1 P1 Z25.4\n")
+    ends = {}
+    for units in ("G21", "G20"):
+        path = tmp_path / f"{units}.ngc"
+        path.write_text(f"{units} G90 F10\nT1 M6\nG43\nG91 G0 X0 Y0 Z0\nG90 G0 Z1\nG20\nG53 G1 Z2\nM2\n")
+        ends[units] = (cutsim_moves(str(path), str(tbl)).moves[-1].end[2],
+                       run_rs274(str(path), str(tbl)).moves[-1].end[2])
+    assert ends["G20"] == pytest.approx((25.4, 25.4))
+    assert ends["G21"][0] == pytest.approx(25.4)
+    assert ends["G21"][1] == pytest.approx(25.4 - 24.4 * 25.4)
+
+
+def test_rs274_g10_l1_on_tool_1_loads_it_when_the_spindle_is_empty(rs274, tmp_path):
+    # no tool in the spindle (T0): G43 has no length to apply, so Z10 is the tip at 10. rs274 2.9
+    # copies a G10 L1 P1 entry into the spindle's (#5400 then reads 1) and G43 takes its 3 mm
+    path = tmp_path / "l1.ngc"
+    path.write_text("G21\nG10 L1 P1 Z3\nG43\nG91 G0 X0 Y0 Z0\nG90 G0 Z10\nM2\n")
+    tbl = tmp_path / "t.tbl"
+    tbl.write_text("T1 P1 Z12.5\nT2 P2 Z30\n")
+    assert cutsim_moves(str(path), str(tbl)).moves[-1].end[2] == pytest.approx(10.0)
+    assert run_rs274(str(path), str(tbl)).moves[-1].end[2] == pytest.approx(13.0)
+    path.write_text("G21\nG10 L1 P2 Z3\nG43\nG91 G0 X0 Y0 Z0\nG90 G0 Z10\nM2\n")  # tool 2: no such effect
+    assert run_rs274(str(path), str(tbl)).moves[-1].end[2] == pytest.approx(10.0)
 
 
 def test_rs274_m6_after_an_offset_change_reads_a_stale_position(rs274, tmp_path, zero_tools):

@@ -64,8 +64,10 @@ def run(m, st: Step) -> None:
         raise m.error(line, st.groups[MOTION].col if MOTION in st.groups else 1, "spindle not turning in G86")
     lw = st.words.pop("L", None)
     repeats = 1 if lw is None else m.whole(line, lw, "repeat count L")
+    # R and Q are lengths in program units, never diameters: only the hole-axis word is an X word
+    # that G7 reads as a diameter (LinuxCNC halves X words only)
+    r = (cy.r * m.scale + m.shift(c)) if m.absolute else cy.initial + cy.r * m.scale
     unit = m.unit(c)
-    r = (cy.r * unit + m.shift(c)) if m.absolute else cy.initial + cy.r * unit
     z = (cy.depth * unit + m.shift(c)) if m.absolute else r + cy.depth * unit
     if z > r:
         raise m.error(line, 1, "the hole bottom lies above R in the canned cycle")
@@ -105,7 +107,7 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
         m.rapid(src, point(m, {c: v}))
 
     if code in (73, 83):
-        q = m.cycle.q * m.unit(c)
+        q = m.cycle.q * m.scale
         delta = DELTA_INCH * 25.4
         depth = r
         while True:

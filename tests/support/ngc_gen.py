@@ -58,6 +58,8 @@ class Gen:
         self.lathe = lathe
         self.labels = 100
         self.no_do = False
+        self.loaded = False  # a T M6 ran: rs274 loads tool 1 on G10 L1 P1 into an empty spindle (rs274.py)
+        self.in_do = 0  # open do loops: a while in one holds no break (rs274 would run the do once)
 
     def emit(self, s: str) -> None:
         self.out.append(s)
@@ -149,14 +151,18 @@ class Gen:
             self.emit("G21 " + rng.choice(["G28.1", "G30.1", "G28", "G30", f"G28 {self.axes(span=10)}",
                                            f"G30 G91 {self.axes(span=5)}"]))
         elif choice == 6:
-            self.emit(f"G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
+            # G21 first: rs274 keeps a tool length offset taken in mm when G20 follows (rs274.py)
+            self.emit(f"G21 G90 G53 {rng.choice(['G0', 'G1'])} {self.axes(span=50)}")
         elif choice == 7:
-            self.emit(f"T{rng.randint(1, 4)} M6")  # G43 in the M6 block: see rs274.py (rs274's stale position)
+            self.emit(f"T{rng.randint(1, 4)} M6")
+            self.loaded = True  # G43 in the M6 block: see rs274.py (rs274's stale position)
             self.emit("G21 " + rng.choice(["", "G43", "G43 H2", "G49"]))  # G21: see above CYCLE_CODES
             self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
         else:
             self.emit("G21 " + rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
                                   f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
+            if not self.loaded and self.out[-1].startswith("G21 G10 L1 P1 "):
+                self.out[-1] = self.out[-1].replace(" P1 ", " P2 ")
             self.emit("G91 G0 X0 Y0 Z0")
 
     def modes(self) -> None:
@@ -220,7 +226,7 @@ class Gen:
             for _ in range(rng.randint(1, 3)):
                 self.statement(depth + 1)
             self.emit(f"#<n{depth}> = [#<n{depth}> + 1]")
-            if rng.random() < 0.3:
+            if rng.random() < 0.3 and not self.in_do:
                 self.emit(f"o{label + 1000} if [#<n{depth}> gt 1]")
                 self.emit(f"o{label} break")
                 self.emit(f"o{label + 1000} endif")
@@ -238,7 +244,9 @@ class Gen:
         else:
             self.emit(f"o{label} do")
             self.emit(f"#<_d{depth}> = [#<_d{depth}> + 1]")
+            self.in_do += 1
             self.statement(depth + 1)
+            self.in_do -= 1
             self.emit(f"o{label} while [#<_d{depth}> lt 2]")
 
 

@@ -197,7 +197,7 @@ class _State:
         a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
         a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
         sweep = ((a0 - a1) if cw else (a1 - a0)) % (2 * math.pi)
-        if sweep < 1e-9 or abs(sweep - 2 * math.pi) < 1e-9:
+        if math.hypot(end[a] - start[a], end[b] - start[b]) < ZERO_MOVE:  # full turns, as printed (rounded)
             sweep = 2 * math.pi
         total = sweep + 2 * math.pi * (turns - 1)
         for k in range(turns - 1):
