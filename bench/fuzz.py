@@ -2,7 +2,7 @@
 
     python3 bench/fuzz.py --cases 100000 --jobs 2 --seed 1 --out /tmp/fuzz1
 
-Prints the count per class (see tests/fuzz_cases.py: CLASSES, FAILURES), writes the reproducers of
+Prints the count per class (see tests/support/fuzz_cases.py: CLASSES, FAILURES), writes the reproducers of
 every failure group (program, setup, extra files, cmd.sh, stderr.txt) under OUT/failures/, the
 minimised reproducer of the largest groups under OUT/minimal/, and OUT/summary.json. The cases
 depend only on the seed (and the example files present); hang and memory results also on the
@@ -23,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-import fuzz_cases as F  # noqa: E402
+from support import fuzz_cases as F  # noqa: E402
 
 
 def slug(s: str, n: int = 60) -> str:

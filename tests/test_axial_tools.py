@@ -99,7 +99,7 @@ def _groove_per_mm(rb: float) -> float:
 
 @pytest.mark.parametrize("spindle,rho", [("M03", 1), ("M04", -1)])
 def test_tap_thread_root_and_phase(tmp_path, spindle, rho):
-    from geometry import load, section, wrap
+    from support.geometry import load, section, wrap
 
     res = _run(tmp_path, STOCK, TAP, TAP_IN.format(spindle=spindle))
     assert res.report["warnings"] == []

@@ -5,7 +5,7 @@ finishing, every infeed kind, every milling direction, positions and angles) and
 warning at all: no rapid (G00) into the material, nothing else from the cycle's own motion. A
 correct cycle call is a correct program.
 
-A few of the runs are also measured (tests/sinumerik_measure.py: plane sections of the part mesh,
+A few of the runs are also measured (tests/support/sinumerik_measure.py: plane sections of the part mesh,
 no cutsim geometry): the width, length and floor depth come out as the parameters say.
 """
 from __future__ import annotations
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import cutsim
-from sinumerik_measure import floor_z, hsection, point_segment_distance, ray
+from support.sinumerik_measure import floor_z, hsection, point_segment_distance, ray
 
 TOL = 0.005
 SETUP = """

@@ -1,7 +1,7 @@
 """Sinumerik drilling cycles (interp/sinumerik/drilling.py) and the drill tool (stock/tools.py).
 
 On the solid: a drilled hole measured on the part mesh with plane sections and rays
-(tests/sinumerik_measure.py, trimesh only) against the analytic cylinder + cone of the drill
+(tests/support/sinumerik_measure.py, trimesh only) against the analytic cylinder + cone of the drill
 (tip at the depth DP, the cone's height r / tan(point_angle / 2)); the removed volume against
 pi r^2 h_cyl + pi r^2 h_cone / 3 within the chordal tolerance times the hole's wall area.
 
@@ -25,7 +25,7 @@ from cutsim.interp import InterpConfig, interpret
 from cutsim.interp import canon
 from cutsim.interp.errors import CutsimError
 from cutsim.setup import load_setup
-from sinumerik_measure import floor_z, hsection, ray
+from support.sinumerik_measure import floor_z, hsection, ray
 
 TOL = 0.005
 R = 4.25  # the 8.5 mm drill

@@ -4,7 +4,7 @@ Every ``examples/**/NAME.toml`` has a program ``NAME.nc``/``NAME.mpf`` beside it
 through the CLI with exit 0, no warnings and all its checks passed. The check values of the
 issue-15 thread example are recomputed here from the program's own numbers (so a comment and its
 number cannot drift apart), the groove roots and phases are measured independently with trimesh
-(tests/geometry.py), and a spoiled copy of the program must fail those checks. The Sinumerik
+(tests/support/geometry.py), and a spoiled copy of the program must fail those checks. The Sinumerik
 plate's design model is what make_design.py writes, byte for byte.
 """
 from __future__ import annotations
@@ -23,7 +23,7 @@ import pytest
 from click.testing import CliRunner
 
 from conftest import EXAMPLES, HAVE_SHARED, REPO_EXAMPLES, SKIP_REASON
-from geometry import groove_roots, section, wrap
+from support.geometry import groove_roots, section, wrap
 import cutsim
 from cutsim.cli import main
 

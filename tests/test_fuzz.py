@@ -2,7 +2,7 @@
 
 No input may crash cutsim: no exit 3, no traceback, no hang, no worker killed; every exit 2 names
 a line that exists in the named file; every part written is a closed volume read back by trimesh.
-The generators and the runner live in tests/fuzz_cases.py; bench/fuzz.py runs 100 000 cases.
+The generators and the runner live in tests/support/fuzz_cases.py; bench/fuzz.py runs 100 000 cases.
 """
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from collections import Counter
 
 import pytest
 
-import fuzz_cases as F
+from support import fuzz_cases as F
 
 SEED = 20261123
 CASES = 300

@@ -2,7 +2,7 @@
 
 Every number asserted here comes from the program and the conventions (conventions.md), never
 from cutsim: the part is sliced with trimesh in the axial half-plane at angle ``phi`` and the
-groove roots are the local minima of the outer profile r(z) (tests/geometry.py).
+groove roots are the local minima of the outer profile r(z) (tests/support/geometry.py).
 
 Groove phase. With the spindle turning ``rho`` (+1 M03, -1 M04) and the tool feeding ``sigma``
 (+1 towards +Z, -1 towards -Z) from ``z0`` after waiting for the start angle ``a`` past the zero
@@ -29,7 +29,7 @@ import pytest
 
 import cutsim
 from conftest import EXAMPLES
-from geometry import groove_roots, load, outer_radius, section, wrap
+from support.geometry import groove_roots, load, outer_radius, section, wrap
 
 LATHE = EXAMPLES / "cnc8x6-lathe"
 TOL = 0.002  # chordal tolerance of the runs that check micrometres

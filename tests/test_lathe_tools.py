@@ -265,7 +265,7 @@ def test_inside_thread_hand(tmp_path, spindle, rho):
     from pathlib import Path
 
     sys.path.insert(0, str(Path(__file__).parent))
-    from geometry import load, section, wrap
+    from support.geometry import load, section, wrap
 
     tool = 'kind = "thread"\nside = "inside"\nheight = 4'
     res = _run(tmp_path, TUBE, tool, f"G00 X20. Z3.\n{spindle} S500\nX23.\nG33 Z-20. F1.5\nG00 X20.\nZ10.\n")

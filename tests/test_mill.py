@@ -1,6 +1,6 @@
 """Milling: exact milled solids against analytic geometry (stadium, disc, ball circle, helical trench),
 the helix/jump errors and the milling warnings. Every expected number comes from geometry, and
-every measurement from trimesh (tests/geometry.py style), never from cutsim's own sweep code."""
+every measurement from trimesh (tests/support/geometry.py style), never from cutsim's own sweep code."""
 import json
 import math
 import subprocess

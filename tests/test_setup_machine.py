@@ -292,7 +292,7 @@ def test_work_offsets_come_from_the_registry_entry(tmp_path, monkeypatch):
     from cutsim.interp import DIALECTS, Dialect, WorkOffsets
 
     offsets = WorkOffsets(("G54", "G154"), "G54 and G154", (("G55", "on Toy G55 is a tool offset"),))
-    monkeypatch.setitem(DIALECTS, "toy", Dialect("toy_dialect", False, (".toy",), "toy", offsets))
+    monkeypatch.setitem(DIALECTS, "toy", Dialect("support.toy_dialect", False, (".toy",), "toy", offsets))
     setup = tmp_path / "setup.toml"
     toy = BASE.replace('"sinumerik"', '"toy"') + "\n[work_offsets]\n"
     setup.write_text(toy + "G154 = [1, 2, 3]\n")

@@ -1,6 +1,6 @@
 """Sinumerik milling cycles: the finished geometry of complete (VARI units 0) cycles against the
 analytic shapes of spec/sinumerik.md, measured on the part mesh with plane sections and rays
-(tests/sinumerik_measure.py), never with cutsim's own geometry."""
+(tests/support/sinumerik_measure.py), never with cutsim's own geometry."""
 from __future__ import annotations
 
 import math
@@ -10,7 +10,7 @@ import pytest
 
 import cutsim
 from cutsim import CutsimError
-from sinumerik_measure import floor_z, hsection, point_segment_distance, ray
+from support.sinumerik_measure import floor_z, hsection, point_segment_distance, ray
 
 TOL = 0.002  # chordal tolerance: the asserted 5 um width needs the tool polygon this fine
 SETUP = """

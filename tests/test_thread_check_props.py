@@ -1,4 +1,4 @@
-"""Property test of the thread check over random lathe programs (tests/thread_cases.py): a bar
+"""Property test of the thread check over random lathe programs (tests/support/thread_cases.py): a bar
 turned to a diameter, then 1-3 starts of a thread (random lead, start Z, start angle, hand, 1-3
 passes, turning and thread tools with and without nose radii) in CNC8x6 or ISG. Each program's
 check is derived from its words; the correct part must pass it, and each deliberately wrong part
@@ -14,7 +14,7 @@ import pytest
 import cutsim
 from cutsim.reports.checks import evaluate, format_failures
 from cutsim.testing import make_check_spec
-from thread_cases import VARIANTS, make_case
+from support.thread_cases import VARIANTS, make_case
 
 CASES = 500
 DEFAULT = [s for s in range(CASES) if s % 5 == 0]

@@ -1,5 +1,5 @@
 """One registry of dialects (interp.DIALECTS): a dialect is one module plus one entry. The toy
-dialect (tests/toy_dialect.py) is registered here with one line and runs through the interpreter."""
+dialect (tests/support/toy_dialect.py) is registered here with one line and runs through the interpreter."""
 from __future__ import annotations
 
 import math
@@ -9,7 +9,7 @@ import pytest
 from cutsim.interp import DIALECTS, Dialect, InterpConfig, available_dialects, canon, dialect_module, interpret
 from cutsim.interp.core import sweep_degrees
 
-TOY = Dialect("toy_dialect", True, (".toy",), "toy dialect of the tests")
+TOY = Dialect("support.toy_dialect", True, (".toy",), "toy dialect of the tests")
 
 # A groove on a 30 mm bar (X in diameters): in at X26, 20 mm along Z, out along a quarter circle
 # of radius 2 about (X30, Z-22) to X30 (diameter: the radius 2 counts twice on X), then away.

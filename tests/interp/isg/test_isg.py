@@ -24,7 +24,7 @@ import cutsim
 from conftest import EXAMPLES
 from cutsim.interp import CutsimError, InterpConfig, interpret, transcript
 from cutsim.interp import canon
-from geometry import section, wrap
+from support.geometry import section, wrap
 
 HERE = Path(__file__).resolve().parents[2]  # tests/
 ISG = EXAMPLES / "isg-lathe"

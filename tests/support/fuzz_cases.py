@@ -34,7 +34,7 @@ from pathlib import Path
 
 from cutsim.batch.process import cpu_seconds, set_limits
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SHARED = Path(os.environ.get("CUTSIM_SHARED", ROOT.parent / "shared"))
 
 # -------------------------------------------------------------------------------------------------
