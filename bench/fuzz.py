@@ -6,7 +6,7 @@ Prints the count per class (see tests/support/fuzz_cases.py: CLASSES, FAILURES),
 every failure group (program, setup, extra files, cmd.sh, stderr.txt) under OUT/failures/, the
 minimised reproducer of the largest groups under OUT/minimal/, and OUT/summary.json. The cases
 depend only on the seed (and the example files present); hang and memory results also on the
-machine's load. Not part of the test suite (it runs for many minutes); tests/test_fuzz.py runs a
+machine's load. Not part of the test suite (it runs for many minutes); tests/app/test_fuzz.py runs a
 few hundred cases of the same generators.
 """
 from __future__ import annotations

@@ -26,7 +26,7 @@ did not. ``closed_mesh`` makes the positions as distinct as the indices:
 manifold3d's own ``Manifold.simplify(eps)`` is not used: it collapses edges shorter than its
 internal epsilon without any geometric check, and on a 1e-10 mm film (a pocket floor 1e-10 above
 the stock bottom) it folds a wall into a triangle across the pocket, changing the volume by
-3.3 mm^3 (tests/test_export.py keeps that case).
+3.3 mm^3 (tests/reports/test_export.py keeps that case).
 
 Volume bound: every vertex moves by at most ``displacement`` D = sqrt(3)/2 h (the snap) plus
 sqrt(3) h per grid ring of a separation; the collapse moves nothing. The volume swept by a

@@ -1,7 +1,7 @@
 """Process supervision: run one command in its own session under a time limit and an address-space
 limit, stop it (SIGTERM to its process group, SIGKILL after a grace period), and stop every
 supervised process at once (Ctrl-C of the batch). Also what another supervisor of worker processes
-needs (tests/fuzz_cases.py): the same limits applied in a child, and a process's CPU time.
+needs (tests/support/fuzz_cases.py): the same limits applied in a child, and a process's CPU time.
 """
 from __future__ import annotations
 

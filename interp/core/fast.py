@@ -2,7 +2,7 @@
 plain address words ``<letter><number>`` (``N10 G01 X20.5 Z-1 F100``) is split by one regular
 expression into the words the full scanner would give; every other line (and any word that needs a
 check to fail: a repeated address, a value out of range) goes the long way, which builds the same
-block or names the error. tests/test_fast_readers.py checks, line by line, that the two agree.
+block or names the error. tests/interp/core/test_fast_readers.py checks, line by line, that the two agree.
 
 A dialect gives its plain letters and their limits, how long a number may be, how a block number
 and a trailing comment are written. ``plain_fields`` derives from the block type itself which

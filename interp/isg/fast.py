@@ -2,7 +2,7 @@
 optional block number and plain address words ``<letter><number>`` (``N10 G01 X20.5 Z-1 F100``),
 with an optional ``;`` comment at its end, is split by one regular expression into exactly the
 IsgBlock ``scan`` builds. Every other line gives None and goes the long way, which builds the
-block or names the error. tests/test_fast_readers.py checks, line by line, that the two agree.
+block or names the error. tests/interp/core/test_fast_readers.py checks, line by line, that the two agree.
 
 core.fast.PlainReader reads it. Conservative on purpose: only blanks and tabs between words, no blank between a letter and its
 number, no ``( )`` comment, no ``/``, ``#``, ``$``, ``"``, ``[``, ``=``, ``@``, ``:``; the letters
@@ -11,7 +11,7 @@ long way, as is a repeated address other than G and M and any number the long wa
 (out of range, glued to a point or a digit, more digits than the regular expression allows).
 
 ``plain_block`` runs such a block (G00/G01, X, Y, Z, F) without core.Interpreter.execute's
-pipeline, with the same effect (tests/test_fast_readers.py runs every ISG program both ways); which blocks
+pipeline, with the same effect (tests/interp/core/test_fast_readers.py runs every ISG program both ways); which blocks
 it may take follows from IsgBlock's fields (core.fast.plain_fields).
 Hooks: program.parse(..., fast=read_plain) and the first lines of Isg.block (issue 13).
 """

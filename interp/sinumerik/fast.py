@@ -3,7 +3,7 @@ made only of an optional block number ``N<digits>`` and plain address words ``<l
 (``N10 G1 X20.5 Z-1 F100``), with an optional ``;`` comment, is split by one regular expression
 into exactly the Line (with its ``Word(col, address, Num(value))`` statements) ``scan_line``
 builds. Every other line gives None and goes the long way, which builds the Line or names the
-error. tests/test_fast_readers.py checks, line by line, that the two agree.
+error. tests/interp/core/test_fast_readers.py checks, line by line, that the two agree.
 
 Conservative on purpose: only blanks and tabs between words, no blank between a letter and its
 number, nothing but the ASCII letters of plain addresses (G M X Y Z I J K F S T D L P A B C U V W
@@ -12,7 +12,7 @@ R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``
 20); the block (its comment not counted) no longer than the long way's limit.
 
 ``plain_evaluate`` is Sinumerik.evaluate for a block of constant G0/G1 X Y Z F words, without the
-per-word hooks (tests/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
+per-word hooks (tests/interp/core/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
 reader.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
 
 ``plain_block`` runs such a block without Sinumerik.block's chain of hooks (ISO cycles, machine

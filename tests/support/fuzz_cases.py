@@ -1,6 +1,6 @@
 """Grammar-aware fuzzing of cutsim: deterministic case generators, a robust runner, classification.
 
-Used by ``tests/test_fuzz.py`` (a short fixed-seed run) and ``bench/fuzz.py`` (long runs).
+Used by ``tests/app/test_fuzz.py`` (a short fixed-seed run) and ``bench/fuzz.py`` (long runs).
 
 A *case* is a set of files (program, setup, extra files such as Sinumerik ``NAME.spf`` or a mesh
 stock) and a command line (``cutsim simulate prog.nc --setup setup.toml --out out ...``), run in

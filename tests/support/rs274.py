@@ -1,7 +1,7 @@
 """LinuxCNC's standalone interpreter ``rs274`` as an oracle for the rs274ngc dialect.
 
 ``compare(program)`` runs cutsim's interpreter and ``rs274 -g`` on the same file and compares
-their moves one by one; bench/vs_rs274.py and tests/test_rs274ngc_oracle.py both use it.
+their moves one by one; bench/vs_rs274.py and tests/interp/rs274ngc/test_rs274ngc_oracle.py both use it.
 
 rs274's canonical calls are normalised to cutsim's records (machine frame, mm, tool tip):
 - its coordinates are program coordinates: the G5x, G92 and tool length offsets it printed before

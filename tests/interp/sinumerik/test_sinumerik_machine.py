@@ -209,7 +209,7 @@ def test_tool_by_name():
 
 def test_t0_empties_the_spindle():
     """T0 M6 is a change to no tool (ToolChange None), never to a tool 0; the moves after it run
-    (tests/test_no_tool.py: what they remove); a setup tool numbered 0 cannot be reached."""
+    (tests/stock/test_no_tool.py: what they remove); a setup tool numbered 0 cannot be reached."""
     _, p = run(HEAD + "T0 M6\nG1 X10\nG2 X20 I5\nM30\n")
     changes = [r.tool for r in p.records if isinstance(r, canon.ToolChange)]
     assert changes == [1, None]
@@ -287,7 +287,7 @@ def test_frames_place_the_slot_on_the_solid():
     """G54 (20, 10) + TRANS X10 Y5 + AROT Z90 put a slot written along X at Y0 along machine Y at X30
     (tests/golden/sinumerik-machine/frame-slot.toml): slot width, floor, centre and volume pass, and
     the stock is untouched where the slot would be without the frames."""
-    here = Path(__file__).parent / "golden" / "sinumerik-machine"
+    here = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-machine"
     res = cutsim.simulate(str(here / "frame-slot.mpf"), str(here / "frame-slot.toml"))
     recs = res.report["checks"]
     assert len(recs) == 4 and all(r["passed"] for r in recs), recs

@@ -37,7 +37,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-FOLDER = Path(__file__).parent / "golden" / "sinumerik-drill"
+FOLDER = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-drill"
 PROGRAMS = sorted(FOLDER.glob("*.mpf"))
 
 

@@ -6,7 +6,7 @@ face. A tap under G33 makes the ISO 68-1 nut groove: at radius r the groove is
 w(r) = P/8 + 2 tan 30 (D/2 - r) wide, so between the bore r_b and D/2 a helix of lead P holds
 (2 pi / P) integral r w(r) dr per mm (the screw form of Pappus); its root is the tap's crest at
 D/2, centred where a thread tool's point would be: z0 + P rho phi / 360 (mod P).
-Revolved volumes carry the stock polygon's factor k (tests/test_lathe_tools.py).
+Revolved volumes carry the stock polygon's factor k (tests/stock/test_lathe_tools.py).
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ import cutsim
 from cutsim.base.specs import ToolSpec
 from cutsim.interp.errors import CutsimError
 
-sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from test_lathe_tools import TOL, _k, _run, _slab  # noqa: E402
 
 T30 = math.tan(math.radians(30.0))

@@ -29,7 +29,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-FOLDER = Path(__file__).parent / "golden" / "sinumerik-iso"
+FOLDER = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-iso"
 PROGRAMS = sorted(FOLDER.glob("*.mpf"))
 
 

@@ -15,7 +15,7 @@ import pytest
 from cutsim.interp.errors import CutsimError
 from cutsim.setup import load_setup
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DOCS = sorted((ROOT / "docs").rglob("*.md")) + [ROOT / "README.md"]
 SETUP_MD = ROOT / "docs" / "setup.md"
 

@@ -25,7 +25,7 @@ SETUP = LATHE / "multipass.toml"
 SLOW_TOL = "0.0002"
 # twelve passes on twelve helices (start offsets 0, 30, ..., 330: no two sweep as one group) take
 # several seconds at SLOW_TOL: time to kill a run mid-way (multipass.nc itself now takes < 1 s)
-SLOW_PROG = Path(__file__).parent / "checks" / "slow-thread.nc"
+SLOW_PROG = Path(__file__).resolve().parents[1] / "checks" / "slow-thread.nc"
 SLOW_SETUP = SLOW_PROG.with_suffix(".toml")
 
 

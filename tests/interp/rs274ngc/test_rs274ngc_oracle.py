@@ -21,7 +21,7 @@ from conftest import external_tool
 from support.ngc_gen import TOOL_TABLE, program
 from support.rs274 import compare, cutsim_moves, run_rs274
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 PROJECT = sorted((ROOT / "tests" / "rs274ngc").glob("*.ngc")) + sorted((ROOT / "examples" / "rs274ngc").glob("*.nc"))
 SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/share/axis/images"))
 # The samples cutsim refuses, with the reason (each a code docs/dialects/rs274ngc.md lists as not

@@ -14,7 +14,7 @@ import trimesh
 from conftest import EXAMPLES
 import cutsim
 
-HERE = Path(__file__).resolve().parent / "mill"
+HERE = Path(__file__).resolve().parents[1] / "mill"
 PLATE = str(HERE / "plate.toml")
 
 

@@ -34,7 +34,7 @@ from cutsim import interp_config, load_setup
 from cutsim.interp import interpret
 from cutsim.interp.canon import transcript
 
-HERE = Path(__file__).parent / "golden" / "sinumerik-machine"
+HERE = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-machine"
 PROGRAMS = sorted(HERE.glob("*.mpf"))
 
 

@@ -387,7 +387,7 @@ def test_bad_drills(tmp_path, lines, needle, fragments):
 
 
 def test_endmill_does_not_fit_a_lathe(tmp_path):
-    """A drill works on a lathe's spindle axis (tests/test_lathe_tools.py); an end mill does not."""
+    """A drill works on a lathe's spindle axis (tests/stock/test_lathe_tools.py); an end mill does not."""
     text = ('[machine]\nkind = "lathe"\ndialect = "sinumerik"\n\n[stock]\nshape = "cylinder"\ndiameter = 30\n'
             'z = [-40, 0]\n\n[[tool]]\nnumber = 1\nkind = "endmill"\ndiameter = 8\n')
     cli_error(tmp_path, text, 'kind = "endmill"', ["[[tool]] #1 kind", "a endmill tool does not fit a lathe"])

@@ -25,7 +25,7 @@ from cutsim import CutsimError
 from cutsim.cli import main
 from cutsim.interp import InterpConfig, interpret
 
-FOLDER = Path(__file__).parent / "golden" / "sinumerik-external"
+FOLDER = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-external"
 WARNING = ("{} is declared external in the setup ([machine] external_subprograms): its motion is not simulated, "
            "the tool is taken to stay where it was")
 HEAD = "T1 D1 M6\nG0 X20 Y30 Z5\n"  # the tool stands at (20, 30, 5) before the call

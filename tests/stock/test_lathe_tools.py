@@ -264,7 +264,7 @@ def test_inside_thread_hand(tmp_path, spindle, rho):
     import sys
     from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).parent))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from support.geometry import load, section, wrap
 
     tool = 'kind = "thread"\nside = "inside"\nheight = 4'
@@ -341,7 +341,7 @@ def test_drill_on_the_spindle_axis(tmp_path, point_angle):
 
 
 def test_shoulder_example_fails_when_spoiled(tmp_path):
-    """examples/cnc8x6-lathe/shoulder-93 passes its checks (tests/test_examples.py) and fails
+    """examples/cnc8x6-lathe/shoulder-93 passes its checks (tests/app/test_examples.py) and fails
     them with the plain V for the insert (a cone behind the shoulder) or a finishing pass 0.1 mm
     shallower."""
     from conftest import REPO_EXAMPLES
@@ -359,7 +359,7 @@ def test_shoulder_example_fails_when_spoiled(tmp_path):
 
 
 def test_nut_example_fails_when_spoiled(tmp_path):
-    """examples/cnc8x6-lathe/nut-m24x1.5 passes its checks (tests/test_examples.py) and fails
+    """examples/cnc8x6-lathe/nut-m24x1.5 passes its checks (tests/app/test_examples.py) and fails
     its volume with the last thread pass 0.1 mm short of the major diameter (the groove's flanks
     0.05 mm shallower: about 12 mm^3 less)."""
     from conftest import REPO_EXAMPLES

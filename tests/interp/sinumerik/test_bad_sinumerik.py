@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-BAD = Path(__file__).parent / "bad_sinumerik"
+BAD = Path(__file__).resolve().parents[2] / "bad_sinumerik"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.mpf"))
 RULES = {  # every limit of docs/dialects/sinumerik.md ("Limits") has its program

@@ -36,7 +36,7 @@ from cutsim import CutsimError
 from cutsim.cli import main
 from cutsim.interp import InterpConfig, canon, interpret
 
-GOLDEN = Path(__file__).parent / "golden" / "sinumerik-lang"
+GOLDEN = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-lang"
 PROGRAMS = ["procs", "control", "variables"]
 
 
@@ -355,7 +355,7 @@ RET
 def test_r_index_assignment_scoped_def_and_unsupported_path_words():
     p = run("R[2+1]=5\nDEF CHAN REAL CC=2\nG1 X=R3+CC F100\nWAITP(X)\nM30\n")
     assert ends(p) == [(7, 0, 50)] and p.warnings[-1][1].startswith("WAITP")
-    e = error_of("G1 X10 ANG=30 F100\n")  # (RND=, CHF=: tests/test_sinumerik_corner.py)
+    e = error_of("G1 X10 ANG=30 F100\n")  # (RND=, CHF=: tests/interp/sinumerik/test_sinumerik_corner.py)
     assert (e.line, e.col) == (1, 8) and e.message == "ANG= (a contour angle) is not supported by the simulator"
 
 

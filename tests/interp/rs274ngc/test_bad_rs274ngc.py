@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from cutsim.cli import main
 from support.bad import assert_stops_at_its_line
 
-BAD = Path(__file__).parent / "bad_rs274ngc"
+BAD = Path(__file__).resolve().parents[2] / "bad_rs274ngc"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.ngc"))
 RULES = {

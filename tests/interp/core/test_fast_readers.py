@@ -22,7 +22,7 @@ from cutsim.interp.isg import fast as isg_fast, program as isg_program, reader a
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.lexer import split_lines
 
-ROOT = Path(__file__).parent.parent
+ROOT = Path(__file__).resolve().parents[3]
 DIRS = [ROOT / "tests", ROOT / "examples", ROOT.parent / "shared" / "examples"]
 
 

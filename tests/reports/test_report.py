@@ -17,7 +17,7 @@ from cutsim.cli import main
 from cutsim.interp import InterpConfig, interpret
 from cutsim.reports.report import warning_text
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1]
 
 
 def _interpret(example: str):

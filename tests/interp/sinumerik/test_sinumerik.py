@@ -14,7 +14,7 @@ from cutsim.interp import InterpConfig, interpret
 from cutsim.interp import canon
 from cutsim.interp.sinumerik import contour as sinumerik_contour
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "sinumerik"
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "sinumerik"
 
 
 def moves(text, radii=None, start=(0.0, 0.0, 50.0), name="t.mpf"):
@@ -286,7 +286,7 @@ def test_endless_gotob_is_found_at_its_line_without_the_block_limit():
     assert xs == [1.0, 2.0, 3.0, 4.0, 5.0, 0.0]  # the counted loop ran five times
 
 
-# -- limits: the values just inside every limit still run (tests/test_bad_sinumerik.py: just outside)
+# -- limits: the values just inside every limit still run (tests/interp/sinumerik/test_bad_sinumerik.py: just outside)
 def test_values_at_the_limits_run():
     chain = "+".join(["1"] * 250)  # a block of 499 characters before its comment
     nested = "(" * 31 + "2" + ")" * 31  # 31 parentheses + the expression itself: 32 levels

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-HERE = Path(__file__).parent / "checks"
+HERE = Path(__file__).resolve().parents[1] / "checks"
 pytest.importorskip("pyvista")
 from PIL import Image  # noqa: E402
 

@@ -16,7 +16,7 @@ import pytest
 
 from cutsim.interp import CutsimError, InterpConfig, interpret
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 GLOBS = {
     "isg": ["tests/**/*.nc", "examples/isg*/*.nc"],
     "sinumerik": ["tests/**/*.mpf", "tests/**/*.spf", "examples/sinumerik/*.mpf"],

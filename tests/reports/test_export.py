@@ -32,7 +32,7 @@ from conftest import EXAMPLES, ROOT
 from cutsim.reports.mesh import FORMATS, closed_by_position, closed_mesh, part_bytes
 from cutsim.reports.report import report_bytes
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1]
 PROGRAM_SUFFIXES = {".nc", ".mpf", ".spf"}
 
 # Programs whose files leaked before the fix (edges shared by 4-14 faces once read back): they

@@ -1,6 +1,6 @@
 """The rs274ngc dialect on its own (no LinuxCNC needed): expressions, parameters, O-words, motion,
 offsets, tool lengths, canned cycles and threads, each against numbers worked out by hand from
-the LinuxCNC G-code manual's rules (tests/test_rs274ngc_oracle.py compares with rs274 itself)."""
+the LinuxCNC G-code manual's rules (tests/interp/rs274ngc/test_rs274ngc_oracle.py compares with rs274 itself)."""
 from __future__ import annotations
 
 import math

@@ -6,7 +6,7 @@ check is derived from its words; the correct part must pass it, and each deliber
 is wrong.
 
 500 cases, seeds 0-499. Every fifth (100 cases, 400 simulations) runs in the default suite; the
-other 400 are marked ``slow``: ``pytest -m "slow or not slow" tests/test_thread_check_props.py``
+other 400 are marked ``slow``: ``pytest -m "slow or not slow" tests/reports/test_thread_check_props.py``
 runs all 500.
 """
 import pytest

@@ -33,7 +33,7 @@ from click.testing import CliRunner
 from conftest import EXAMPLES, REPO_EXAMPLES
 from cutsim.cli import main
 
-GOLDEN = Path(__file__).parent / "golden"
+GOLDEN = Path(__file__).resolve().parents[1] / "golden"
 NAMES = ["multipass", "start-offset", "lead-in", "runout-constant", "runout-parameter", "taper", "large-lead"]
 
 
@@ -80,7 +80,7 @@ def test_own_example_transcript(prog):
     assert res.output == golden.read_text()
 
 
-TESTS = Path(__file__).parent
+TESTS = Path(__file__).resolve().parents[1]
 # test programs that simulate, with the setup their tests use (the others are error cases)
 TEST_PROGRAMS = {
     "checks/multipass.nc": "checks/multipass.toml", "checks/multipass-shallow.nc": "checks/multipass.toml",

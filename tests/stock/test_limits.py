@@ -38,7 +38,7 @@ def test_fine_lead_thread_is_refused_naming_max_triangles(tmp_path):
     (the chord of a 13.3 mm radius at 0.002 mm is 1.99 degrees) of a profile of at least 3
     vertices, so the sweep needs more than 7333 * 180 * 2 * 3 = 7.9M triangles: refused at its
     line (3), nothing written. (A lead at or below the tolerance is the turned groove within it and
-    runs: tests/test_lathe_geometry.py.)"""
+    runs: tests/stock/test_lathe_geometry.py.)"""
     prog = tmp_path / "fine.nc"
     prog.write_text(THREAD.format(lead="0.003"))
     out = tmp_path / "out"
