@@ -1,6 +1,6 @@
 """Golden transcripts: the canonical moves (``cutsim moves``) of the CNC8x6 seed examples.
 
-The files in tests/golden/ were checked by hand against the manuals and conventions.md, e.g.
+The files in tests/data/golden/<dialect>/ were checked by hand against the manuals and conventions.md, e.g.
 multipass: the default start is 5 mm outside the 27 mm blank and 5 mm above it, (37, 5);
 lead-in: the thread ends at X 71.798 - 2*12*tan(18 deg) = 63.999927; runout-parameter: at
 X 64 + 2*12*tan(20 deg) = 72.735286; large-lead: LEAD 250 from R10. A changed transcript is a
@@ -33,7 +33,16 @@ from click.testing import CliRunner
 from conftest import EXAMPLES, REPO_EXAMPLES
 from cutsim.cli import main
 
-GOLDEN = Path(__file__).resolve().parents[1] / "golden"
+GOLDEN = Path(__file__).resolve().parents[1] / "data" / "golden"
+# the dialect folder of a test program's golden file, by the folder the program is in
+TEST_DIALECTS = {"checks": "cnc8x6", "isg": "isg", "mill": "cnc8x6"}
+
+
+def own_golden(prog: Path) -> Path:
+    """The golden file of an example (examples/<dialect>[-kind]/<name>): by its folder's dialect."""
+    return GOLDEN / prog.parent.name.split("-")[0] / f"own_{prog.parent.name}_{prog.stem}.txt"
+
+
 NAMES = ["multipass", "start-offset", "lead-in", "runout-constant", "runout-parameter", "taper", "large-lead"]
 
 
@@ -42,7 +51,7 @@ def test_cnc8x6_transcript(name):
     prog = EXAMPLES / "cnc8x6-lathe" / f"{name}.nc"
     res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(prog.with_suffix(".toml"))])
     assert res.exit_code == 0, res.output
-    golden = GOLDEN / f"cnc8x6_{name}.txt"
+    golden = GOLDEN / "cnc8x6" / f"cnc8x6_{name}.txt"
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
         golden.write_text(res.output)
     assert res.output == golden.read_text()
@@ -54,14 +63,14 @@ def test_cnc8x6_helix_transcript():
     prog = EXAMPLES / "cnc8x6-mill" / "helix.nc"
     res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(prog.with_suffix(".toml"))])
     assert res.exit_code == 0, res.output
-    golden = GOLDEN / "cnc8x6_helix.txt"
+    golden = GOLDEN / "cnc8x6" / "cnc8x6_helix.txt"
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
         golden.write_text(res.output)
     assert res.output == golden.read_text()
 
 
 OWN = sorted(p for p in REPO_EXAMPLES.rglob("*") if p.suffix in (".nc", ".mpf")
-             and (GOLDEN / f"own_{p.parent.name}_{p.stem}.txt").is_file())
+             and own_golden(p).is_file())
 
 
 def test_own_examples_have_transcripts():
@@ -74,7 +83,7 @@ def test_own_examples_have_transcripts():
 def test_own_example_transcript(prog):
     res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(prog.with_suffix(".toml"))])
     assert res.exit_code == 0, res.output
-    golden = GOLDEN / f"own_{prog.parent.name}_{prog.stem}.txt"
+    golden = own_golden(prog)
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
         golden.write_text(res.output)
     assert res.output == golden.read_text()
@@ -97,7 +106,7 @@ def test_test_program_transcript(rel):
     prog = TESTS / rel
     res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(TESTS / TEST_PROGRAMS[rel])])
     assert res.exit_code == 0, res.output
-    golden = GOLDEN / f"tests_{prog.parent.name}_{prog.stem}.txt"
+    golden = GOLDEN / TEST_DIALECTS[prog.parent.name] / f"tests_{prog.parent.name}_{prog.stem}.txt"
     if os.environ.get("CUTSIM_UPDATE_GOLDEN"):
         golden.write_text(res.output)
     assert res.output == golden.read_text()

@@ -1,4 +1,4 @@
-"""Bad-program folders (tests/bad_isg, tests/bad_rs274ngc): each program's first line says where it
+"""Bad-program folders (tests/data/bad/isg, tests/data/bad/rs274ngc): each program's first line says where it
 must stop (``; EXPECT LINE:COL fragment``); the CLI must exit 2 there, write nothing and show no
 traceback."""
 from __future__ import annotations

@@ -95,7 +95,7 @@ PROGRAM_EXT = (".nc", ".mpf", ".NC", ".MPF")
 
 def corpus_roots() -> list[Path]:
     return [ROOT / "examples", SHARED / "examples", ROOT / "tests" / "isg", ROOT / "tests" / "mill",
-            ROOT / "tests" / "checks", ROOT / "tests" / "bad"]
+            ROOT / "tests" / "checks", ROOT / "tests" / "data" / "bad" / "cnc8x6"]
 
 
 def _seed(prog: Path, toml: Path, label: str) -> Seed | None:

@@ -1,8 +1,8 @@
-"""One bad program per rule (tests/bad/*.nc): each must stop the CLI with exit status 2, the
+"""One bad program per rule (tests/data/bad/cnc8x6/*.nc): each must stop the CLI with exit status 2, the
 message ``PROGRAM:LINE:COL: error: TEXT`` naming the offending line (and column), and nothing
 written. The first line of each file says what is expected, as a comment of its dialect:
-``"EXPECT LINE:COL fragment`` (CNC8x6, run with tests/bad/setup.toml) or ``;EXPECT LINE:COL
-fragment`` (ISG files, named ``isg-*.nc``, run with tests/bad/isg-setup.toml).
+``"EXPECT LINE:COL fragment`` (CNC8x6, run with tests/data/bad/cnc8x6/setup.toml) or ``;EXPECT LINE:COL
+fragment`` (ISG files, named ``isg-*.nc``, run with tests/data/bad/cnc8x6/isg-setup.toml).
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-BAD = Path(__file__).resolve().parents[2] / "bad"
+BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "cnc8x6"
 PROGRAMS = sorted(BAD.glob("*.nc"))
 RULES = {  # every rule of the issue has its file
     "lead-over-99.99", "e-without-point", "missing-empty-block", "missing-axis", "assign-r00",

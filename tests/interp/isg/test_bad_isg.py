@@ -1,4 +1,4 @@
-"""Bad ISG programs (tests/bad_isg/*.nc): each stops the CLI at once with exit status 2 and
+"""Bad ISG programs (tests/data/bad/isg/*.nc): each stops the CLI at once with exit status 2 and
 ``PROGRAM:LINE:COL: error: TEXT`` at the offending statement, word or command, nothing written,
 no traceback. The first line of each file says what is expected: ``; EXPECT LINE:COL fragment``
 (its line 1 is that comment, so the program's lines count from 2)."""
@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from cutsim.cli import main
 from support.bad import assert_stops_at_its_line
 
-BAD = Path(__file__).resolve().parents[2] / "bad_isg"
+BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "isg"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.nc"))
 RULES = {  # one program per rule of docs/dialects/isg.md that a real program can break

@@ -87,7 +87,7 @@ def test_golden_transcript_m70():
     proc = subprocess.run([sys.executable, "-m", "cutsim", "moves", str(prog), "--setup", str(prog.with_suffix(".toml"))],
                           capture_output=True, text=True, encoding="utf-8")
     assert proc.returncode == 0, proc.stderr
-    assert proc.stdout == (HERE / "golden" / "isg_m70x1.5.txt").read_text(encoding="utf-8")
+    assert proc.stdout == (HERE / "data" / "golden" / "isg" / "isg_m70x1.5.txt").read_text(encoding="utf-8")
 
 
 def test_m70_subprogram_passes_carry_their_call_sites():

@@ -1,7 +1,7 @@
 """The ISG language of real TwinCAT CNC programs (issue 16): control structures, expressions,
 variables, # commands, work offsets, global subprograms, machine functions and extra axes.
 
-Golden transcripts (tests/golden/isg-lang/<name>.nc -> <name>.txt, run with setup.toml there;
+Golden transcripts (tests/data/golden/isg/lang/<name>.nc -> <name>.txt, run with setup.toml there;
 regenerate with CUTSIM_UPDATE_GOLDEN=1 and review the diff). Every number was checked by hand
 against the program and the TwinCAT CNC programming manual's semantics:
 
@@ -78,7 +78,7 @@ from cutsim.interp import CutsimError, InterpConfig, interpret
 from cutsim.interp import canon
 
 HERE = Path(__file__).resolve().parents[2]  # tests/
-GOLDEN = HERE / "golden" / "isg-lang"
+GOLDEN = HERE / "data" / "golden" / "isg" / "lang"
 SETUP = GOLDEN / "setup.toml"
 NAMES = ["control", "expressions", "variables", "commands", "global", "lathe-loop", "compensation", "modal-cycle", "rotation",
          "real-forms"]

@@ -1,4 +1,4 @@
-"""Bad RS274NGC programs (tests/bad_rs274ngc/*.ngc): each stops the CLI with exit status 2 and
+"""Bad RS274NGC programs (tests/data/bad/rs274ngc/*.ngc): each stops the CLI with exit status 2 and
 ``PROGRAM:LINE:COL: error: TEXT`` at the offending word, nothing written, no traceback. The first
 line of each file says what is expected: ``; EXPECT LINE:COL fragment`` (line 1 is that comment).
 The codes LinuxCNC has and the simulator does not model are refused by name ("not simulated")."""
@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from cutsim.cli import main
 from support.bad import assert_stops_at_its_line
 
-BAD = Path(__file__).resolve().parents[2] / "bad_rs274ngc"
+BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "rs274ngc"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.ngc"))
 RULES = {

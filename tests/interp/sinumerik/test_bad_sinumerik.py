@@ -1,4 +1,4 @@
-"""Bad Sinumerik programs (tests/bad_sinumerik/*.mpf and a few generated here): each must stop the
+"""Bad Sinumerik programs (tests/data/bad/sinumerik/*.mpf and a few generated here): each must stop the
 CLI at once with exit status 2 and ``PROGRAM:LINE:COL: error: TEXT`` naming the offending word,
 parameter or block, nothing written, no traceback. The first line of each file says what is
 expected: ``; EXPECT LINE:COL fragment``. Inputs too big to keep in the repository (a block of 600
@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-BAD = Path(__file__).resolve().parents[2] / "bad_sinumerik"
+BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "sinumerik"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.mpf"))
 RULES = {  # every limit of docs/dialects/sinumerik.md ("Limits") has its program

@@ -281,7 +281,7 @@ def test_pattern_without_mcall_only_positions_and_warns():
 
 
 # ---------------------------------------------------------------------------------------------
-# errors (the files under tests/bad_sinumerik/drill-*.mpf hold the column checks)
+# errors (the files under tests/data/bad/sinumerik/drill-*.mpf hold the column checks)
 @pytest.mark.parametrize("call, text", [
     ("CYCLE81(10, 0, 2, 5)", "is not below the reference plane RFP 0"),
     ("CYCLE81(10, 0, 2, 0)", "is not below the reference plane"),

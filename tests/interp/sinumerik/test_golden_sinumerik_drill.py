@@ -1,4 +1,4 @@
-"""Golden transcripts of the Sinumerik drilling cycles (tests/golden/sinumerik-drill/NAME.mpf ->
+"""Golden transcripts of the Sinumerik drilling cycles (tests/data/golden/sinumerik/drill/NAME.mpf ->
 NAME.txt, ``cutsim moves`` with the folder's setup.toml). Each was checked by hand against the
 cycle manuals' sequences (docs/dialects/sinumerik.md, "Drilling cycles"):
 
@@ -37,7 +37,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-FOLDER = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-drill"
+FOLDER = Path(__file__).resolve().parents[2] / "data" / "golden" / "sinumerik" / "drill"
 PROGRAMS = sorted(FOLDER.glob("*.mpf"))
 
 

@@ -4,7 +4,7 @@ subprograms"). A declared name whose file is not found is skipped with one warni
 tool stays where it was; an undeclared one is exit 2 naming the key; a found file runs; the cycles
 the simulator implements or refuses keep their meaning whether listed or not.
 
-Golden transcript tests/golden/sinumerik-external/external.mpf (``cutsim moves``, regenerated with
+Golden transcript tests/data/golden/sinumerik/external/external.mpf (``cutsim moves``, regenerated with
 CUTSIM_UPDATE_GOLDEN=1), checked by hand: G0 to (20, 30, 5); L_VENDOR (N40) is skipped, so N50's
 G1 Z-2 starts at (20, 30, 5); N60 to (40, 30, -2); TOOLCHG(..) (N70) is skipped, so N80's G91 X10
 Y5 goes from (40, 30, -2) to (50, 35, -2); EXTCALL of PROBE (N100, declared as vendor\\probe.spf),
@@ -25,7 +25,7 @@ from cutsim import CutsimError
 from cutsim.cli import main
 from cutsim.interp import InterpConfig, interpret
 
-FOLDER = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-external"
+FOLDER = Path(__file__).resolve().parents[2] / "data" / "golden" / "sinumerik" / "external"
 WARNING = ("{} is declared external in the setup ([machine] external_subprograms): its motion is not simulated, "
            "the tool is taken to stay where it was")
 HEAD = "T1 D1 M6\nG0 X20 Y30 Z5\n"  # the tool stands at (20, 30, 5) before the call

@@ -1,4 +1,4 @@
-"""Golden transcript of the ISO drilling cycles in a Sinumerik program (tests/golden/sinumerik-iso/
+"""Golden transcript of the ISO drilling cycles in a Sinumerik program (tests/data/golden/sinumerik/iso/
 iso.mpf -> iso.txt, ``cutsim moves`` with the folder's setup.toml). Checked by hand against the ISO
 sequence (docs/dialects/sinumerik.md, "The ISO drilling cycles"): G0 to the hole in the plane at the
 level the tool stands on, G0 to R, in with G1 to Z, back to the initial level (G98) or to R (G99).
@@ -29,7 +29,7 @@ from click.testing import CliRunner
 
 from cutsim.cli import main
 
-FOLDER = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-iso"
+FOLDER = Path(__file__).resolve().parents[2] / "data" / "golden" / "sinumerik" / "iso"
 PROGRAMS = sorted(FOLDER.glob("*.mpf"))
 
 

@@ -2,7 +2,7 @@
 flow, jumps, typed variables, system variables and the setup's [variables], and the commands that
 only warn. Numbers are worked out by hand from the programs.
 
-Golden transcripts (``cutsim moves``) in tests/golden/sinumerik-lang/, regenerated with
+Golden transcripts (``cutsim moves``) in tests/data/golden/sinumerik/lang/, regenerated with
 CUTSIM_UPDATE_GOLDEN=1 and checked by hand:
 
 - procs.mpf: RING(20) from (50, 50) runs four CCW quarter arcs of CR 20 (N takes its default 4):
@@ -36,7 +36,7 @@ from cutsim import CutsimError
 from cutsim.cli import main
 from cutsim.interp import InterpConfig, canon, interpret
 
-GOLDEN = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-lang"
+GOLDEN = Path(__file__).resolve().parents[2] / "data" / "golden" / "sinumerik" / "lang"
 PROGRAMS = ["procs", "control", "variables"]
 
 

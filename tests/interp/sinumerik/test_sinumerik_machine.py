@@ -285,9 +285,9 @@ def test_traori_with_a_rotary_axis_move_is_refused():
 # -- on the solid ---------------------------------------------------------------------------------------
 def test_frames_place_the_slot_on_the_solid():
     """G54 (20, 10) + TRANS X10 Y5 + AROT Z90 put a slot written along X at Y0 along machine Y at X30
-    (tests/golden/sinumerik-machine/frame-slot.toml): slot width, floor, centre and volume pass, and
+    (tests/data/golden/sinumerik/machine/frame-slot.toml): slot width, floor, centre and volume pass, and
     the stock is untouched where the slot would be without the frames."""
-    here = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-machine"
+    here = Path(__file__).resolve().parents[2] / "data" / "golden" / "sinumerik" / "machine"
     res = cutsim.simulate(str(here / "frame-slot.mpf"), str(here / "frame-slot.toml"))
     recs = res.report["checks"]
     assert len(recs) == 4 and all(r["passed"] for r in recs), recs

@@ -1,4 +1,4 @@
-"""Golden transcripts of the Sinumerik machine side (tests/golden/sinumerik-machine/*.mpf): the
+"""Golden transcripts of the Sinumerik machine side (tests/data/golden/sinumerik/machine/*.mpf): the
 canonical moves and the warnings, with the setup beside them (NAME.toml, else setup.toml: G54 at
 (100, 50, -10), G505 at (10, 20, 0), axes A B rotary and W linear, M20/M70, T2 named "DRILL 8.5").
 Regenerate with CUTSIM_UPDATE_GOLDEN=1 after checking the diff. Checked by hand:
@@ -34,7 +34,7 @@ from cutsim import interp_config, load_setup
 from cutsim.interp import interpret
 from cutsim.interp.canon import transcript
 
-HERE = Path(__file__).resolve().parents[2] / "golden" / "sinumerik-machine"
+HERE = Path(__file__).resolve().parents[2] / "data" / "golden" / "sinumerik" / "machine"
 PROGRAMS = sorted(HERE.glob("*.mpf"))
 
 
