@@ -292,7 +292,37 @@ def _pieces(r, pieces, plane):
     return out
 
 
-def compensate_records(buf: list, d: float, plane: str, departure: bool, direct: bool, linear: bool, error):
+def arc_elems(start, end, centre, cw: bool, full: bool) -> list:
+    """An arc as elements: a full circle (start and end the same point) as its two halves, through
+    the point opposite the start, so every element has a definite sweep for the offset."""
+    if not full:
+        return [Elem("A", start, end, centre, cw)]
+    opp = (2 * centre[0] - start[0], 2 * centre[1] - start[1])
+    return [Elem("A", start, opp, centre, cw), Elem("A", opp, end, centre, cw)]
+
+
+def _contour(buf, body, plane, error, strict: bool):
+    """The body's records as 2D elements and, for each element, the index of its record. Strict:
+    one element per record, full circles and thread moves refused; otherwise full circles become
+    their two halves, a thread move a line, and moves along the tool axis only are left out."""
+    elems, owner = [], []
+    for k in body:
+        r = buf[k]
+        if strict:
+            pieces = [_elem(r, plane, error)]
+        elif not _in_plane(r, plane):
+            continue
+        elif isinstance(r, canon.Arc):
+            pieces = arc_elems(_p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise, r.full_turn)
+        else:
+            pieces = [Elem("L", _p2(r.start, plane), _p2(r.end, plane))]
+        elems.extend(pieces)
+        owner.extend([k] * len(pieces))
+    return elems, owner
+
+
+def compensate_records(buf: list, d: float, plane: str, departure: bool, direct: bool, linear: bool, error,
+                       strict: bool = True):
     """Records from a G41/G42 selection to the deselection -> the tool centre records.
 
     The first motion that moves in the plane is the approach and the last one, when ``departure``
@@ -301,24 +331,30 @@ def compensate_records(buf: list, d: float, plane: str, departure: bool, direct:
     element and the departure leaves from the offset end of the last one. Otherwise (ISG G139,
     indirect): the approach and departure blocks are offset with the contour and joined to it like
     any two elements; only their outer ends stay where they were programmed.
+    Not ``strict`` (Sinumerik, always direct): the first motion of any kind is the approach, a
+    departure needs two motions before it, any motion may approach or depart (it is done straight),
+    full circles and thread moves are offset too (see ``_contour``).
     ``error(record, message)`` builds the exception for a record that cannot be compensated."""
-    motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS) and _in_plane(r, plane)]
-    if not motions or abs(d) < EPS:
+    if strict:
+        motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS) and _in_plane(r, plane)]
+    else:
+        motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS)]
+    if len(motions) < (1 if strict else 2) or abs(d) < EPS:
         return list(buf)
     first = motions[0]
-    last = motions[-1] if departure and len(motions) >= 2 else None
-    for k in (first, last):
+    last = motions[-1] if departure and len(motions) >= (2 if strict else 3) else None
+    for k in (first, last) if strict else ():
         if k is not None and isinstance(buf[k], (canon.Arc, canon.SyncedFeed)):
             what = "approach" if k == first else "departure"
             raise error(buf[k], f"the {what} block of tool radius compensation must be a straight move (G00/G01)")
     body = motions if not direct else [k for k in motions if k not in (first, last)]
-    elems = [_elem(buf[k], plane, error) for k in body]
+    elems, owner = _contour(buf, body, plane, error, strict)
     if not elems:
         return list(buf)
     try:
         chain = offset_chain(elems, d, linear, (not direct, not direct and last is not None))
     except OffsetError as e:
-        r = buf[body[e.index]]
+        r = buf[owner[e.index]]
         raise error(r, f"radius compensation: {e}") from None
     if not direct:  # the approach starts, the departure ends where programmed
         e0, i0 = chain[0]
@@ -328,7 +364,7 @@ def compensate_records(buf: list, d: float, plane: str, departure: bool, direct:
             chain[-1] = (_with_end(e1, _p2(buf[last].end, plane), True), i1)
     by_owner: dict[int, list] = {}
     for e, i in chain:
-        by_owner.setdefault(body[i], []).append(e)
+        by_owner.setdefault(owner[i], []).append(e)
     nidx = PLANE_AXES[plane][2]
     out = []
     cur = None  # current 3D position

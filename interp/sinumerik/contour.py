@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 from .. import canon
 from ..canon import Src
-from ..compensation import _left, _norm, _sub, Elem, offset_chain, OffsetError, tangent
+from ..core.compensation import _left, _norm, _sub, arc_elems, Elem, offset_chain, OffsetError, tangent
 from ..errors import CutsimError
 from .corners import Corners, finish as finish_corners
-from .cycle import arc_elems, budget, Cycle, n_levels
+from .cycle import budget, Cycle, n_levels
 from .syntax import Branch, Call, Case, Frame, Goto, Num, Repeat, Ret, SubCall, SubprogramMissing, Word
 
 

@@ -13,10 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .. import canon
 from ..canon import Src
-from ..compensation import _norm, _sub, Elem, length, offset_chain, OffsetError
-from ..modal import PLANE_AXES
+from ..core.compensation import Elem
 from .syntax import COORD_LIMIT, range_message
 
 
@@ -30,121 +28,13 @@ NUM_LIMIT = 1000  # SLOT1/SLOT2 NUM
 
 
 # ---------------------------------------------------------------------------------------------
-# 2D elements of a path in the working plane and their offset: interp/compensation.py (shared
-# with ISG G41/G42); an arc as elements and a reversed chain are the cycles' own.
-
-def arc_elems(start, end, centre, cw: bool, full: bool) -> list:
-    """An arc as elements: a full circle (start and end the same point) as its two halves, through
-    the point opposite the start, so every element has a definite sweep for the offset."""
-    if not full:
-        return [Elem("A", start, end, centre, cw)]
-    opp = (2 * centre[0] - start[0], 2 * centre[1] - start[1])
-    return [Elem("A", start, opp, centre, cw), Elem("A", opp, end, centre, cw)]
-
+# 2D elements of a path in the working plane and their offset: interp/core/compensation.py (shared
+# with ISG G41/G42, which also offsets G41/G42 in the program); a reversed chain is the cycles' own.
 
 def reverse(elems):
     out = []
     for e in reversed(elems):
         out.append(Elem("L", e.end, e.start) if e.kind == "L" else Elem("A", e.end, e.start, e.centre, not e.cw))
-    return out
-
-
-# ---------------------------------------------------------------------------------------------
-# G41/G42 in the program: offset the buffered records
-def _p2(v, plane):
-    a, b, _ = PLANE_AXES[plane]
-    return (v[a], v[b])
-
-
-def _p3(p, n, plane):
-    a, b, c = PLANE_AXES[plane]
-    v = [0.0, 0.0, 0.0]
-    v[a], v[b], v[c] = p[0], p[1], n
-    return (v[0], v[1], v[2])
-
-
-def _motion_like(r, start, end, feed=None):
-    """A straight record like ``r`` (rapid or feed) from ``start`` to ``end``."""
-    if isinstance(r, canon.Rapid):
-        return canon.Rapid(r.src, start, end, r.diameter)
-    return canon.Feed(r.src, start, end, r.diameter, r.feed if feed is None else feed, r.per_rev)
-
-
-def _contour_of(m, buf, body, plane):
-    """The compensated body's records as 2D elements and, for each, the index of its record
-    (moves along the tool axis only are left out)."""
-    elems, owner = [], []
-    for k in body:
-        r = buf[k]
-        if _norm(_sub(_p2(r.end, plane), _p2(r.start, plane))) < 1e-9 and not (isinstance(r, canon.Arc) and r.full_turn):
-            continue
-        if isinstance(r, canon.Arc):  # a full circle: its two halves, both owned by the record
-            pieces = arc_elems(_p2(r.start, plane), _p2(r.end, plane), _p2(r.center, plane), r.clockwise, r.full_turn)
-        else:
-            pieces = [Elem("L", _p2(r.start, plane), _p2(r.end, plane))]
-        elems.extend(pieces)
-        owner.extend([k] * len(pieces))
-    return elems, owner
-
-
-def _pieces(r, pieces, plane, nidx):
-    """The offset elements of one record, its tool-axis travel spread over them by length."""
-    out = []
-    total = sum(length(e) for e in pieces)
-    z0, z1 = r.start[nidx], r.end[nidx]
-    run = 0.0
-    feed = getattr(r, "feed", 0.0)
-    for e in pieces:
-        za = z0 + (z1 - z0) * (run / total if total > 0 else 0)
-        run += length(e)
-        zb = z0 + (z1 - z0) * (run / total if total > 0 else 1)
-        s3, e3 = _p3(e.start, za, plane), _p3(e.end, zb, plane)
-        if e.kind == "L":
-            out.append(_motion_like(r, s3, e3, feed))
-        else:
-            out.append(canon.Arc(r.src, s3, e3, r.diameter, _p3(e.centre, za, plane), plane, e.cw, False, feed,
-                                 getattr(r, "per_rev", False)))
-    return out
-
-
-def compensate_records(m, buf, d, plane, has_departure, comp_src):
-    """Records between G41/G42 and G40 -> compensated records. The first motion is the approach
-    (a straight move to the offset start of the contour), the G40 block's motion the departure."""
-    nidx = PLANE_AXES[plane][2]
-    motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS)]
-    if len(motions) < 2 or abs(d) < EPS:
-        return list(buf)
-    first = motions[0]
-    last = motions[-1] if has_departure and len(motions) >= 3 else None
-    elems, owner = _contour_of(m, buf, [k for k in motions[1:] if k != last], plane)
-    if not elems:
-        return list(buf)
-    try:
-        chain = offset_chain(elems, d)
-    except OffsetError as e:
-        r = buf[owner[e.index]]
-        raise m.error(r.src.line, r.src.col, f"radius compensation: {e}") from None
-    by_owner: dict[int, list] = {}
-    for e, i in chain:
-        by_owner.setdefault(owner[i], []).append(e)
-    out = []
-    cur = None  # current 3D position
-    for k, r in enumerate(buf):
-        if not isinstance(r, canon.MOTIONS):
-            out.append(r)
-            continue
-        if k == first:
-            new = [_motion_like(r, r.start, _p3(chain[0][0].start, r.end[nidx], plane))]
-        elif k == last:
-            new = [_motion_like(r, cur, r.end)]
-        elif k in by_owner:
-            new = _pieces(r, by_owner[k], plane, nidx)
-        else:  # a move along the tool axis only: done where the tool stands
-            end = list(cur)
-            end[nidx] = r.end[nidx]
-            new = [_motion_like(r, cur, (end[0], end[1], end[2]), getattr(r, "feed", 0.0))]
-        out.extend(new)
-        cur = new[-1].end
     return out
 
 

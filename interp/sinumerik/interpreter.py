@@ -24,6 +24,7 @@ import math
 from .. import canon
 from ..canon import Src
 from ..core import arc_centre
+from ..core.compensation import compensate_records
 from ..errors import CutsimError
 from ..modal import InterpConfig, ModalMachine, PLANE_AXES
 from . import corners as corner, drilling as drill, fast as sinumerik_fast, machine
@@ -32,7 +33,6 @@ from .flow import Flow
 from .syntax import (Assign, Branch, Call, Case, Command, COORD_LIMIT, Def, Frame, Goto, Line, range_message, Repeat,
     Ret, SubCall, Unit, Word)
 from .reader import split_units
-from .cycle import compensate_records
 from .milling import run_cycle
 from .tables import AXIS_LETTER, call_name, LANG_CALLS
 from .values import Block, Slot, Value, Values
@@ -316,7 +316,8 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
         buf, self.comp_buf = self.comp_buf, None
         side = 1 if self.comp == 41 else -1
         r = self.tool_radius()
-        recs = compensate_records(self, buf, side * r, self.plane, src_g40 is not None, self.comp_src)
+        recs = compensate_records(buf, side * r, self.plane, src_g40 is not None, True, False,
+                                  lambda rec, msg: self.error(rec.src.line, rec.src.col, msg), strict=False)
         self.program.records.extend(recs)
         self.comp = 40
         # the position is where the last emitted motion ends
