@@ -11,6 +11,7 @@ import re
 import unicodedata
 from dataclasses import dataclass, field
 
+from ..core.lexer import permitted_range
 from ..errors import CutsimError
 
 
@@ -90,21 +91,10 @@ RANGES = {**{a: (-COORD_LIMIT, COORD_LIMIT, "mm") for a in ("X", "Y", "Z", "I", 
           "R": (-COORD_LIMIT, COORD_LIMIT, "mm"), "Q": (0.0, COORD_LIMIT, "mm")}
 
 
-def _fmt(v: float) -> str:
-    """99999.9999 -> '99 999.9999' (groups of three as in the docs)."""
-    whole, _, frac = f"{abs(v):.4f}".rstrip("0").rstrip(".").partition(".")
-    groups = []
-    while len(whole) > 3:
-        groups.insert(0, whole[-3:])
-        whole = whole[:-3]
-    groups.insert(0, whole)
-    return ("-" if v < 0 else "") + " ".join(groups) + ("." + frac if frac else "")
-
-
 def range_message(what: str, value: float, lo: float, hi: float, unit: str = "") -> str:
     """The one message for a value beyond its range (the manuals' "value exceeds the permitted range")."""
     shown = f"{value:.10g}" if math.isfinite(value) else str(value)
-    return f"{what} = {shown}: value exceeds the permitted range {_fmt(lo)} to {_fmt(hi)}{' ' + unit if unit else ''}"
+    return f"{what} = {shown}: value {permitted_range(lo, hi, unit)}"
 
 
 def foreign_char(ch: str) -> str:
