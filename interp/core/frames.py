@@ -20,6 +20,29 @@ def mat_mul(A, B) -> tuple:
     return tuple(tuple(sum(A[i][k] * B[k][j] for k in range(3)) for j in range(3)) for i in range(3))
 
 
+def det(a: Mat) -> float:
+    """The determinant of ``a``."""
+    return (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+
+
+def cofactor(a: Mat) -> Mat:
+    """The cofactor matrix: maps a plane's normal to the normal of its image, orientation kept
+    (det(A) A^-T)."""
+    def c(i, j):
+        r = [k for k in range(3) if k != i]
+        s = [k for k in range(3) if k != j]
+        return (-1) ** (i + j) * (a[r[0]][s[0]] * a[r[1]][s[1]] - a[r[0]][s[1]] * a[r[1]][s[0]])
+    return tuple(tuple(c(i, j) for j in range(3)) for i in range(3))  # type: ignore
+
+
+def inverse(a: Mat) -> Mat:
+    """``a^-1`` of any invertible matrix (scaling frames included), by cofactors."""
+    d = det(a)
+    c = cofactor(a)
+    return tuple(tuple(c[j][i] / d for j in range(3)) for i in range(3))  # type: ignore
+
+
 def turn(deg: float, a: int, c: int) -> Mat:
     """The rotation by ``deg`` degrees in the plane of axes ``a`` -> ``c`` (positive from a towards c:
     counter-clockwise in G17 seen from +Z); whole quarter turns are exact."""
@@ -68,6 +91,14 @@ class Affine:
     def linear(self, v) -> tuple:
         """The direction ``v`` mapped (no translation)."""
         return mat_vec(self.L, v)
+
+    def identity(self) -> bool:
+        """Whether the frame changes nothing."""
+        return self.L == IDENTITY and self.t == ZERO
+
+    def inverse_linear(self, v) -> tuple:
+        """The direction ``v`` mapped back (any invertible L, scaling included)."""
+        return v if self.L == IDENTITY else mat_vec(inverse(self.L), v)
 
     def inverse_apply(self, q) -> list:
         """Program coordinates of the machine point ``q`` (L orthogonal: rotations and mirrorings)."""

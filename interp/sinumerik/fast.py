@@ -25,7 +25,7 @@ import dataclasses
 import re
 
 from .syntax import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
-from .frames import ZERO
+from ..core.frames import ZERO
 from .machine import MACHINE_G
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"

@@ -26,7 +26,8 @@ from dataclasses import dataclass, field, replace
 from .. import canon
 from ..errors import CutsimError
 from ..modal import PLANE_AXES, InterpConfig
-from .frames import _apply, _cof, _diag, _inv, _mul, _rot, Affine, IDENT, Mat, ZERO
+from ..core.frames import Affine, cofactor, IDENTITY, mat_mul, Mat, ZERO
+from .frames import _diag, _rot
 from .syntax import COORD_LIMIT, KNOWN_M, range_message
 
 INCH = 25.4
@@ -133,7 +134,7 @@ class Machine:
 
     def linear_part(self) -> Mat:
         u = self.unit()
-        a = IDENT if self.suppress else self.frame.a
+        a = IDENTITY if self.suppress else self.frame.L
         return tuple(tuple(v * u for v in r) for r in a)  # type: ignore
 
     def identity(self) -> bool:
@@ -143,7 +144,7 @@ class Machine:
         """A WCS point in mm (program units already x 25.4) -> machine mm."""
         if self.suppress:
             return (p[0], p[1], p[2])
-        q = _apply(self.frame.a, p)
+        q = self.frame.linear(p)
         t, o = self.frame.t, self.offset
         return (q[0] + t[0] + o[0], q[1] + t[1] + o[1], q[2] + t[2] + o[2])
 
@@ -153,9 +154,7 @@ class Machine:
             return (p[0], p[1], p[2])
         t, o = self.frame.t, self.offset
         d = (p[0] - t[0] - o[0], p[1] - t[1] - o[1], p[2] - t[2] - o[2])
-        if self.frame.a == IDENT:
-            return d
-        return _apply(_inv(self.frame.a), d)
+        return self.frame.inverse_linear(d)
 
     def warn_once(self, m, src, key: str, message: str) -> None:
         if key in self.warned:
@@ -321,7 +320,7 @@ def suppress(m, ms: Machine, what: str) -> None:
 def flipped(ms: Machine, plane: str) -> bool:
     """True when the frame turns the plane over (an odd number of mirrors): G2 <-> G3, G41 <-> G42."""
     n = PLANE_AXES[plane][2]
-    return _cof(ms.linear_part())[n][n] < 0
+    return cofactor(ms.linear_part())[n][n] < 0
 
 
 # -- hook: settings (frames, accepted commands, cycles under a frame, feed units) --------------------
@@ -428,7 +427,7 @@ def frame(m, ms: Machine, name: str, words: dict, line: int, col: int) -> None:
     base = name[1:] if additive else name
     u = ms.unit()
     if base == "TRANS":
-        step = Affine(IDENT, tuple(vals.get(a, (0.0, 0))[0] * u for a in AXES))  # type: ignore
+        step = Affine(IDENTITY, tuple(vals.get(a, (0.0, 0))[0] * u for a in AXES))  # type: ignore
     elif base == "ROT":
         step = Affine(rotation(m, ms, vals, name, line, col), ZERO)
     elif base == "SCALE":
@@ -448,7 +447,7 @@ def frame(m, ms: Machine, name: str, words: dict, line: int, col: int) -> None:
             raise m.error(line, vals["RPL"][1], f"RPL has no meaning in a {name} block")
         step = Affine(_diag(*(-1.0 if a in vals else 1.0 for a in AXES)), ZERO)
     new = ms.frame.then(step) if additive else step
-    scales = [math.sqrt(sum(new.a[i][j] ** 2 for i in range(3))) for j in range(3)]
+    scales = [math.sqrt(sum(new.L[i][j] ** 2 for i in range(3))) for j in range(3)]
     if not all(SCALE_MIN <= f <= SCALE_MAX for f in scales):
         raise m.error(line, col, f"{name}: the frame would scale by {max(scales, key=lambda f: abs(math.log(f or 1e-300))):.6g}, "
                       f"beyond the permitted {SCALE_MIN:g} to {SCALE_MAX:g}")
@@ -464,10 +463,10 @@ def rotation(m, ms: Machine, vals: dict, name: str, line: int, col: int) -> Mat:
         if extra:
             raise m.error(line, vals[extra[0]][1], f"{name}: RPL= and an axis angle in one block")
         return _rot(PLANE_AXES[m.plane][2], vals["RPL"][0])
-    r = IDENT
+    r = IDENTITY
     for a in ("Z", "Y", "X"):
         if a in vals:
-            r = _mul(r, _rot(AXES.index(a), vals[a][0]))
+            r = mat_mul(r, _rot(AXES.index(a), vals[a][0]))
     return r
 
 
@@ -503,8 +502,8 @@ def in_wcs(m, fn, name: str, line: int, col: int) -> None:
         return
     if ms.inch:
         raise m.error(line, col, f"{name} under G70/G700 (inch) is not modelled: the cycles work in mm")
-    a = ms.frame.a if not ms.suppress else IDENT
-    g = _mul(tuple(zip(*a)), a)  # type: ignore  # A^T A: I for a rotation or a mirror
+    a = ms.frame.L if not ms.suppress else IDENTITY
+    g = mat_mul(tuple(zip(*a)), a)  # type: ignore  # A^T A: I for a rotation or a mirror
     if any(abs(g[i][j] - (1.0 if i == j else 0.0)) > 1e-9 for i in range(3) for j in range(3)):
         raise m.error(line, col, f"{name} under SCALE is not modelled: the tool would have to scale too")
     run_mapped(m, ms, fn)
@@ -561,7 +560,7 @@ def plane_image(m, ms: Machine, plane: str, line: int, col: int) -> bool:
     if abs(la - lb) > 1e-9 * max(la, lb) or abs(sum(x * y for x, y in zip(ea, eb))) > 1e-9 * la * lb:
         raise m.error(line, col, "a circle under SCALE with different factors for the axes of its plane would be an "
                       "ellipse: not modelled")
-    return _cof(lin)[n][n] < 0
+    return cofactor(lin)[n][n] < 0
 
 
 # -- hook: move (the programmed point into the machine) ------------------------------------------------
