@@ -20,6 +20,20 @@ from .lexer import Word
 ANY_NUMBER = r"(?>[+\-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+))"
 
 
+def plain_patterns(letters: str, digits: int | None, label: str, comment: str = ""):
+    """The two regular expressions of a plain line (see PlainReader): the whole line (group 1: the
+    block number's digits as ``label`` captures them, group 2: the words) and one word (letter,
+    number, the blanks after it). ``letters`` in upper case; lower case is accepted too."""
+    cls = letters + letters.lower()
+    if digits is None:
+        num, guard, group = ANY_NUMBER, "", "(?>"
+    else:
+        d = digits
+        num, guard, group = rf"[+\-]?(?:[0-9]{{1,{d}}}(?:\.[0-9]{{0,{d}}})?|\.[0-9]{{1,{d}}})", "(?![0-9.])", "(?:"
+    line = re.compile(rf"[ \t]*(?:{label}[ \t]*)?({group}[{cls}]{num}{guard}[ \t]*)*){comment}")
+    return line, re.compile(rf"([{cls}])({num})([ \t]*)")
+
+
 class PlainReader:
     """``read(text)``: (block number or None, words) for a plain line, None for any other.
 
@@ -30,14 +44,7 @@ class PlainReader:
     ``comment``: the pattern of a comment allowed at the end of the line ("" for none)."""
 
     def __init__(self, letters: str, limits: dict[str, float], digits: int | None, label: str, comment: str = ""):
-        cls = letters + letters.lower()
-        if digits is None:
-            num, guard, group = ANY_NUMBER, "", "(?>"
-        else:
-            d = digits
-            num, guard, group = rf"[+\-]?(?:[0-9]{{1,{d}}}(?:\.[0-9]{{0,{d}}})?|\.[0-9]{{1,{d}}})", "(?![0-9.])", "(?:"
-        self.line = re.compile(rf"[ \t]*(?:{label}[ \t]*)?({group}[{cls}]{num}{guard}[ \t]*)*){comment}")
-        self.word = re.compile(rf"([{cls}])({num})([ \t]*)")
+        self.line, self.word = plain_patterns(letters, digits, label, comment)
         self.limits = {c: (k, limits[k]) for k in letters for c in (k, k.lower())}
 
     def read(self, text: str):

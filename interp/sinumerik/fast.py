@@ -22,19 +22,15 @@ first lines of Sinumerik.block (issue 13). Same test, with it on and off.
 from __future__ import annotations
 
 import dataclasses
-import re
 
 from .syntax import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
+from ..core.fast import plain_patterns
 from ..core.frames import ZERO
 from .machine import MACHINE_G
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"
-_CLASS = _LETTERS + _LETTERS.lower()
-_NUM = r"[+\-]?(?:[0-9]{1,12}(?:\.[0-9]{0,12})?|\.[0-9]{1,12})"
-PLAIN_LINE = re.compile(
-    rf"[ \t]*(?:[Nn]([0-9]{{1,12}})(?![0-9.])[ \t]*)?((?:[{_CLASS}]{_NUM}(?![0-9.])[ \t]*)*)(?s:;.*)?")
-PLAIN_WORD = re.compile(rf"([{_CLASS}])({_NUM})([ \t]*)")
-_UPPER = {c: c.upper() for c in _CLASS}
+PLAIN_LINE, PLAIN_WORD = plain_patterns(_LETTERS, 12, r"[Nn]([0-9]{1,12})(?![0-9.])", r"(?s:;.*)?")
+_UPPER = {c: c.upper() for c in _LETTERS + _LETTERS.lower()}
 
 
 def _fields(cls) -> dict | None:
