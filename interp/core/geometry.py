@@ -37,11 +37,12 @@ def arc_centre(pos, plane: str, diameter: bool, offsets: dict[int, float]) -> li
     return centre
 
 
-def radius_centre(start, end, r: float, plane: str, clockwise: bool, diameter: bool = False) -> tuple:
+def radius_centre(start, end, r: float, plane: str, clockwise: bool, diameter: bool = False,
+                  slack: float = RADIUS_SLACK) -> tuple:
     """The centre of the arc ``start`` -> ``end`` in ``plane`` with radius ``r``: the shorter arc for
     r > 0, the longer one for r < 0 (the centre on the left of the chord for a short counter-clockwise
     arc). Raises FullCircle when start and end coincide in the plane and RadiusTooSmall when the chord
-    exceeds the diameter by more than RADIUS_SLACK."""
+    exceeds the diameter by more than ``slack`` (RADIUS_SLACK unless the dialect says)."""
     a, c, _ = PLANE_AXES[plane]
     k = 0.5 if diameter else 1.0  # X as a diameter
 
@@ -53,7 +54,7 @@ def radius_centre(start, end, r: float, plane: str, clockwise: bool, diameter: b
     chord = math.hypot(dx, dy)
     if chord < 1e-9:
         raise FullCircle()
-    if chord > 2 * abs(r) + RADIUS_SLACK:
+    if chord > 2 * abs(r) + slack:
         raise RadiusTooSmall(chord)
     h = math.sqrt(max(r * r - chord * chord / 4, 0.0))
     side = (-1.0 if clockwise else 1.0) * (1.0 if r > 0 else -1.0)

@@ -19,11 +19,11 @@ What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinu
 """
 from __future__ import annotations
 
-import math
 
 from .. import canon
 from ..canon import Src
 from ..core import arc_centre
+from ..core.geometry import FullCircle, radius_centre, RadiusTooSmall
 from ..core.compensation import compensate_records
 from ..errors import CutsimError
 from ..modal import InterpConfig, ModalMachine, PLANE_AXES
@@ -37,6 +37,8 @@ from .milling import run_cycle
 from .tables import AXIS_LETTER, call_name, LANG_CALLS
 from .values import Block, Slot, Value, Values
 from .words import Words
+
+CR_SLACK = 1e-6  # how much the chord of a CR= circle may exceed its diameter (mm)
 
 
 class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
@@ -265,7 +267,7 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
         centre = self.radius_centre(line, words, end, cw) if "CR" in words else self.given_centre(line, words)
         self.arc(src, end, (centre[0], centre[1], centre[2]), cw)
 
-    def radius_centre(self, line: int, words: dict[str, Value], end, cw: bool) -> list[float]:
+    def radius_centre(self, line: int, words: dict[str, Value], end, cw: bool) -> tuple:
         """The centre of a CR= circle: on the left of the chord for CCW with the short arc (CR > 0),
         on the right for CW; a negative CR takes the long way."""
         a, b, _ = PLANE_AXES[self.plane]
@@ -275,19 +277,12 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
             raise self.error(line, ccol, "a circle takes either CR= or its centre I/J/K, not both")
         if r == 0:
             raise self.error(line, ccol, "CR must not be 0")
-        p0 = (self.pos[a], self.pos[b])
-        p1 = (end[a], end[b])
-        dx, dy = p1[0] - p0[0], p1[1] - p0[1]
-        d = math.hypot(dx, dy)
-        if d < 1e-9:
-            raise self.error(line, ccol, "a CR= circle needs an end point different from its start")
-        if d > 2 * abs(r) + 1e-6:
-            raise self.error(line, ccol, f"CR={r:g} is too small: the end point is {d:.4f} mm from the start")
-        h = math.sqrt(max(r * r - d * d / 4, 0.0))
-        sgn = (1 if not cw else -1) * (1 if r > 0 else -1)
-        mx, my = (p0[0] + p1[0]) / 2, (p0[1] + p1[1]) / 2
-        centre = list(self.pos)
-        centre[a], centre[b] = mx - sgn * h * dy / d, my + sgn * h * dx / d
+        try:  # the chord may exceed 2 CR by CR_SLACK only (not the core default RADIUS_SLACK)
+            centre = radius_centre(self.pos, end, r, self.plane, cw, slack=CR_SLACK)
+        except FullCircle:
+            raise self.error(line, ccol, "a CR= circle needs an end point different from its start") from None
+        except RadiusTooSmall as e:
+            raise self.error(line, ccol, f"CR={r:g} is too small: the end point is {e.chord:.4f} mm from the start") from None
         for i in (a, b):
             self.in_range(line, ccol, "XYZ"[i], centre[i], "the arc centre")
         return centre

@@ -169,6 +169,19 @@ def test_g41_arc_radius_changes():
     assert e.value.line == 4 and "does not fit" in e.value.message
 
 
+@pytest.mark.parametrize("excess, refused", [(0.5e-6, False), (5e-6, True), (5e-5, True)])
+def test_cr_circle_may_be_too_small_by_one_micron_only(excess, refused):
+    """A CR= half circle whose chord exceeds 2 CR: within 1e-6 mm it is the half circle (centre at
+    the chord's middle); beyond it is refused, also within the core's wider default slack 1e-4."""
+    text = f"G90 G17 F100\nG1 X0 Y0 Z0\nG2 X{20 + excess:.7f} Y0 CR=10\nM30\n"
+    if refused:
+        with pytest.raises(CutsimError) as e:
+            moves(text)
+        assert e.value.line == 3 and "CR=10 is too small" in e.value.message
+    else:
+        assert moves(text).moves[-1].center[:2] == pytest.approx(((20 + excess) / 2, 0), abs=1e-9)
+
+
 @pytest.mark.parametrize("text, line, col, message", [
     ("G1 X10\nG7 X1\n", 2, 1, "unknown G code G7"),
     ("G1 X1.2.3\n", 1, 5, "malformed number"),
