@@ -22,11 +22,7 @@ from cutsim.reports.output import MARKER, STAGING_PREFIX
 LATHE = EXAMPLES / "cnc8x6-lathe"
 PROG = LATHE / "multipass.nc"
 SETUP = LATHE / "multipass.toml"
-SLOW_TOL = "0.0002"
 # twelve passes on twelve helices (start offsets 0, 30, ..., 330: no two sweep as one group) take
-# several seconds at SLOW_TOL: time to kill a run mid-way (multipass.nc itself now takes < 1 s)
-SLOW_PROG = Path(__file__).resolve().parents[1] / "checks" / "slow-thread.nc"
-SLOW_SETUP = SLOW_PROG.with_suffix(".toml")
 
 
 def cli(*args):
@@ -39,11 +35,45 @@ def simulate(out, *extra, prog=PROG, tol="0.05"):
     return res
 
 
-def spawn(out, *extra, tol=SLOW_TOL, **kw):
-    prog, setup = (SLOW_PROG, SLOW_SETUP) if tol == SLOW_TOL else (PROG, SETUP)
-    return subprocess.Popen([sys.executable, "-m", "cutsim", "simulate", str(prog), "--setup", str(setup),
+# Runs the CLI with the material removal held: the child writes READY when it is inside the
+# simulation and waits there, so a signal sent after READY lands mid-run however loaded the
+# machine is (a timed sleep could land in the final commit, where signals are held back).
+HOLD_IN_REMOVAL = """
+import pathlib, sys, time
+import cutsim.stock as stock
+from cutsim.cli import main
+
+ready, real = pathlib.Path(sys.argv[1]), stock.remove
+
+def remove(*a, **k):
+    ready.write_text("in the simulation")
+    time.sleep(600)  # ended by the test's signal
+    return real(*a, **k)
+
+stock.remove = remove
+main(sys.argv[2:])
+"""
+
+
+def spawn(out, *extra, tol="0.05", **kw):
+    return subprocess.Popen([sys.executable, "-m", "cutsim", "simulate", str(PROG), "--setup", str(SETUP),
                              "--out", str(out), "--tolerance", tol, "-q", *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+
+
+def spawn_held(out, ready: Path):
+    """A run stopped inside the simulation once ``ready`` exists (HOLD_IN_REMOVAL)."""
+    return subprocess.Popen([sys.executable, "-c", HOLD_IN_REMOVAL, str(ready), "simulate", str(PROG), "--setup",
+                             str(SETUP), "--out", str(out), "--tolerance", "0.05", "-q"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def wait_held(proc, ready: Path, timeout=120.0):
+    t0 = time.monotonic()
+    while not ready.exists():
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() - t0 < timeout, "the run never reached the simulation"
+        time.sleep(0.02)
 
 
 def snapshot(d: Path) -> dict:
@@ -60,14 +90,6 @@ def staging_dirs(parent: Path) -> list[Path]:
 
 def marker(d: Path) -> list[str]:
     return json.loads((d / MARKER).read_text())["files"]
-
-
-def wait_for_staging(proc, parent: Path, timeout=60.0):
-    t0 = time.monotonic()
-    while not staging_dirs(parent):
-        assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() - t0 < timeout, "no staging directory appeared"
-        time.sleep(0.02)
 
 
 @pytest.fixture
@@ -167,10 +189,10 @@ def test_write_error_at_commit_exits_2_and_keeps_previous_output(previous):
 def test_sigkill_mid_run_leaves_previous_output_byte_identical(previous):
     (previous / "notes.txt").write_text("mine")
     before = snapshot(previous)
-    proc = spawn(previous)
-    wait_for_staging(proc, previous.parent)
-    time.sleep(0.5)  # well into the simulation
-    assert proc.poll() is None, "the run ended before it could be killed: use a slower one"
+    ready = previous.parent / "ready"
+    proc = spawn_held(previous, ready)
+    wait_held(proc, ready)
+    assert staging_dirs(previous.parent), "the staging directory is made before the simulation"
     proc.kill()
     proc.communicate(timeout=60)
     assert proc.returncode == -signal.SIGKILL
@@ -242,10 +264,9 @@ def test_sigkill_in_a_per_file_commit_never_loses_track(previous):
                                              (signal.SIGTERM, 143, "terminated")])
 def test_interrupt_mid_run_exits_cleanly(previous, sig, code, word):
     before = snapshot(previous)
-    proc = spawn(previous)
-    wait_for_staging(proc, previous.parent)
-    time.sleep(0.5)
-    assert proc.poll() is None, "the run ended before it could be interrupted: use a slower one"
+    ready = previous.parent / "ready"
+    proc = spawn_held(previous, ready)
+    wait_held(proc, ready)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == code, err
