@@ -68,7 +68,7 @@ def warm_imports() -> None:
     import importlib
 
     for m in ("cutsim.kinematics", "cutsim.stock", "cutsim.stock.removal", "cutsim.reports", "cutsim.reports.report",
-              "cutsim.reports.output", "cutsim.reports.mesh", "cutsim.interp.cnc8x6", "cutsim.interp.isg", "pyclipper"):
+              "cutsim.output", "cutsim.reports.mesh", "cutsim.interp.cnc8x6", "cutsim.interp.isg", "pyclipper"):
         importlib.import_module(m)
 
 

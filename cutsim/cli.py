@@ -257,7 +257,7 @@ def run_simulate(program, setup_path, out_dir, tolerance, images=False, quiet=Fa
     out = None
     try:
         import cutsim
-        from cutsim.reports.output import Output
+        from cutsim.output import Output
         from cutsim.reports.report import mesh_arrays, part_bytes, report_bytes
 
         if tolerance is not None and not (MIN_TOLERANCE <= tolerance <= 1.0):

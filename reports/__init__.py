@@ -1,5 +1,4 @@
-"""Reports: report.json, mesh export, the output transaction, and (loaded only when asked) pyvista images."""
-from .output import write_outputs
+"""Reports: report.json, mesh export and (loaded only when asked) pyvista images and report.html."""
 from .report import build_report
 
-__all__ = ["build_report", "write_outputs"]
+__all__ = ["build_report"]

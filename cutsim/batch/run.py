@@ -166,7 +166,7 @@ class _State:
         files = {n: b for n, b in (raw.get("files") or {}).items() if n != ".cutsim-output.json"}
         if files and rec["status"] != "interrupted" and rec["exit"] in SIMULATED_EXITS:
             try:
-                from cutsim.reports.output import write_outputs
+                from cutsim.output import write_outputs
 
                 write_outputs(os.path.join(self.out, j.name), files)
             except (CutsimError, OSError) as e:

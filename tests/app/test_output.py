@@ -17,7 +17,7 @@ from click.testing import CliRunner
 
 from conftest import EXAMPLES
 from cutsim.cli import main
-from cutsim.reports.output import MARKER, STAGING_PREFIX
+from cutsim.output import MARKER, STAGING_PREFIX
 
 LATHE = EXAMPLES / "cnc8x6-lathe"
 PROG = LATHE / "multipass.nc"
@@ -206,7 +206,7 @@ def test_sigkill_mid_run_leaves_previous_output_byte_identical(previous):
 
 KILL_AT = """
 import os, signal, sys, types
-import cutsim.reports.output as o
+import cutsim.output as o
 from cutsim.cli import main
 
 def die(*a, **k):
@@ -345,7 +345,7 @@ def test_bad_out_targets_exit_2_naming_the_path(tmp_path):
 
 
 def test_write_outputs_api(tmp_path):
-    from cutsim.reports import write_outputs
+    from cutsim.output import write_outputs
 
     out = tmp_path / "o"
     write_outputs(str(out), {"a.txt": b"1", "b.txt": b"2"})
@@ -359,7 +359,7 @@ def test_write_outputs_api(tmp_path):
 
 
 def test_without_renameat2_the_commit_is_per_file(tmp_path, monkeypatch):
-    import cutsim.reports.output as output
+    import cutsim.output as output
 
     monkeypatch.setattr(output, "_RENAMEAT2", [None])  # as off Linux or on an old kernel
     out = tmp_path / "o"
