@@ -9,6 +9,7 @@ here (docs/architecture.md, "How to add a dialect").
 from __future__ import annotations
 
 import gc
+import re
 from dataclasses import dataclass
 from importlib import import_module
 
@@ -36,6 +37,46 @@ _SINUMERIK_WORK_OFFSETS = WorkOffsets(
 
 
 @dataclass(frozen=True)
+class VariableNames:
+    """The names a setup's [variables] may give: values the dialect's programs read from the
+    controller that only the setup can say (system variables, PLC data, global user data).
+
+    ``pattern``: a regular expression the whole name must match, upper-cased and with the spaces
+    inside ``[ ]`` removed; empty when the dialect's programs read no such values. ``accepts``: the
+    error message for any other name: what the dialect accepts, with ``examples`` (each of them
+    matches the pattern), or, without a pattern, where such values go instead."""
+
+    pattern: str = ""
+    accepts: str = "this dialect reads no [variables]"
+    examples: tuple[str, ...] = ()
+
+    def matches(self, name: str) -> bool:
+        return bool(self.pattern) and re.fullmatch(self.pattern, name) is not None
+
+
+_IDENT = r"[A-Z_][A-Z0-9_]*"
+_INDEX = r"\[[A-Z0-9_.+\-]+(?:,[A-Z0-9_.+\-]+)*\]"  # Sinumerik: [5], [X1], [1,X,TR]
+_WHOLE = r"\[(?:0|[1-9][0-9]*)\]"  # ISG: one whole number per bracket, printed as the program's key prints it
+
+_SINUMERIK_VARIABLES = VariableNames(
+    rf"\$?{_IDENT}(?:{_INDEX})*",
+    "a Sinumerik variable is a system variable ($P_TOOLNO, $A_DBB[5], $MA_JOG_VELO[X1], $P_UIFR[1,X,TR]) "
+    "or a global user data name (MYDATA, GUD_ARR[2]), written without spaces",
+    ("$P_TOOLNO", "$A_DBB[5]", "$MA_JOG_VELO[X1]", "$P_UIFR[1,X,TR]", "MYDATA", "GUD_ARR[2]"))
+_ISG_VARIABLES = VariableNames(
+    rf"V\.[EG]\.{_IDENT}(?:{_WHOLE})*(?:\.{_IDENT}(?:{_WHOLE})*)*",
+    "an ISG variable the setup gives is external or global: V.E.NAME or V.G.NAME, with more .FIELD "
+    "parts and whole-number indexes (V.E.SPEED, V.G.WZ[2].L), written without spaces; V.P., V.L. and "
+    "V.S. variables are declared in the program (#VAR ... #ENDVAR)",
+    ("V.E.SPEED", "V.G.WZ[2].L"))
+_CNC8X6_VARIABLES = VariableNames(
+    "", "CNC8x6 programs read no variables; their R parameters are set in [parameters] (R4 = ...)")
+_RS274NGC_VARIABLES = VariableNames(
+    "", "RS274NGC programs read no [variables]: LinuxCNC's numbered parameters come from [machine] "
+        "parameter_file (its .var file), and named parameters (#<_name>) are set by the program")
+
+
+@dataclass(frozen=True)
 class Dialect:
     """One registry entry.
 
@@ -45,6 +86,7 @@ class Dialect:
     say (``[machine] diameter_programming``); mills always program radii.
     ``extensions``: the file extensions its programs and subprograms usually have.
     ``work_offsets``: the settable work offsets a setup may give ([work_offsets]).
+    ``variables``: the names a setup's [variables] may give.
     """
 
     module: str
@@ -52,16 +94,18 @@ class Dialect:
     extensions: tuple[str, ...]
     title: str
     work_offsets: WorkOffsets = WorkOffsets()
+    variables: VariableNames = VariableNames()
 
 
 DIALECTS: dict[str, Dialect] = {
     # CNC8x6 lathes program diameters; ISG and Sinumerik start in radius mode (G52 / DIAMOF) and
     # switch in the program.
-    "cnc8x6": Dialect(".cnc8x6", True, (".nc",), "MEFI CNC8x6"),
-    "isg": Dialect(".isg", False, (".nc",), "Beckhoff TwinCAT CNC (ISG kernel)"),
+    "cnc8x6": Dialect(".cnc8x6", True, (".nc",), "MEFI CNC8x6", variables=_CNC8X6_VARIABLES),
+    "isg": Dialect(".isg", False, (".nc",), "Beckhoff TwinCAT CNC (ISG kernel)", variables=_ISG_VARIABLES),
     "sinumerik": Dialect(".sinumerik", False, (".mpf", ".spf", ".nc"), "Siemens Sinumerik 840D",
-                         _SINUMERIK_WORK_OFFSETS),
-    "rs274ngc": Dialect(".rs274ngc", False, (".ngc", ".nc", ".tap"), "RS274NGC (LinuxCNC 2.9)"),
+                         _SINUMERIK_WORK_OFFSETS, _SINUMERIK_VARIABLES),
+    "rs274ngc": Dialect(".rs274ngc", False, (".ngc", ".nc", ".tap"), "RS274NGC (LinuxCNC 2.9)",
+                        variables=_RS274NGC_VARIABLES),
 }
 
 
@@ -91,5 +135,5 @@ def interpret(name: str, text: str, cfg: InterpConfig) -> Program:
             gc.enable()
 
 
-__all__ = ["CutsimError", "Dialect", "DIALECTS", "WorkOffsets", "InterpConfig", "Program", "interpret", "transcript",
+__all__ = ["CutsimError", "Dialect", "DIALECTS", "VariableNames", "WorkOffsets", "InterpConfig", "Program", "interpret", "transcript",
            "available_dialects", "dialect_module"]

@@ -54,7 +54,7 @@ def load(path: str, text: str, data: dict) -> Setup:
     stock, stock_where = read_stock(loc, Reader(loc, data["stock"], "stock"), sim)
     tools, tool_names = read_tools(loc, data.get("tool", []), m.spec.kind)
     checks = read_checks(loc, data.get("check", []), m.spec.kind)
-    variables = read_variables(loc, data.get("variables", {}))
+    variables = read_variables(loc, data.get("variables", {}), m.spec.dialect)
     work_offsets = read_work_offsets(loc, data.get("work_offsets", {}), m.spec.dialect)
     return Setup(path, m.spec, stock, tools, params, m.constants, sim.tolerance, sim.fail_on_warning, checks,
                  sim.max_blocks, sim.max_triangles, stock_where, axes=m.axes, m_functions=m.m_functions,

@@ -1,6 +1,6 @@
 """The [machine] table and what else only the setup can say about the machine the program runs on:
 [parameters], [variables] and [work_offsets] (docs/setup.md). The dialect's own knowledge (its
-default diameter programming, its settable work offsets) comes from its registry entry
+default diameter programming, its settable work offsets, its variable names) comes from its registry entry
 (interp.DIALECTS)."""
 from __future__ import annotations
 
@@ -22,11 +22,6 @@ _EXTERNAL_NAME = re.compile(r"[A-Z0-9_][A-Z0-9_.\-]*")
 # extra axis names: A B C U V W, optionally with a number (A1, C2), or two or three letters with a
 # number (SP1; Sinumerik channel axis names, written NAME=value in the program). X, Y, Z are the machine's own.
 _AXIS_NAME = re.compile(r"[ABCUVW][0-9]{0,2}|[A-Z]{2,3}[0-9]{1,2}")
-# [variables] names (upper case, spaces inside [] removed): Sinumerik system variables $NAME[i, j]...,
-# ISG V.<scope>.NAME[i].FIELD..., and plain names (Sinumerik global user data, NAME[i]).
-_IDENT = r"[A-Z_][A-Z0-9_]*"
-_INDEX = r"\[[A-Z0-9_.+\-]+(?:,[A-Z0-9_.+\-]+)*\]"
-_VAR_NAME = re.compile(rf"\${_IDENT}(?:{_INDEX})*|V\.[A-Z]+(?:\.{_IDENT}(?:{_INDEX})*)+|{_IDENT}(?:{_INDEX})*")
 
 
 @dataclass
@@ -194,10 +189,12 @@ def _external_subprograms(m: Reader) -> frozenset[str]:
     return frozenset(out)
 
 
-def read_variables(loc: Locator, table: dict) -> dict[str, float | str]:
+def read_variables(loc: Locator, table: dict, dialect: str) -> dict[str, float | str]:
     """[variables]: values of system variables, PLC data, machine data and global user data the
     program reads. Names upper-cased, spaces inside [] removed; an unquoted dotted ISG name
-    (V.G.X = 1, a nested table to TOML) is joined back with dots."""
+    (V.G.X = 1, a nested table to TOML) is joined back with dots. Which names a dialect accepts
+    comes from its registry entry (interp.VariableNames)."""
+    names = DIALECTS[dialect].variables
     out: dict[str, float | str] = {}
 
     todo: list[tuple[tuple, object]] = [((k,), v) for k, v in reversed(table.items())]
@@ -214,10 +211,8 @@ def read_variables(loc: Locator, table: dict) -> dict[str, float | str]:
             return CutsimError(loc.path, *at, head + message)
 
         name = re.sub(r"\[[^\]]*\]", lambda mt: re.sub(r"\s+", "", mt.group()), written.strip().upper())
-        if not _VAR_NAME.fullmatch(name):
-            raise fail("a variable name is a system variable ($P_TOOLNO, $A_DBB[5], $MA_JOG_VELO[X1]), an "
-                       "ISG V. variable (V.G.NAME, V.E.SPEED) or a global user data name (MYDATA[2]), "
-                       "written without spaces")
+        if not names.matches(name):
+            raise fail(names.accepts)
         if re.fullmatch(r"R[0-9]+", name):
             raise fail(f"R parameters are set in [parameters] ({name} = ...)")
         if name in out:

@@ -15,6 +15,7 @@ from click.testing import CliRunner
 import cutsim
 from cutsim import CutsimError, interp_config
 from cutsim.cli import main
+from cutsim.interp import DIALECTS
 
 BASE = """\
 [machine]
@@ -201,7 +202,11 @@ def test_a_64_character_name_is_accepted(tmp_path):
 
 
 # -- [variables] --------------------------------------------------------------------------------------
-def test_variables_reach_the_interpreter(tmp_path):
+def on(dialect: str, text: str = BASE) -> str:
+    return text.replace('dialect = "sinumerik"', f'dialect = "{dialect}"', 1)
+
+
+def test_sinumerik_variables_reach_the_interpreter(tmp_path):
     text = BASE + """
 [variables]
 "$P_TOOLNO" = 3
@@ -209,40 +214,96 @@ def test_variables_reach_the_interpreter(tmp_path):
 "$MA_JOG_VELO[X1]" = 2000.5
 "$P_UIFR[1, X, TR]" = -2.5
 " $TC_DP1[1,1] " = 120
-V.G.NAME = 1
-"V.E.SPEED" = 800
-"V.G.WZ[2].L" = true
-"V.P.FLAG" = false
 MYDATA = "text as written"
 "GUD_ARR[2]" = 4
-
-[variables.V.L]
-COUNT = 7
+FLAG = true
 """
     c = config(tmp_path, text)
     assert c.variables == {
         "$P_TOOLNO": 3.0, "$A_DBB[5]": 0.0, "$MA_JOG_VELO[X1]": 2000.5, "$P_UIFR[1,X,TR]": -2.5,
-        "$TC_DP1[1,1]": 120.0, "V.G.NAME": 1.0, "V.E.SPEED": 800.0, "V.G.WZ[2].L": 1.0, "V.P.FLAG": 0.0,
-        "MYDATA": "text as written", "GUD_ARR[2]": 4.0, "V.L.COUNT": 7.0}
+        "$TC_DP1[1,1]": 120.0, "MYDATA": "text as written", "GUD_ARR[2]": 4.0, "FLAG": 1.0}
     assert all(isinstance(v, float) for k, v in c.variables.items() if k != "MYDATA")
 
 
+def test_isg_variables_reach_the_interpreter(tmp_path):
+    text = on("isg", BASE + """
+[variables]
+V.G.NAME = 1
+"V.E.SPEED" = 800
+"v.g.wz[ 2 ].l" = true
+"V.E.ARR[0][10]" = false
+"V.G.TEXT" = "as written"
+
+[variables.V.E]
+COUNT = 7
+""")
+    c = config(tmp_path, text)
+    assert c.variables == {"V.E.ARR[0][10]": 0.0, "V.E.COUNT": 7.0, "V.E.SPEED": 800.0, "V.G.NAME": 1.0,
+                           "V.G.TEXT": "as written", "V.G.WZ[2].L": 1.0}
+
+
+def test_isg_program_reads_the_setup_variables(tmp_path):
+    """What the setup gives is what the program reads: X = V.E.X0 + V.G.STEP[1] * 2."""
+    setup = tmp_path / "setup.toml"
+    setup.write_text(on("isg", BASE + '\n[variables]\n"V.E.X0" = 10\n"V.G.STEP[1]" = 2.5\n'))
+    prog = tmp_path / "p.nc"
+    prog.write_text("%P\nG00 Z5\nG01 X[V.E.X0 + V.G.STEP[1] * 2] F100\nM30\n")
+    res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(setup)])
+    assert res.exit_code == 0, res.output
+    assert "FEED (25 20 5) -> (15 20 5) F100/min" in res.output  # from the start above the stock centre
+
+
+@pytest.mark.parametrize("name", [e for d in DIALECTS.values() for e in d.variables.examples])
+def test_every_example_a_message_lists_is_accepted(name):
+    """The examples each dialect's message gives are names it accepts, and the message lists them."""
+    owner = [d for d in DIALECTS.values() if name in d.variables.examples]
+    assert all(d.variables.matches(name) and name in d.variables.accepts for d in owner)
+
+
+@pytest.mark.parametrize("dialect,lines,needle,fragments", [
+    # Sinumerik: system variables and global user data; no ISG names, no spaces or open brackets
+    ("sinumerik", '"$A DBB[5]" = 0', '"$A DBB', ["[variables] $A DBB[5]", "a Sinumerik variable is"]),
+    ("sinumerik", '"$P_TOOLNO[" = 0', '"$P_TOOLNO[', ["a Sinumerik variable is", "$MA_JOG_VELO[X1]"]),
+    ("sinumerik", '"1ABC" = 0', '"1ABC"', ["a Sinumerik variable is"]),
+    ("sinumerik", '"V.G.NAME" = 0', '"V.G.NAME"', ["[variables] V.G.NAME", "a Sinumerik variable is"]),
+    ("sinumerik", "R4 = 1", "R4", ["R parameters are set in [parameters]"]),
+    # ISG: V.E. and V.G. only, whole-number indexes as the program prints them
+    ("isg", '"$P_TOOLNO" = 0', '"$P_TOOLNO"', ["an ISG variable the setup gives is external or global",
+                                                "V.G.WZ[2].L"]),
+    ("isg", '"V.P.FLAG" = 0', '"V.P.FLAG"', ["[variables] V.P.FLAG", "declared in the program"]),
+    ("isg", '"V..X" = 0', '"V..X"', ["an ISG variable"]),
+    ("isg", '"V.G.ARR[X]" = 0', '"V.G.ARR[X]"', ["whole-number indexes"]),
+    ("isg", '"V.G.ARR[02]" = 0', '"V.G.ARR[02]"', ["whole-number indexes"]),
+    ("isg", '"V.G.ARR[1,2]" = 0', '"V.G.ARR[1,2]"', ["whole-number indexes"]),
+    ("isg", "MYDATA = 0", "MYDATA", ["an ISG variable"]),
+    ("isg", "[variables.V.L]\nCOUNT = 7", "COUNT", ["[variables] V.L.COUNT", "declared in the program"]),
+    # CNC8x6 and RS274NGC read none: the message says where the values go
+    ("cnc8x6", '"$P_TOOLNO" = 0', '"$P_TOOLNO"', ["CNC8x6 programs read no variables", "[parameters]"]),
+    ("cnc8x6", "R4 = 1", "R4", ["[variables] R4", "R parameters are set in [parameters]"]),
+    ("rs274ngc", '"#<_depth>" = 1', '"#<_depth>"', ["[variables] #<_depth>", "RS274NGC programs read no [variables]",
+                                                   "parameter_file"]),
+    ("rs274ngc", '"#5220" = 1', '"#5220"', ["parameter_file"]),
+])
+def test_names_a_dialect_refuses(tmp_path, dialect, lines, needle, fragments):
+    text = on(dialect, BASE + "\n[variables]\n" + lines + "\n")
+    cli_error(tmp_path, text, needle, fragments)
+
+
 @pytest.mark.parametrize("lines,needle,fragments", [
-    ('"$A DBB[5]" = 0', '"$A DBB', ["[variables] $A DBB[5]", "a variable name is"]),
-    ('"$P_TOOLNO[" = 0', '"$P_TOOLNO[', ["a variable name is"]),
-    ('"1ABC" = 0', '"1ABC"', ["a variable name is"]),
-    ('"V..X" = 0', '"V..X"', ["a variable name is"]),
     ('"$P_TOOLNO" = 1\n"$p_toolno" = 2', '"$p_toolno"', ["$P_TOOLNO is given twice"]),
-    ("R4 = 1", "R4", ["R parameters are set in [parameters]"]),
     ('"$P_X" = [1, 2]', '"$P_X"', ["must be a number, a string or true/false"]),
     ('"$P_X" = nan', '"$P_X"', ["finite number"]),
     ('"$P_X" = 1e13', '"$P_X"', ["within -1e+12 to 1e+12"]),
     ('"$P_X" = "' + "s" * 201 + '"', '"$P_X"', ["at most 200 characters"]),
-    ("V.G.X.Y = 1\n\"V.G.X.Y\" = 2", '"V.G.X.Y"', ["V.G.X.Y is given twice"]),
 ])
 def test_bad_variables(tmp_path, lines, needle, fragments):
     text = BASE + "\n[variables]\n" + lines + "\n"
     cli_error(tmp_path, text, needle, fragments)
+
+
+def test_isg_dotted_name_given_twice(tmp_path):
+    text = on("isg", BASE + '\n[variables]\nV.G.X.Y = 1\n"V.G.X.Y" = 2\n')
+    cli_error(tmp_path, text, '"V.G.X.Y"', ["V.G.X.Y is given twice"])
 
 
 def test_variables_must_be_a_table(tmp_path):
@@ -252,7 +313,7 @@ def test_variables_must_be_a_table(tmp_path):
 
 def test_dotted_variable_error_points_at_its_key(tmp_path):
     # V.G.NAME unquoted is a dotted key: the error is on its line (at the name's last part)
-    text = BASE + "\n[variables]\nV.G.NAME = [1]\n"
+    text = on("isg", BASE + "\n[variables]\nV.G.NAME = [1]\n")
     cli_error(tmp_path, text, "NAME =", ["[variables] V.G.NAME", "must be a number"])
 
 
