@@ -16,7 +16,7 @@ import trimesh
 import cutsim
 from cutsim import assert_checks_pass, assert_matches_design, assert_thread
 
-HERE = Path(__file__).resolve().parents[1] / "checks"
+HERE = Path(__file__).resolve().parents[1] / "data" / "programs" / "checks"
 
 
 @pytest.fixture(scope="module")

@@ -18,8 +18,8 @@ circles of radius 4.5 (0.9 tool radii) and 9.8 and finishes on radius 10 about (
 (80 x 50, _MIDA 7) cuts ceil(50 / 7) + 1 = 9 lines 6.25 apart from X -10 (_FDP 5 + tool radius) to
 87 (_FDP1 2 + tool radius) at Z 1 and Z 0 (_MID 1 from _RFP 2).
 
-The test programs under tests/ that simulate (CNC8x6 and ISG) have golden files
-``tests_<folder>_<name>.txt`` with the setup their tests use (TEST_PROGRAMS), e.g. tests/mill/slot.nc
+The test programs under tests/data/programs/ that simulate (CNC8x6 and ISG) have golden files
+``tests_<folder>_<name>.txt`` with the setup their tests use (TEST_PROGRAMS), e.g. mill/slot.nc
 goes down to Z-3 at (20, 50) and cuts to X80 at F200.
 """
 from __future__ import annotations
@@ -89,7 +89,7 @@ def test_own_example_transcript(prog):
     assert res.output == golden.read_text()
 
 
-TESTS = Path(__file__).resolve().parents[1]
+TESTS = Path(__file__).resolve().parents[1] / "data" / "programs"
 # test programs that simulate, with the setup their tests use (the others are error cases)
 TEST_PROGRAMS = {
     "checks/multipass.nc": "checks/multipass.toml", "checks/multipass-shallow.nc": "checks/multipass.toml",

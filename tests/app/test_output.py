@@ -22,7 +22,6 @@ from cutsim.output import MARKER, STAGING_PREFIX
 LATHE = EXAMPLES / "cnc8x6-lathe"
 PROG = LATHE / "multipass.nc"
 SETUP = LATHE / "multipass.toml"
-# twelve passes on twelve helices (start offsets 0, 30, ..., 330: no two sweep as one group) take
 
 
 def cli(*args):

@@ -13,7 +13,7 @@ from cutsim.interp.errors import CutsimError
 from cutsim.testing import make_check_spec
 from cutsim.reports.checks import evaluate
 
-HERE = Path(__file__).resolve().parents[1] / "checks"
+HERE = Path(__file__).resolve().parents[1] / "data" / "programs" / "checks"
 
 
 def _sim(nc, toml, **kw):

@@ -33,6 +33,7 @@ from cutsim.reports.mesh import FORMATS, closed_by_position, closed_mesh, part_b
 from cutsim.reports.report import report_bytes
 
 HERE = Path(__file__).resolve().parents[1]
+PROGRAMS = HERE / "data" / "programs"  # the tests' own programs, ids tests/<folder>/<name>
 PROGRAM_SUFFIXES = {".nc", ".mpf", ".spf"}
 
 # Programs whose files leaked before the fix (edges shared by 4-14 faces once read back): they
@@ -72,9 +73,9 @@ def _example_cases():
 
 def _test_program_cases():
     cases = []
-    for prog in sorted(p for p in HERE.rglob("*") if p.suffix.lower() in PROGRAM_SUFFIXES):
-        rel = prog.relative_to(HERE)
-        if rel.parts[0] == "data" or rel.as_posix() in ERROR_PROGRAMS:
+    for prog in sorted(p for p in PROGRAMS.rglob("*") if p.suffix.lower() in PROGRAM_SUFFIXES):
+        rel = prog.relative_to(PROGRAMS)
+        if rel.as_posix() in ERROR_PROGRAMS:
             continue  # error programs: nothing is written
         setup = prog.with_suffix(".toml")
         if not setup.is_file() and rel.parts[0] == "checks":
@@ -86,7 +87,7 @@ def _test_program_cases():
         cases.append((f"tests/{rel.with_suffix('').as_posix()}", prog, setup))
     if EXAMPLES.is_dir():  # the shared threads on the short bar (tests/interp/isg/test_isg.py)
         for name in ("m70x1.5", "two-start"):
-            cases.append((f"tests/short/{name}", EXAMPLES / "isg-lathe" / f"{name}.nc", HERE / "isg" / "short.toml"))
+            cases.append((f"tests/short/{name}", EXAMPLES / "isg-lathe" / f"{name}.nc", PROGRAMS / "isg" / "short.toml"))
     return cases
 
 
@@ -315,6 +316,6 @@ def test_report_is_strict_json():
     def no_constants(name):
         raise AssertionError(f"non-standard JSON constant {name}")
 
-    r = cutsim.simulate(str(HERE / "mill" / "slot.nc"), str(HERE / "mill" / "plate.toml"), tolerance=0.05)
+    r = cutsim.simulate(str(PROGRAMS / "mill" / "slot.nc"), str(PROGRAMS / "mill" / "plate.toml"), tolerance=0.05)
     text = report_bytes(r.report).decode("utf-8")
     assert json.loads(text, parse_constant=no_constants) == json.loads(json.dumps(r.report))

@@ -16,7 +16,7 @@ import cutsim
 from cutsim.reports.html import report_html
 from conftest import external_tool
 
-HERE = Path(__file__).resolve().parents[1] / "checks"
+HERE = Path(__file__).resolve().parents[1] / "data" / "programs" / "checks"
 
 
 def _png(w=8, h=6, color=(200, 30, 30)):

@@ -1,7 +1,7 @@
 """--images: PNGs of the set size that are not blank, drawn in true workpiece coordinates with the
 expected regions coloured, and a report.html that embeds every image and lists every check.
 
-Expected numbers come from the test programs and setups (tests/checks/*.toml comments), not from
+Expected numbers come from the test programs and setups (tests/data/programs/checks/*.toml comments), not from
 a run: the multipass blank is Z-30..0 with radius 13.5 and an undercut to radius 12.5 at
 Z-12..-8; its thread (lead 1.5, 60 degrees, root diameter 26.177) has a groove at angle 0 at
 Z = 3 - 1.5 k. The slot is 8 wide centred on Y20 to X30, floor Z-3 (slot-deep: Z-3.05)."""
@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-HERE = Path(__file__).resolve().parents[1] / "checks"
+HERE = Path(__file__).resolve().parents[1] / "data" / "programs" / "checks"
 pytest.importorskip("pyvista")
 from PIL import Image  # noqa: E402
 

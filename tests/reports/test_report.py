@@ -82,7 +82,7 @@ def test_subprogram_warning_says_where_it_was_called_from(tmp_path):
     prog = tmp_path / "subs.nc"
     prog.write_text(SUBS)
     out = tmp_path / "out"
-    res = CliRunner().invoke(main, ["simulate", str(prog), "--setup", str(HERE / "isg" / "short.toml"), "--out", str(out), "-q"])
+    res = CliRunner().invoke(main, ["simulate", str(prog), "--setup", str(HERE / "data" / "programs" / "isg" / "short.toml"), "--out", str(out), "-q"])
     assert res.exit_code == 0, res.output
     err = res.stderr if hasattr(res, "stderr") else res.output
     # Innen's line 2 runs from Aussen's call at line 6, which runs from the main program's line 11
@@ -95,7 +95,7 @@ def test_subprogram_warning_says_where_it_was_called_from(tmp_path):
 def test_main_program_warning_has_no_call_sites(tmp_path):
     prog = tmp_path / "main.nc"
     prog.write_text("%Haupt\nN10 G00 X150 Z200\nN20 G01 X60 Z95\nN30 M30\n")
-    r = cutsim.simulate(str(prog), str(HERE / "isg" / "short.toml"), tolerance=0.1)
+    r = cutsim.simulate(str(prog), str(HERE / "data" / "programs" / "isg" / "short.toml"), tolerance=0.1)
     (w,) = r.report["warnings"]
     assert w["line"] == 3 and "called_from" not in w
 

@@ -14,7 +14,7 @@ import trimesh
 from conftest import EXAMPLES
 import cutsim
 
-HERE = Path(__file__).resolve().parents[1] / "mill"
+HERE = Path(__file__).resolve().parents[1] / "data" / "programs" / "mill"
 PLATE = str(HERE / "plate.toml")
 
 

@@ -13,7 +13,7 @@ import cutsim
 from cutsim.stock import tube
 from cutsim.base.specs import ToolSpec
 
-PLATE = str(Path(__file__).resolve().parents[1] / "mill" / "plate.toml")  # top Z0, T2: ball r = 3
+PLATE = str(Path(__file__).resolve().parents[1] / "data" / "programs" / "mill" / "plate.toml")  # top Z0, T2: ball r = 3
 R = 3.0
 BALL = ToolSpec(2, "ballmill", diameter=6.0, length=20.0, corner_radius=3.0)
 

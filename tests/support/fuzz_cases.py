@@ -94,8 +94,9 @@ PROGRAM_EXT = (".nc", ".mpf", ".NC", ".MPF")
 
 
 def corpus_roots() -> list[Path]:
-    return [ROOT / "examples", SHARED / "examples", ROOT / "tests" / "isg", ROOT / "tests" / "mill",
-            ROOT / "tests" / "checks", ROOT / "tests" / "data" / "bad" / "cnc8x6"]
+    programs = ROOT / "tests" / "data" / "programs"
+    return [ROOT / "examples", SHARED / "examples", programs / "isg", programs / "mill", programs / "checks",
+            ROOT / "tests" / "data" / "bad" / "cnc8x6", ROOT / "tests" / "data" / "bad" / "isg" / "lathe"]
 
 
 def _seed(prog: Path, toml: Path, label: str) -> Seed | None:
@@ -143,7 +144,7 @@ def corpus(roots: list[Path] | None = None) -> list[Seed]:
                 if s is not None:
                     seeds.append(s)
     # the ISG examples once more on the tests' short bar (the full 100 mm threads take seconds)
-    short = ROOT / "tests" / "isg" / "short.toml"
+    short = ROOT / "tests" / "data" / "programs" / "isg" / "short.toml"
     for root in roots:
         for prog in sorted((root / "isg-lathe").glob("*.nc")) if (root / "isg-lathe").is_dir() else []:
             s = _seed(prog, short, f"{prog.relative_to(root.parent)}+short.toml") if short.is_file() else None

@@ -138,7 +138,7 @@ def test_nested_error_names_the_outermost_loop():
 
 
 def test_endless_example_fails_at_once():
-    # tests/mill/helix-endless.nc: N20 and N30 run Q + 1 times, N10 and N40 once
+    # tests/data/programs/mill/helix-endless.nc: N20 and N30 run Q + 1 times, N10 and N40 once
     q = 99999999
     text = "N10 Z1.05 G10\nN20 G09 G02 X0 Y0 I10 F100\nN30 G73 L20 Q99999999\nN40 G98\n"
     e = fails(text, 5_000_000)

@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[3]
 GLOBS = {
     "isg": ["tests/**/*.nc", "examples/isg*/*.nc"],
     "sinumerik": ["tests/**/*.mpf", "tests/**/*.spf", "examples/sinumerik/*.mpf"],
-    "cnc8x6": ["tests/data/bad/cnc8x6/*.nc", "tests/mill/*.nc", "examples/cnc8x6*/*.nc"],
+    "cnc8x6": ["tests/data/bad/cnc8x6/*.nc", "tests/data/programs/mill/*.nc", "examples/cnc8x6*/*.nc"],
 }
 LINES_PER_FILE = 80
 

@@ -28,7 +28,7 @@ from support.geometry import section, wrap
 
 HERE = Path(__file__).resolve().parents[2]  # tests/
 ISG = EXAMPLES / "isg-lathe"
-OWN = HERE / "isg"
+OWN = HERE / "data" / "programs" / "isg"
 PHIS = (0.0, 90.0, 200.0, 321.7)
 
 
@@ -264,7 +264,7 @@ def test_two_start_grooves_half_a_lead_apart():
 
 
 def test_three_starts_equally_spaced():
-    """tests/isg/three-start.nc: lead K3 with S.OFFSET 0/120/240 gives three grooves per lead, 1 mm
+    """tests/data/programs/isg/three-start.nc: lead K3 with S.OFFSET 0/120/240 gives three grooves per lead, 1 mm
     apart, each start at z = 15 + 3*(phi + a)/360 (mod 3)."""
     tol = 0.002
     r = cutsim.simulate(str(OWN / "three-start.nc"), str(OWN / "three-start.toml"), tolerance=tol)

@@ -2,7 +2,7 @@
 move: end points, arc centres, directions and planes, feeds, synchronised moves and their lead
 (tests/support/rs274.py normalises rs274's canonical calls). Skipped without rs274; CI requires it.
 
-- the project's programs (tests/rs274ngc/, examples/rs274ngc/) cover every code the dialect builds;
+- the project's programs (tests/data/programs/rs274ngc/, examples/rs274ngc/) cover every code the dialect builds;
 - the sample programs LinuxCNC installs are read in place (GPL: never copied); each matches or is
   one of the documented refusals listed here;
 - random programs of tests/support/ngc_gen.py (a modest number here; the 10,000 are ``slow`` and
@@ -22,7 +22,8 @@ from support.ngc_gen import TOOL_TABLE, program
 from support.rs274 import compare, cutsim_moves, run_rs274
 
 ROOT = Path(__file__).resolve().parents[3]
-PROJECT = sorted((ROOT / "tests" / "rs274ngc").glob("*.ngc")) + sorted((ROOT / "examples" / "rs274ngc").glob("*.nc"))
+PROJECT = (sorted((ROOT / "tests" / "data" / "programs" / "rs274ngc").glob("*.ngc"))
+           + sorted((ROOT / "examples" / "rs274ngc").glob("*.nc")))
 SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/share/axis/images"))
 # The samples cutsim refuses, with the reason (each a code docs/dialects/rs274ngc.md lists as not
 # simulated); every other sample must match rs274 move for move or be refused by both.

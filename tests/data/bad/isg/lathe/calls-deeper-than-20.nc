@@ -1,4 +1,4 @@
-;EXPECT 60:8 local subprograms nested more than 20 deep
+; EXPECT 60:8 local subprograms nested more than 20 deep
 %L sub1
 N10 LL sub2
 N20 M29

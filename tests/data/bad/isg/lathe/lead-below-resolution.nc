@@ -1,4 +1,4 @@
-;EXPECT 4:14 below the programming resolution, 0.0001 mm
+; EXPECT 4:14 below the programming resolution, 0.0001 mm
 %thread
 N10 M03 S100 G00 X16 Z2
 N20 G33 Z-20 K0.00001
