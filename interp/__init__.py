@@ -125,7 +125,7 @@ def interpret(name: str, text: str, cfg: InterpConfig) -> Program:
     if cfg.dialect not in DIALECTS:
         raise CutsimError(name, 0, 0, f"unknown dialect '{cfg.dialect}'")
     # The program's blocks and records are many, long-lived and free of reference cycles: the cyclic
-    # garbage collector walking them again and again as they grow costs up to half the run (issue 13)
+    # garbage collector would walk them again and again as they grow, a large share of a long run
     enabled = gc.isenabled()
     gc.disable()
     try:

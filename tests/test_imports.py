@@ -1,4 +1,4 @@
-"""Imports flow one way (issue 11, docs/architecture.md "Layers and imports").
+"""Imports flow one way (docs/architecture.md "Layers and imports").
 
 Every module of the installed package is read with ``ast`` (nothing is imported) and its imports
 become edges of a graph: top-level and function-level, absolute and relative. Each package has a

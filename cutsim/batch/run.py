@@ -119,7 +119,7 @@ def _job_list(jobs, base: str | None) -> tuple[list[Job], str]:
 
 
 def _records_dir(out: str) -> str:
-    """DIR/.cutsim-batch, created and tried before any job runs: an unusable DIR is an error now."""
+    """DIR/.cutsim-batch, created and tried before any job runs, so an unusable DIR is an error at once."""
     records_dir = os.path.join(out, RECORDS)
     try:
         os.makedirs(records_dir, exist_ok=True)

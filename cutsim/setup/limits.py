@@ -10,7 +10,7 @@ RATE_MAX = 1_000_000.0  # mm/min: rapid and default feed
 VALUE_MAX = 1e12  # |R parameter| and |machine constant|
 # The finest chordal tolerance: 0.1 um. The written mesh is snapped to a grid of at least 2^-16 mm
 # (1.5e-5 mm; docs/setup.md, reports/mesh.py), so a finer tolerance could not survive the export, and
-# circles at 1e-5 mm have thousands of segments whose booleans run for minutes (fuzz).
+# circles at 1e-5 mm have thousands of segments whose booleans run for minutes.
 MIN_TOLERANCE = 1e-4
 MAX_BLOCKS_LIMIT = 10_000_000  # every executed move is held until the run ends (~0.65 KB each): 6.5 GB at the ceiling
 MAX_TRIANGLES_RANGE = (1_000, 2_000_000_000)

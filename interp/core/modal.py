@@ -75,7 +75,7 @@ class InterpConfig:
     constants: dict[int, float] = field(default_factory=dict)
     max_blocks: int = MAX_BLOCKS  # [simulation] max_blocks
     tool_radii: dict[int, float] = field(default_factory=dict)  # tool number -> radius (mills; first = active at start)
-    # What only the setup can say about the machine (docs/setup.md; issues 12 and 16). Every name is
+    # What only the setup can say about the machine (docs/setup.md). Every name is
     # upper case as the dialect normalises it; the interpreter names the setup key in its errors.
     axes: dict[str, str] = field(default_factory=dict)  # [machine] axes: extra axis -> "rotary" | "linear"
     m_functions: frozenset[int] = frozenset()  # [machine] m_functions: machine M codes that pass silently

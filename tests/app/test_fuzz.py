@@ -1,4 +1,4 @@
-"""Grammar-aware fuzzing (issue 10 item 9): a fixed-seed run of a few hundred generated cases.
+"""Grammar-aware fuzzing: a fixed-seed run of a few hundred generated cases.
 
 No input may crash cutsim: no exit 3, no traceback, no hang, no worker killed; every exit 2 names
 a line that exists in the named file; every part written is a closed volume read back by trimesh.

@@ -157,7 +157,7 @@ def test_program_error_leaves_previous_output_byte_identical(previous, tmp_path)
 
 
 def test_report_json_directory_is_refused_before_anything_changes(previous):
-    # the defect: report.json being a directory still let part.stl be replaced
+    # a target that is a directory stops the run before any file, part.stl included, is replaced
     (previous / "report.json").unlink()
     (previous / "report.json").mkdir()
     before = snapshot(previous)

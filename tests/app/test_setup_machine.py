@@ -1,4 +1,4 @@
-"""What only the setup can say (docs/setup.md; issues 12 and 16): [machine] axes, m_functions,
+"""What only the setup can say (docs/setup.md): [machine] axes, m_functions,
 h_functions, subprogram_path, external_subprograms; [variables]; [work_offsets]; [[tool]] name; drill tools.
 
 Every key: a good value reaches the interpreter's InterpConfig (cutsim.load_setup + interp_config),
