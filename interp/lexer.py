@@ -1,5 +1,6 @@
-"""The old path of ``cutsim.interp.core.lexer``: this name is that very module (the modules not yet
-in a dialect package and plug-in dialects import it from here)."""
+"""``cutsim.interp.core.lexer`` under its former path: this name is that very module. Kept while the
+Sinumerik and RS274NGC packages import it here (tests/test_imports.py lists them; new code imports
+``cutsim.interp.core.lexer``)."""
 import sys
 
 from .core import lexer as _module

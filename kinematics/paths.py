@@ -21,7 +21,7 @@ import numpy as np
 
 from cutsim.base.specs import ToolSpec
 from cutsim.interp.canon import Src
-from cutsim.interp.modal import PLANE_AXES
+from cutsim.interp.core.modal import PLANE_AXES
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from cutsim.base.specs import MachineSpec, StockSpec, ToolSpec
-from cutsim.interp.modal import MAX_BLOCKS
+from cutsim.interp.core.modal import MAX_BLOCKS
 from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
 
 

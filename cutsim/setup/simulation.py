@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from cutsim.interp.modal import MAX_BLOCKS
+from cutsim.interp.core.modal import MAX_BLOCKS
 from cutsim.stock.build import DEFAULT_MAX_TRIANGLES
 
 from .limits import MAX_BLOCKS_LIMIT, MAX_TRIANGLES_RANGE, MIN_TOLERANCE

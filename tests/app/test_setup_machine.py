@@ -301,6 +301,27 @@ def test_bad_variables(tmp_path, lines, needle, fragments):
     cli_error(tmp_path, text, needle, fragments)
 
 
+def test_variable_names_come_from_the_registry_entry(tmp_path, monkeypatch):
+    """A dialect's [variables] names are its registry entry's (interp.VariableNames), not a branch
+    of the setup loader: a plug-in with its own syntax gets exactly that syntax and its message;
+    one without an entry accepts no names."""
+    from cutsim.interp import Dialect, VariableNames
+
+    names = VariableNames(r"@[0-9]+", "a toy variable is @ and a number (@1, @20)", ("@1", "@20"))
+    monkeypatch.setitem(DIALECTS, "toy", Dialect("support.toy_dialect", False, (".toy",), "toy", variables=names))
+    monkeypatch.setitem(DIALECTS, "bare", Dialect("support.toy_dialect", False, (".toy",), "bare"))
+    setup = tmp_path / "setup.toml"
+    setup.write_text(on("toy", BASE + '\n[variables]\n"@20" = 5\n'))
+    assert cutsim.load_setup(str(setup)).variables == {"@20": 5.0}
+    for dialect, line, message in (("toy", '"$P_TOOLNO" = 1', "a toy variable is @ and a number (@1, @20)"),
+                                   ("bare", '"@20" = 1', "this dialect reads no [variables]")):
+        text = on(dialect, BASE + "\n[variables]\n" + line + "\n")
+        setup.write_text(text)
+        with pytest.raises(cutsim.CutsimError) as e:
+            cutsim.load_setup(str(setup))
+        assert e.value.message.endswith(": " + message) and (e.value.line, e.value.col) == _at(text, line)
+
+
 def test_isg_dotted_name_given_twice(tmp_path):
     text = on("isg", BASE + '\n[variables]\nV.G.X.Y = 1\n"V.G.X.Y" = 2\n')
     cli_error(tmp_path, text, '"V.G.X.Y"', ["V.G.X.Y is given twice"])

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from cutsim.interp import interpret
 from cutsim.interp.canon import Arc, Feed, Rapid, SyncedFeed, describe
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 from cutsim.interp.rs274ngc import files
 
 INCH = 25.4

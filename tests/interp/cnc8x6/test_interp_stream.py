@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 from cutsim.interp import canon, cnc8x6, lexer
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 
 TESTS = Path(__file__).resolve().parents[2]  # tests/
 LATHE = InterpConfig("cnc8x6", "lathe", True, (40.0, 0.0, 5.0), parameters={4: -120.0}, constants={8: 4160000.0},

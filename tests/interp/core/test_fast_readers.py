@@ -20,7 +20,7 @@ from cutsim.interp.sinumerik import fast as sinumerik_fast
 from cutsim.interp.sinumerik import reader as sinumerik_reader, syntax as sinumerik_syntax
 from cutsim.interp.isg import fast as isg_fast, program as isg_program, reader as isg_scan
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.lexer import split_lines
+from cutsim.interp.core.lexer import split_lines
 
 ROOT = Path(__file__).resolve().parents[3]
 DIRS = [ROOT / "tests", ROOT / "examples", ROOT.parent / "shared" / "examples"]
@@ -210,7 +210,7 @@ def test_sinumerik_fast_words_take_no_more_memory(monkeypatch):
 
 # -- the ISG plain block (Isg.plain_block): whole programs run alike with and without it -------
 from cutsim.interp import canon, isg  # noqa: E402
-from cutsim.interp.modal import InterpConfig  # noqa: E402
+from cutsim.interp.core.modal import InterpConfig  # noqa: E402
 
 ISG_CFGS = {
     "lathe": InterpConfig("isg", "lathe", True, (40.0, 0.0, 5.0), parameters={1: 2.5}, max_blocks=3000,

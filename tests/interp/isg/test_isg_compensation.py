@@ -160,7 +160,7 @@ def test_trafo_declared_cartesian_passes(tmp_path):
 # -- property: the offset path of a convex polygon keeps exactly the tool radius -----------------------
 from hypothesis import given, settings, strategies as hst  # noqa: E402
 
-from cutsim.interp.compensation import Elem, offset_chain  # noqa: E402
+from cutsim.interp.core.compensation import Elem, offset_chain  # noqa: E402
 
 
 def _seg_dist(p, a, b) -> float:

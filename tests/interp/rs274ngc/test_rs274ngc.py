@@ -10,7 +10,7 @@ import pytest
 from cutsim.interp import interpret
 from cutsim.interp.canon import Arc, Feed, Rapid, SyncedFeed, ToolChange
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 
 
 def run(text: str, tmp_path=None, name: str = "t.ngc", **cfg):

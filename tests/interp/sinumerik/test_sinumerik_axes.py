@@ -7,7 +7,7 @@ import pytest
 
 from cutsim.interp import canon
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 from cutsim.interp.sinumerik import Sinumerik
 
 HEAD = "T1 D1 M6\nG0 X1 Y2 Z30\n"

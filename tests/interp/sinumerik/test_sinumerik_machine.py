@@ -12,7 +12,7 @@ import pytest
 import cutsim
 from cutsim.interp import canon
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 from cutsim.interp.sinumerik import Sinumerik
 
 HEAD = "G17 G90 T1 D1 M6 F300\nG0 X0 Y0 Z5\n"
