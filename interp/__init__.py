@@ -63,12 +63,13 @@ _SINUMERIK_VARIABLES = VariableNames(
     "a Sinumerik variable is a system variable ($P_TOOLNO, $A_DBB[5], $MA_JOG_VELO[X1], $P_UIFR[1,X,TR]) "
     "or a global user data name (MYDATA, GUD_ARR[2]), written without spaces",
     ("$P_TOOLNO", "$A_DBB[5]", "$MA_JOG_VELO[X1]", "$P_UIFR[1,X,TR]", "MYDATA", "GUD_ARR[2]"))
-_ISG_VARIABLES = VariableNames(
-    rf"V\.[EG]\.{_IDENT}(?:{_WHOLE})*(?:\.{_IDENT}(?:{_WHOLE})*)*",
-    "an ISG variable the setup gives is external or global: V.E.NAME or V.G.NAME, with more .FIELD "
-    "parts and whole-number indexes (V.E.SPEED, V.G.WZ[2].L), written without spaces; V.P., V.L. and "
-    "V.S. variables are declared in the program (#VAR ... #ENDVAR)",
-    ("V.E.SPEED", "V.G.WZ[2].L"))
+_ISG_VARIABLES = VariableNames(  # any scope but the program's own P, L and S
+    rf"V\.(?![PLS]\.)[A-Z]+\.{_IDENT}(?:{_WHOLE})*(?:\.{_IDENT}(?:{_WHOLE})*)*",
+    "an ISG variable the setup gives is the controller's: V.E.NAME (external), V.G.NAME (global) or "
+    "another V.<scope>. name, with more .FIELD parts and whole-number indexes (V.E.SPEED, V.G.WZ[2].L, "
+    "V.A.ACS.X), written without spaces; V.P., V.L. and V.S. variables are declared in the program "
+    "(#VAR ... #ENDVAR)",
+    ("V.E.SPEED", "V.G.WZ[2].L", "V.A.ACS.X"))
 _CNC8X6_VARIABLES = VariableNames(
     "", "CNC8x6 programs read no variables; their R parameters are set in [parameters] (R4 = ...)")
 _RS274NGC_VARIABLES = VariableNames(

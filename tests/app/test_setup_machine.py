@@ -233,24 +233,26 @@ V.G.NAME = 1
 "v.g.wz[ 2 ].l" = true
 "V.E.ARR[0][10]" = false
 "V.G.TEXT" = "as written"
+"V.A.ACS.X" = 12
+"V.CYC.DEPTH" = 3
 
 [variables.V.E]
 COUNT = 7
 """)
     c = config(tmp_path, text)
-    assert c.variables == {"V.E.ARR[0][10]": 0.0, "V.E.COUNT": 7.0, "V.E.SPEED": 800.0, "V.G.NAME": 1.0,
-                           "V.G.TEXT": "as written", "V.G.WZ[2].L": 1.0}
+    assert c.variables == {"V.A.ACS.X": 12.0, "V.CYC.DEPTH": 3.0, "V.E.ARR[0][10]": 0.0, "V.E.COUNT": 7.0,
+                           "V.E.SPEED": 800.0, "V.G.NAME": 1.0, "V.G.TEXT": "as written", "V.G.WZ[2].L": 1.0}
 
 
 def test_isg_program_reads_the_setup_variables(tmp_path):
-    """What the setup gives is what the program reads: X = V.E.X0 + V.G.STEP[1] * 2."""
+    """What the setup gives is what the program reads: X = V.E.X0 + V.G.STEP[1] * 2 + V.A.OFF.X."""
     setup = tmp_path / "setup.toml"
-    setup.write_text(on("isg", BASE + '\n[variables]\n"V.E.X0" = 10\n"V.G.STEP[1]" = 2.5\n'))
+    setup.write_text(on("isg", BASE + '\n[variables]\n"V.E.X0" = 10\n"V.G.STEP[1]" = 2.5\n"V.A.OFF.X" = -1\n'))
     prog = tmp_path / "p.nc"
-    prog.write_text("%P\nG00 Z5\nG01 X[V.E.X0 + V.G.STEP[1] * 2] F100\nM30\n")
+    prog.write_text("%P\nG00 Z5\nG01 X[V.E.X0 + V.G.STEP[1] * 2 + V.A.OFF.X] F100\nM30\n")
     res = CliRunner().invoke(main, ["moves", str(prog), "--setup", str(setup)])
     assert res.exit_code == 0, res.output
-    assert "FEED (25 20 5) -> (15 20 5) F100/min" in res.output  # from the start above the stock centre
+    assert "FEED (25 20 5) -> (14 20 5) F100/min" in res.output  # from the start above the stock centre
 
 
 @pytest.mark.parametrize("name", [e for d in DIALECTS.values() for e in d.variables.examples])
@@ -268,8 +270,9 @@ def test_every_example_a_message_lists_is_accepted(name):
     ("sinumerik", '"V.G.NAME" = 0', '"V.G.NAME"', ["[variables] V.G.NAME", "a Sinumerik variable is"]),
     ("sinumerik", "R4 = 1", "R4", ["R parameters are set in [parameters]"]),
     # ISG: V.E. and V.G. only, whole-number indexes as the program prints them
-    ("isg", '"$P_TOOLNO" = 0', '"$P_TOOLNO"', ["an ISG variable the setup gives is external or global",
+    ("isg", '"$P_TOOLNO" = 0', '"$P_TOOLNO"', ["an ISG variable the setup gives is the controller's",
                                                 "V.G.WZ[2].L"]),
+    ("isg", '"V.S.COUNT" = 0', '"V.S.COUNT"', ["[variables] V.S.COUNT", "declared in the program"]),
     ("isg", '"V.P.FLAG" = 0', '"V.P.FLAG"', ["[variables] V.P.FLAG", "declared in the program"]),
     ("isg", '"V..X" = 0', '"V..X"', ["an ISG variable"]),
     ("isg", '"V.G.ARR[X]" = 0', '"V.G.ARR[X]"', ["whole-number indexes"]),
