@@ -38,7 +38,9 @@ import math
 
 import numpy as np
 
-from .plot import (HEIGHT, MAX_FLOORS, PART_COLOR, REMOVED_COLOR, STOCK_COLOR, WALL_COLOR, WIDTH, View, _arrays,
+from cutsim.stock.arrays import solid_arrays
+
+from .plot import (HEIGHT, MAX_FLOORS, PART_COLOR, REMOVED_COLOR, STOCK_COLOR, WALL_COLOR, WIDTH, View,
                    _Chart, _face_floor_index, _floor_colors, _mesh, _num, _polydata, _plotter, _pv, _rgb,
                    _stock_outline, floor_levels)
 from .plot import DEV_K, nice_step, nice_ticks, text_actors  # noqa: F401 - re-exported: the images' API
@@ -307,7 +309,7 @@ def ramp_view(result, spec, index: int) -> View:
 def top_view(result) -> View:
     """Mill: the part from above, coloured over the cut depth range (a colour per floor)."""
     pv = _pv()
-    v, f = _arrays(result.part)
+    v, f = solid_arrays(result.part)
     up, levels = floor_levels(v, f)
     sb = result.stock.bounding_box()
     ztop = float(sb[5])

@@ -88,8 +88,8 @@ def region(polys: list[np.ndarray]) -> m3d.CrossSection:
 
 # Round joins and caps of the offset: chords within this fraction of the tolerance. Their vertices
 # lie on the circle, so each chord cuts off 2/3 of its sagitta on average: at 1/8 the region's
-# area is short by at most tol/12 per mm of round outline (the 11k-move bench pocket: -0.02 mm^2
-# instead of -0.15 mm^2 at the full tolerance). The flanks are exact.
+# area is short by at most tol/12 per mm of round outline, an eighth of what chords at the full
+# tolerance leave. The flanks are exact.
 ARC_FRACTION = 1.0 / 8
 GRID = 1e6  # Clipper works on integers: 1 nm
 
@@ -372,8 +372,7 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float,
                 if vertical and cut:
                     # a plunge or a retract with its bodies cut off at one plane: the body at the lower
                     # pose up to that plane holds the other; the hull of both bodies (the same ring at
-                    # the plane twice, an ulp apart) came out short (drilling.mpf: a peck's hull 0.007
-                    # mm^3 below the hull of its own vertices)
+                    # the plane twice, an ulp apart) can come out short of the hull of its own vertices
                     low = run[int(np.argmin(run[:, 2]))]
                     cloud = body(low, top - low[2])
                 else:
@@ -398,11 +397,11 @@ def hull_sweep(points: np.ndarray, tool: ToolSpec, tol: float, cap: float,
 # lower. Above the stock's top there is no stock, so a top above it counts as the stock's top.
 # The passes a cycle lays at every depth step on one XY path (and their plunges and retracts) are
 # such hulls: the walls of their bodies' rings coincide exactly (same XY vertices, different heights
-# and triangulations), and the batch boolean cut such a shared wall into slivers (fuzz c41710:
-# CYCLE71 with a ball-end mill at 17 depth steps; the ~50 hulls starting at one point share the
-# wall of one ring edge there, and 741k of the 776k triangles of a reduced batch lay in that plane;
-# the whole run: 2.5M triangles, 132 s and 2.1 GB). A hull inside another removes nothing the other
-# does not: it is left out of the subtract (``nested``), the part is the same solid.
+# and triangulations), and the batch boolean cuts such a shared wall into slivers: a cycle with many
+# depth steps has dozens of hulls starting at one point that share the wall of one ring edge, and
+# nearly all the triangles of the batch end up in that plane. A hull inside another removes
+# nothing the other does not: it is left out of the subtract (``nested``), the part is the same
+# solid.
 NESTED_SCAN = 64  # most candidate hulls looked at per hull (the deepest first)
 
 

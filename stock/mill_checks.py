@@ -98,8 +98,8 @@ def flute_warnings(batch: MillBatch, paths: list, top: float, tol: float, fresh,
     shank of an earlier candidate that met no fresh material meets none either (the stock only
     loses material), so it is not checked again: the same XY path (a cycle's passes repeated at
     every depth step) with the shank's lower end at every point no lower than there, or below the
-    stock's bottom on both ends of the earlier one's segment (``_Shadow``). A 34 mm deep CYCLE71 with
-    8 mm flutes: 624 checks of 30 ms each, now the ones down to the first pass below the stock."""
+    stock's bottom on both ends of the earlier one's segment (``_shadowed``): a deep pocket cycle is
+    then checked down to its first pass below the stock, not at every depth step."""
     cands = []
     for lv in batch.levels():
         if flute_short(lv.z, lv.tool, top):
