@@ -46,27 +46,37 @@ class Level(Strategy):
             run.add_cut(lv.index, [lv.solid()])
 
 
-class Helix(Strategy):
+class _Joining(Strategy):
+    """A kind whose moves are held back and joined with the next ones that continue them (the run's
+    pending strategy), then swept (counted) together: ``join`` decides, with the run's flush for
+    the phase (counting or sweeping) to call when the move starts a new join."""
+
+    ends_joins = False
+
+    def join(self, i: int, path: SpatialPath, flush) -> None:
+        raise NotImplementedError
+
+    def estimate(self, i: int, path: SpatialPath) -> None:
+        self.join(i, path, self.run.flush_counts)
+
+    def sweep(self, i: int, path: SpatialPath) -> None:
+        self.join(i, path, self.run.flush_cuts)
+
+
+class Helix(_Joining):
     """A mill on an arc or helix, consecutive arcs on one helix joined (stock/helix.py)."""
 
     kind = "helix"
-    ends_joins = False
 
     def __init__(self, run):
         super().__init__(run)
         self.arc: ArcRun | None = None  # the pending arcs on one helix, joined
 
-    def _join(self, i: int, path: SpatialPath, flush) -> None:
+    def join(self, i: int, path: SpatialPath, flush) -> None:
         if not (self.arc is not None and self.arc.extend(path)):
             flush()
             self.arc = ArcRun(i, path)
             self.run.hold(self)
-
-    def estimate(self, i: int, path: SpatialPath) -> None:
-        self._join(i, path, self.run.flush_counts)
-
-    def sweep(self, i: int, path: SpatialPath) -> None:
-        self._join(i, path, self.run.flush_cuts)
 
     def count_held(self) -> None:
         run, p = self.run, self.arc.path()
@@ -85,31 +95,24 @@ class Helix(Strategy):
             run.add_cut(index, mill.hull_sweep(p.points, p.tool, run.tol, run.cap, keys), keys)
 
 
-class Tube(Strategy):
+class Tube(_Joining):
     """Any other 3D mill feed, joined with the moves it continues (``mill.Chain``) and swept lazily,
     piece by piece, when it is subtracted (a bounding box suffices until then): a long CAM program
     is never all in memory as solids at once. Counted as the batch of CHUNK_TRIANGLES plus the
     largest piece."""
 
     kind = "tube"
-    ends_joins = False
 
     def __init__(self, run):
         super().__init__(run)
         self.chain = mill.Chain()
         self.lazy_total, self.lazy_piece, self.lazy_src = 0, 0, None
 
-    def _join(self, i: int, path: SpatialPath, flush) -> None:
+    def join(self, i: int, path: SpatialPath, flush) -> None:
         if self.run.pending is not self or not self.chain.continues(path):
             flush()
         self.chain.add(i, path)
         self.run.hold(self)
-
-    def estimate(self, i: int, path: SpatialPath) -> None:
-        self._join(i, path, self.run.flush_counts)
-
-    def sweep(self, i: int, path: SpatialPath) -> None:
-        self._join(i, path, self.run.flush_cuts)
 
     def count_held(self) -> None:
         run, tool, src = self.run, self.chain.tool, self.chain.src
