@@ -14,7 +14,7 @@ from typing import Callable
 import manifold3d as m3d
 import numpy as np
 
-from . import gauge, mill_checks
+from . import gauge, inserts, mill_checks
 from .budget import Built
 from .cuts import Cut, bbox, box_overlap, overlap
 from .mill_checks import plunge_message
@@ -147,3 +147,21 @@ def flute_warnings(stock: m3d.Manifold, run: Run, paths: list, built: Built) -> 
         return fresh_volume(stock, Cut(index, solids, None, *bbox(solids)), run.cuts, run.f.revolve, built)
 
     return mill_checks.flute_warnings(run.levels, paths, run.f.top, run.tol, fresh_at, float(run.f.lo[2]))
+
+
+def bar_warnings(stock: m3d.Manifold, run: Run, built: Built, progress: Progress | None = None) -> list:
+    """(src, message) for the first move of each inside tool whose boring bar meets material still
+    there when it moves (the move's own cut done: the insert leads the bar). One warning per tool,
+    as for the flute length: the moves after it mostly repeat it."""
+    warnings, warned = [], set()
+    for k, (cut, path) in enumerate(run.bars):
+        if progress:
+            progress("checking boring bars", k, len(run.bars))
+        tool = path.tool
+        if tool.number in warned:
+            continue
+        vol = fresh_volume(stock, cut, run.cuts, run.f.revolve, built)
+        if vol > MIN_COLLISION_VOLUME:
+            warned.add(tool.number)
+            warnings.append((path.src, inserts.bar_message(tool, vol)))
+    return warnings

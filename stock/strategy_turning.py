@@ -19,11 +19,11 @@ from cutsim.base.specs import ToolSpec
 from cutsim.interp.errors import CutsimError
 from cutsim.kinematics.paths import PlanarPath, ScrewPath, segment_angle
 
-from . import axial, threads
+from . import axial, inserts, threads
 from .cuts import Cut, Frame
 from .strategy import Strategy
 from .sweeps import (EDGE_STEPS, MAX_CHUNK_DEGREES, clipped_profile, edge_pieces, inner_trim, planar_region,
-                     screw_sweep, screw_twist)
+                     screw_sweep, screw_twist, sweep_polygon_2d)
 from .tools import lathe_profile
 
 
@@ -74,6 +74,7 @@ class Screw(Strategy):
 
     def sweep(self, i: int, path: ScrewPath) -> None:
         run = self.run
+        bar_check(run, i, path)
         if path.tool.kind == "tap":  # its core, moved along the axis: a revolved region (stock/axial.py)
             run.region_cut(i, axial.core_region(path.tool, path.z0, path.z1), path)
         parts = []
@@ -108,6 +109,7 @@ class Revolve(Strategy):
 
     def sweep(self, i: int, path: PlanarPath) -> None:
         run = self.run
+        bar_check(run, i, path)
         h = run.f.r_clip - float(path.points[:, 0].min())
         if h <= 0:
             return
@@ -117,6 +119,31 @@ class Revolve(Strategy):
         region = m3d.CrossSection.batch_boolean([planar_region(path, p) for p in prof.to_polygons()],
                                                 m3d.OpType.Add)
         run.region_cut(i, region, path)
+
+
+def bar_check(run, i: int, path) -> None:
+    """An inside tool's boring bar on a move with the spindle turning: the region it covers along
+    the move (inserts.bar_section, from the top of the tool's profile up beyond the stock), kept in
+    ``run.bars`` to be checked against the material still there (stock/collisions.py), never cut.
+    Its place in program order is just after the move's own cut: the insert leads the bar into the
+    bore, so what the move cuts is gone where the bar comes."""
+    tool = path.tool
+    if not tool.bar_diameter:
+        return
+    r, z = _path_rz(path)
+    start = float(run.profile(tool)[:, 1].max())
+    length = float(run.f.hi[2]) + run.f.margin - (float(z.min()) + start)
+    if length <= 0:
+        return
+    region = m3d.CrossSection.batch_boolean(
+        sweep_polygon_2d(inserts.bar_section(tool, start, length), np.column_stack([r, z])), m3d.OpType.Add)
+    # the part beyond the axis turns past it too, at the radius |x| (a revolve keeps only x >= 0)
+    region = m3d.CrossSection.batch_boolean([region, region.mirror((1.0, 0.0))], m3d.OpType.Add)
+    b = region.bounds()
+    r_out = max(abs(b[0]), abs(b[2]))
+    cut = Cut(i + 0.5, [], region, np.array([-r_out, -r_out, b[1]]), np.array([r_out, r_out, b[3]]))
+    if run.f.meets(cut.lo, cut.hi):
+        run.bars.append((cut, path))
 
 
 class Profiles:
