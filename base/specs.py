@@ -66,6 +66,8 @@ class ToolSpec:
     body_diameter: float = 0.0  # centre drill: the body's diameter (the countersink's widest), mm
     countersink: float = 60.0  # centre drill: included angle of the countersink, 60 or 90 degrees
     chamfer: float = 0.0  # tap: length of the chamfered lead (from the tip), mm
+    bar_diameter: float = 0.0  # inside thread/turning/grooving tool: its boring bar's diameter, mm (0: no bar)
+    bar_reach: float = 0.0  # inside, with a bar: from the bar's axis to the tool point, mm (0: 0.7 x bar_diameter)
     name: str = field(default="", compare=False)  # [[tool]] name (T="DRILL 8.5"); not part of the shape
     # where the tool is defined: the setup file and the line/column of its [[tool]] header, for
     # errors about the tool's shape found when it is built (not part of the tool's identity)

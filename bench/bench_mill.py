@@ -43,6 +43,8 @@ import sys
 import tempfile
 import time
 
+from bench_thread import write_stl  # the floor's STL, written with manifold3d and numpy only
+
 POCKET_TOL = 0.002  # the default chordal tolerance
 RASTER_TOL = float(os.environ.get("CUTSIM_BENCH_RASTER_TOL", "0.002"))
 SETUP = """[machine]
@@ -207,17 +209,8 @@ def run_floor(n: int) -> dict:
     b = stock.bounding_box()
     stock = stock.refine_to_length(max(b[3] - b[0], b[4] - b[1]) / 64)
     part = stock - m3d.Manifold.extrude(reg, 20.0).translate((0.0, 0.0, -2.0))
-    mesh = part.to_mesh()
-    v = np.asarray(mesh.vert_properties, dtype=np.float32)[:, :3]
-    f_ = np.asarray(mesh.tri_verts, dtype=np.int64)
-    tri = v[f_]
-    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-30)
-    rec = np.zeros(len(f_), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
-    rec["n"], rec["v"] = nrm, tri
     with tempfile.TemporaryDirectory() as d:
-        with open(os.path.join(d, "part.stl"), "wb") as fh:
-            fh.write(b"floor".ljust(80, b" ") + np.uint32(len(f_)).tobytes() + rec.tobytes())
+        write_stl(part, d, b"floor")
     dt, cpu = time.perf_counter() - t0, time.process_time() - c0
     removed = stock.volume() - part.volume()
     return {"case": "floor", "moves": n, "total_s": dt, "cpu_s": cpu, "removed": removed, "error": removed - pocket_exact(n),

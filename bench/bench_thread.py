@@ -72,6 +72,24 @@ def warm_imports() -> None:
         importlib.import_module(m)
 
 
+def write_stl(part, folder: str, header: bytes) -> None:
+    """``folder``/part.stl: the binary STL of ``part`` as the bare scripts write it, with manifold3d
+    and numpy only (no cutsim code: the scripts are the floor cutsim is measured against)."""
+    import numpy as np
+
+    mesh = part.to_mesh()
+    v = np.asarray(mesh.vert_properties, dtype=np.float32)[:, :3]
+    f_ = np.asarray(mesh.tri_verts, dtype=np.int64)
+    tri = v[f_]
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-30)
+    rec = np.zeros(len(f_), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"], rec["v"] = nrm, tri
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "part.stl"), "wb") as fh:
+        fh.write(header.ljust(80, b" ") + np.uint32(len(f_)).tobytes() + rec.tobytes())
+
+
 def case_cutsim(tol: float, work: str) -> dict:
     from cutsim.cli import run_simulate
 
@@ -122,19 +140,9 @@ def case_bare(tol: float, work: str) -> dict:
 
         cuts.append(solid.warp_batch(warp))
     part = m3d.Manifold.batch_boolean([bar] + cuts, m3d.OpType.Subtract)
-    mesh = part.to_mesh()
-    v = np.asarray(mesh.vert_properties, dtype=np.float32)[:, :3]
-    f_ = np.asarray(mesh.tri_verts, dtype=np.int64)
-    tri = v[f_]
-    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-30)
-    rec = np.zeros(len(f_), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
-    rec["n"], rec["v"] = nrm, tri
-    os.makedirs(os.path.join(work, "bare"), exist_ok=True)
-    with open(os.path.join(work, "bare", "part.stl"), "wb") as fh:
-        fh.write(b"bare".ljust(80, b" ") + np.uint32(len(f_)).tobytes() + rec.tobytes())
+    write_stl(part, os.path.join(work, "bare"), b"bare")
     dt = time.perf_counter() - t
-    return {"rc": 0, "time": dt, "triangles": len(f_), "removed": bar.volume() - part.volume()}
+    return {"rc": 0, "time": dt, "triangles": part.num_tri(), "removed": bar.volume() - part.volume()}
 
 
 def case_floor(tol: float, work: str) -> dict:
@@ -179,19 +187,9 @@ def case_floor(tol: float, work: str) -> dict:
     ring = m3d.CrossSection.batch_boolean(rings, m3d.OpType.Add) ^ m3d.CrossSection.square((clip, 1000.0)).translate((0.0, -500.0))
     part = m3d.Manifold.batch_boolean([bar, solid.warp_batch(warp), m3d.Manifold.revolve(ring, circular_segments=n)],
                                       m3d.OpType.Subtract)
-    mesh = part.to_mesh()
-    v = np.asarray(mesh.vert_properties, dtype=np.float32)[:, :3]
-    f_ = np.asarray(mesh.tri_verts, dtype=np.int64)
-    tri = v[f_]
-    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-30)
-    rec = np.zeros(len(f_), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
-    rec["n"], rec["v"] = nrm, tri
-    os.makedirs(os.path.join(work, "floor"), exist_ok=True)
-    with open(os.path.join(work, "floor", "part.stl"), "wb") as fh:
-        fh.write(b"floor".ljust(80, b" ") + np.uint32(len(f_)).tobytes() + rec.tobytes())
+    write_stl(part, os.path.join(work, "floor"), b"floor")
     dt = time.perf_counter() - t
-    return {"rc": 0, "time": dt, "triangles": len(f_), "removed": bar.volume() - part.volume()}
+    return {"rc": 0, "time": dt, "triangles": part.num_tri(), "removed": bar.volume() - part.volume()}
 
 
 ISG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "examples", "isg-lathe",

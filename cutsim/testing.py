@@ -64,12 +64,10 @@ def assert_matches_design(result, design, tol: float, *, max_gouge: float | None
     if isinstance(design, str) or hasattr(design, "__fspath__"):
         path, man = str(design), load_solid(str(design))
     elif hasattr(design, "vertices") and hasattr(design, "faces"):
-        import numpy as np
-        from manifold3d import Manifold, Mesh
+        from cutsim.stock.arrays import solid_of
 
         path = "<trimesh>"
-        man = Manifold(Mesh(vert_properties=np.asarray(design.vertices, dtype=np.float32),
-                            tri_verts=np.asarray(design.faces, dtype=np.uint32)))
+        man = solid_of(design.vertices, design.faces)
     else:
         path, man = "<manifold>", design
     spec = {"kind": "design", "name": name, "line": 0, "path": path, "max_gouge": max_gouge,

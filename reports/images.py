@@ -38,7 +38,9 @@ import math
 
 import numpy as np
 
-from .plot import (HEIGHT, MAX_FLOORS, PART_COLOR, REMOVED_COLOR, STOCK_COLOR, WALL_COLOR, WIDTH, View, _arrays,
+from cutsim.stock.arrays import solid_arrays
+
+from .plot import (HEIGHT, MAX_FLOORS, PART_COLOR, REMOVED_COLOR, STOCK_COLOR, WALL_COLOR, WIDTH, View,
                    _Chart, _face_floor_index, _floor_colors, _mesh, _num, _polydata, _plotter, _pv, _rgb,
                    _stock_outline, floor_levels)
 from .plot import DEV_K, nice_step, nice_ticks, text_actors  # noqa: F401 - re-exported: the images' API
@@ -224,31 +226,9 @@ def thread_view(result, spec, index: int) -> View:
         ptxt = f"P {_num(b_ - a_)} here, {_num(pitch)} median  (lead {_num(m['lead']) if m['lead'] else '?'})"
         ch.text((a_ + b_) / 2, vy - ch.px(8), ptxt, size=13, valign="top", bold=True)
         notes.append(ptxt)
-    # flank angles of the groove nearest the middle
-    if len(rts):
-        k = int(np.argmin(np.abs(rts[:, 0] - zc)))
-        zr, rv = float(rts[k, 0]), float(rts[k, 1])
-        depth = r_crest - rv
-        lo, hi = rv + 0.2 * depth, rv + 0.8 * depth
-        angs = []
-        i0 = int(np.argmin(np.abs(z - zr)))
-        for side in (-1, 1):
-            j = i0  # walk up this flank from the root to the first point at 80 % of the depth
-            while 0 < j < len(z) - 1 and r[j] < hi:
-                j += side
-            a_, b_ = sorted((i0, j))
-            ang, fit = _fit_flank(z[a_:b_ + 1], r[a_:b_ + 1], lo, hi)
-            angs.append(ang)
-            if fit is not None:
-                a, b = fit
-                ch.lines([((a * rv + b, rv), (a * r_crest + b, r_crest))], color="#b03030", width=2.0, dz=1.3)
-                rm = rv + 0.55 * depth
-                ch.text(a * rm + b + side * ch.px(10), rm, f"{ang:.1f}\u00b0", size=14, color="#b03030",
-                        halign="left" if side > 0 else "right", bold=True)
-        if all(a is not None for a in angs):
-            ftxt = f"flanks {angs[0]:.1f}\u00b0 + {angs[1]:.1f}\u00b0 = {angs[0] + angs[1]:.1f}\u00b0 included"
-            ch.text(zr, r_crest + 0.28 * h, ftxt, size=13, color="#b03030", bold=True)
-            notes.append(ftxt)
+    ftxt = _draw_flanks(ch, z, r, rts, zc, r_crest, h)  # flank angles of the groove nearest the middle
+    if ftxt:
+        notes.append(ftxt)
     name = spec["name"]
     ch.title(f"{name}: tooth detail at C{_num(phi, 2)}\u00b0 (+X); checked Z {_num(zlo, 2)} \u2026 {_num(zhi, 2)}, "
              f"{m['starts'] or '?'} start(s), {m['hand'] or '?'} hand")
@@ -256,6 +236,38 @@ def thread_view(result, spec, index: int) -> View:
     return View(f"thread-{index}.png", f"Thread check \u201c{name}\u201d: two and a half pitches at C{_num(phi, 2)}\u00b0 around "
                 f"Z {_num(zc, 2)} with the measured root and crest diameters, pitch and flank angles.",
                 p, ch.ticks, notes, pixel=ch.pixel)
+
+
+def _draw_flanks(ch, z: np.ndarray, r: np.ndarray, rts: np.ndarray, zc: float, r_crest: float,
+                 h: float) -> str | None:
+    """The flank angles of the groove nearest ``zc`` drawn on the tooth detail; their note, or None
+    when a flank was not measured."""
+    if not len(rts):
+        return None
+    k = int(np.argmin(np.abs(rts[:, 0] - zc)))
+    zr, rv = float(rts[k, 0]), float(rts[k, 1])
+    depth = r_crest - rv
+    lo, hi = rv + 0.2 * depth, rv + 0.8 * depth
+    angs = []
+    i0 = int(np.argmin(np.abs(z - zr)))
+    for side in (-1, 1):
+        j = i0  # walk up this flank from the root to the first point at 80 % of the depth
+        while 0 < j < len(z) - 1 and r[j] < hi:
+            j += side
+        a_, b_ = sorted((i0, j))
+        ang, fit = _fit_flank(z[a_:b_ + 1], r[a_:b_ + 1], lo, hi)
+        angs.append(ang)
+        if fit is not None:
+            a, b = fit
+            ch.lines([((a * rv + b, rv), (a * r_crest + b, r_crest))], color="#b03030", width=2.0, dz=1.3)
+            rm = rv + 0.55 * depth
+            ch.text(a * rm + b + side * ch.px(10), rm, f"{ang:.1f}\u00b0", size=14, color="#b03030",
+                    halign="left" if side > 0 else "right", bold=True)
+    if all(a is not None for a in angs):
+        ftxt = f"flanks {angs[0]:.1f}\u00b0 + {angs[1]:.1f}\u00b0 = {angs[0] + angs[1]:.1f}\u00b0 included"
+        ch.text(zr, r_crest + 0.28 * h, ftxt, size=13, color="#b03030", bold=True)
+        return ftxt
+    return None
 
 
 def ramp_view(result, spec, index: int) -> View:
@@ -297,7 +309,7 @@ def ramp_view(result, spec, index: int) -> View:
 def top_view(result) -> View:
     """Mill: the part from above, coloured over the cut depth range (a colour per floor)."""
     pv = _pv()
-    v, f = _arrays(result.part)
+    v, f = solid_arrays(result.part)
     up, levels = floor_levels(v, f)
     sb = result.stock.bounding_box()
     ztop = float(sb[5])

@@ -64,9 +64,11 @@ def vertex_angles(solids) -> np.ndarray:
     """Sorted, distinct angles (degrees in [0, 180)) of the vertices of ``solids`` off the axis,
     modulo 180: a half-plane section slices the whole plane, so a vertex on the far side
     (phi + 180) matters as much as one at phi."""
+    from cutsim.stock.arrays import solid_arrays
+
     out = [np.zeros(0)]
     for s in solids:
-        v = np.asarray(s.to_mesh().vert_properties, dtype=np.float64)
+        v = solid_arrays(s)[0]
         if not len(v):
             continue
         x, y = v[:, 0], v[:, 1]
@@ -491,20 +493,21 @@ def load_solid(path: str):
     """A closed mesh file (STL, 3MF, OBJ, ...) as a manifold3d.Manifold; raises ValueError when it
     does not describe a closed solid."""
     import trimesh
-    from manifold3d import Manifold, Mesh
+
+    from cutsim.stock.arrays import solid_of
 
     mesh = trimesh.load(path, force="mesh")
     mesh.merge_vertices()
-    man = Manifold(Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
-                        tri_verts=np.asarray(mesh.faces, dtype=np.uint32)))
+    man = solid_of(mesh.vertices, mesh.faces)
     if man.status().name != "NoError" or man.is_empty():
         raise ValueError(f"{path} is not a closed solid ({man.status().name})")
     return man
 
 
 def _mesh(man) -> tuple[np.ndarray, np.ndarray]:
-    m = man.to_mesh()
-    return np.asarray(m.vert_properties, dtype=np.float64)[:, :3], np.asarray(m.tri_verts, dtype=np.int64)
+    from cutsim.stock.arrays import solid_arrays
+
+    return solid_arrays(man)
 
 
 def _probe_points(man) -> np.ndarray:
@@ -587,16 +590,3 @@ def compare_design(part, design, stock=None, max_points: int = 20000) -> dict:
 
 
 GOUGE_EPS = 1e-9  # mm^3: a smaller gouge volume is rounding (the gouge solid is not built)
-
-
-def signed_deviation(part, design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Part mesh (vertices, faces) and, per vertex, its distance to the design surface: positive
-    outside the design (excess), negative inside (gouge); the side is taken from the normal of
-    the nearest design triangle. For colour maps."""
-    pv_, pf = _mesh(part)
-    dv, df = _mesh(design)
-    tri = dv[df]
-    d, q, k = _point_triangle_distance(pv_, tri)
-    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    side = np.einsum("ij,ij->i", pv_ - q, nrm[k])
-    return pv_, pf, np.where(side < 0, -d, d)

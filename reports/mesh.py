@@ -147,12 +147,6 @@ def closed_by_position(v: np.ndarray, f: np.ndarray, distinct: bool = False) -> 
     return None
 
 
-def _arrays(man) -> tuple[np.ndarray, np.ndarray]:
-    m = man.to_mesh64()
-    return (np.asarray(m.vert_properties, dtype=np.float64)[:, :3].copy(),
-            np.asarray(m.tri_verts, dtype=np.int64).copy())
-
-
 def _shared_points(q: np.ndarray) -> list[np.ndarray]:
     """Groups (ascending vertex indices, groups in grid order) of vertices sharing a grid point."""
     order = np.lexsort(q.T[::-1])
@@ -274,7 +268,9 @@ def _separate(q: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, int, int]:
 
 def closed_mesh(part) -> ClosedMesh:
     """The part (a manifold3d.Manifold) as a mesh closed by position (module doc)."""
-    v, f = _arrays(part)
+    from cutsim.stock.arrays import solid_arrays
+
+    v, f = solid_arrays(part, exact=True)
     if len(f) == 0:
         return ClosedMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64), MIN_GRID, 0, 0, 0.0)
     h = grid_step(float(np.abs(v).max()))

@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from cutsim.stock.arrays import solid_arrays
+
 WIDTH, HEIGHT = 1024, 768
 MAX_FLOORS = 12  # more flat levels than this: continuous colours with contour lines
 MIN_FLOOR_AREA = 0.01  # mm^2 (0.1 x 0.1 mm): a flat level smaller than this in all is no floor
@@ -61,13 +63,8 @@ def _polydata(verts: np.ndarray, faces: np.ndarray):
     return pv.PolyData(np.asarray(verts, dtype=np.float64), f)
 
 
-def _arrays(man) -> tuple[np.ndarray, np.ndarray]:
-    m = man.to_mesh()
-    return np.asarray(m.vert_properties, dtype=np.float64)[:, :3], np.asarray(m.tri_verts, dtype=np.int64)
-
-
 def _mesh(man):
-    return _polydata(*_arrays(man))
+    return _polydata(*solid_arrays(man))
 
 
 def _plotter(lighting="light kit", size: tuple[int, int] = (WIDTH, HEIGHT)):

@@ -21,7 +21,9 @@ import math
 
 import numpy as np
 
-from .plot import (DEV_K, HEIGHT, MAX_FLOORS, PART_COLOR, WALL_COLOR, View, _arrays, _face_floor_index,
+from cutsim.stock.arrays import solid_arrays
+
+from .plot import (DEV_K, HEIGHT, MAX_FLOORS, PART_COLOR, WALL_COLOR, View, _face_floor_index,
                    _floor_colors, _fmt_tick, _num, _plotter, _polydata, _pv, _rgb, _stock_outline, floor_levels,
                    nice_ticks, world_text)
 
@@ -176,7 +178,7 @@ def iso_view(result) -> View:
     """The part in 3D (module doc for the camera); on a mill part the floors take their top-view
     colours, walls grey; the part's feature edges drawn."""
     p = _plotter()
-    v, f = _arrays(result.part)
+    v, f = solid_arrays(result.part)
     part = _polydata(v, f)
     if result.setup.machine.kind != "lathe":
         up, levels = floor_levels(v, f)
@@ -219,8 +221,8 @@ def face_deviation(part, design, progress=None, chunk: int = 2000
     Computed in chunks of ``chunk`` faces with ``progress("deviation", i, n)`` (faces done)."""
     from cutsim.reports.measure import _point_triangle_distance
 
-    pv_, pf = _arrays(part)
-    dv, df = _arrays(design)
+    pv_, pf = solid_arrays(part)
+    dv, df = solid_arrays(design)
     tri = dv[df]
     cen = pv_[pf].mean(axis=1)
     n = len(cen)

@@ -11,6 +11,8 @@ from cutsim.kinematics.paths import circle_segments
 
 from cutsim.base.specs import StockSpec
 
+from .arrays import solid_of
+
 # The most triangles of solids a run may hold at once ([simulation] max_triangles, docs/setup.md):
 # measured peak memory is 400-650 bytes per counted triangle (a thread of 3.4M counted triangles,
 # lead 0.045 over 22 mm: 2.19 GB), so the default keeps a run within about 2 GB.
@@ -100,8 +102,7 @@ def load_mesh_stock(path: str, setup_path: str = "", *, where: tuple[int, int] =
     ext = verts.max(axis=0) - verts.min(axis=0)
     if ext.min() < min_size:
         raise error(f"the stock mesh {path} is thinner than {min_size:g} mm")
-    solid = m3d.Manifold(m3d.Mesh(vert_properties=np.asarray(verts, dtype=np.float32),
-                                  tri_verts=np.asarray(faces, dtype=np.uint32)))
+    solid = solid_of(verts, faces)
     if solid.status() != m3d.Error.NoError or solid.is_empty():
         raise error(f"the stock mesh {path} is not a valid 2-manifold ({solid.status().name})")
     _MESH_CACHE.clear()

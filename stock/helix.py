@@ -44,7 +44,7 @@ the arc's axis (R - r <= tol), flutes ending on the corner, or an arc too short 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import manifold3d as m3d
 import numpy as np

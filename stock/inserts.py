@@ -32,6 +32,7 @@ EXTERIOR = {
     "W": (100.0, 20.0, 100.0, 20.0, 100.0, 20.0),  # trigon: corners of 80 and 160
 }
 INSERT_SHAPES = tuple(EXTERIOR) + ("R",)  # R: round
+BAR_REACH_FACTOR = 0.7  # a boring bar's default reach: axis to tool point, x its diameter (catalogue bars 0.65-0.75)
 DEFAULT_APPROACH = 93.0  # degrees, or the largest the insert allows (180 - its corner angle)
 
 
@@ -156,3 +157,26 @@ def orient(poly: np.ndarray, tool: ToolSpec) -> np.ndarray:
     elif tool.side == "face":
         out = out[:, ::-1].copy()
     return out
+
+
+def bar_reach(tool: ToolSpec) -> float:
+    """From the boring bar's axis to the tool point (radially), mm: ``bar_reach``, or
+    BAR_REACH_FACTOR x ``bar_diameter`` when it is 0."""
+    return tool.bar_reach or BAR_REACH_FACTOR * tool.bar_diameter
+
+
+def bar_section(tool: ToolSpec, start: float, length: float) -> np.ndarray:
+    """The boring bar of an inside tool in the workpiece's X-Z plane, relative to the tool point:
+    the band its round body covers across X (its axis ``bar_reach`` towards the spindle axis from
+    the tool point, ``bar_diameter`` wide) from ``start`` above the tool point (behind the insert)
+    ``length`` along +Z, out of the bore towards the turret. Revolved about the spindle axis this
+    is what the bar meets of a part turning past it: exact for a round bar, at every angle."""
+    x0 = -bar_reach(tool) - tool.bar_diameter / 2.0
+    x1 = x0 + tool.bar_diameter
+    z0, z1 = start, start + length
+    return np.array([[x0, z0], [x1, z0], [x1, z1], [x0, z1]])
+
+
+def bar_message(tool: ToolSpec, vol: float) -> str:
+    return (f"the boring bar of T{tool.number} (diameter {tool.bar_diameter:g} mm, its axis {bar_reach(tool):g} mm "
+            f"from the tool point) meets the stock: {vol:.3f} mm^3 (too thick for this bore)")

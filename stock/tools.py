@@ -85,10 +85,31 @@ def _insert_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
     return None
 
 
+def _bar_problem(tool: ToolSpec) -> tuple[str, str] | None:
+    """A boring bar (``bar_diameter``, ``bar_reach``) belongs to an inside tool; its tool point
+    stands out of it: the reach is more than half its diameter."""
+    from .inserts import bar_reach
+
+    if tool.bar_diameter == 0 and tool.bar_reach == 0:
+        return None
+    key = "bar_diameter" if tool.bar_diameter != 0 else "bar_reach"
+    if tool.side != "inside":
+        return key, 'is a boring bar\'s: only an inside tool (side = "inside") has one'
+    if tool.bar_diameter == 0:
+        return key, "is a boring bar's: give its bar_diameter too"
+    p = _size(tool, "bar_diameter") or _size(tool, "bar_reach", zero_ok=True)
+    if p:
+        return p
+    if not bar_reach(tool) > tool.bar_diameter / 2.0:
+        return "bar_reach", (f"must be more than half the bar's diameter ({tool.bar_diameter / 2.0:g} mm): the "
+                             f"tool point stands out of the bar (got {bar_reach(tool)!r})")
+    return None
+
+
 def _lathe_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
     """Side and hand of a thread, turning or grooving tool; a turning insert, a grooving insert
     or a full-profile thread insert in range (the V of thread and turning tools: ``tool_problem``)."""
-    p = _choice(tool, "side", SIDES) or _choice(tool, "hand", HANDS)
+    p = _choice(tool, "side", SIDES) or _choice(tool, "hand", HANDS) or _bar_problem(tool)
     if p:
         return p
     if tool.kind == "turning" and tool.insert:

@@ -9,9 +9,10 @@ from cutsim.interp.errors import CutsimError
 from .reader import Locator, Reader
 
 TOOL_KEYS = {
-    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch"},
-    "turning": {"angle", "tip_radius", "height", "thickness", "side", "insert", "size", "approach", "hand"},
-    "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand"},
+    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch", "bar_diameter", "bar_reach"},
+    "turning": {"angle", "tip_radius", "height", "thickness", "side", "insert", "size", "approach", "hand",
+                "bar_diameter", "bar_reach"},
+    "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand", "bar_diameter", "bar_reach"},
     "profile": {"points", "thickness"},
     "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
     "ballmill": {"diameter", "length"},
@@ -80,6 +81,8 @@ def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
         kw["height"] = t.get("height", float, 10.0)
     if kind in ("thread", "turning", "grooving"):
         kw["side"] = t.get("side", str, "outside")
+        kw["bar_diameter"] = t.get("bar_diameter", float, 0.0)
+        kw["bar_reach"] = t.get("bar_reach", float, 0.0)
         if kind != "thread":
             kw["hand"] = t.get("hand", str, "R")
     if kind == "profile":

@@ -13,7 +13,7 @@ import cutsim
 from cutsim.base.specs import ToolSpec
 from cutsim.interp.canon import Src
 from cutsim.kinematics.paths import ArcGeom, SpatialPath
-from cutsim.stock import mill
+from cutsim.stock import mill_checks
 from cutsim.stock.helix import arc_sweep, fine_pitch, revolved_sweep
 
 SETUP = """[machine]
@@ -132,7 +132,7 @@ def test_flute_check_bisection_matches_every_turn(tmp_path, monkeypatch, enter):
     program = (f"N1 G00 X-20. Y0 Z5.\nN2 {enter}\nN3 Z-0.2 G10\nN4 G09 G02 X-20. Y0 I20. G73 L4 Q25\n"
                "N5 G98\nN6 G00 Z30.\n")
     fast = _run(tmp_path, program, length=2.0, tol=0.05).report["warnings"]
-    monkeypatch.setattr(mill, "_deepening_runs", lambda cands, paths, bottom: [[c] for c in cands])
+    monkeypatch.setattr(mill_checks, "_deepening_runs", lambda cands, paths, bottom: [[c] for c in cands])
     slow = _run(tmp_path, program, length=2.0, tol=0.05).report["warnings"]
     flutes = [w for w in fast if "flute length" in w["message"]]
     assert fast == slow

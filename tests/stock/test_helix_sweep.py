@@ -17,6 +17,7 @@ from cutsim.interp import interpret
 from cutsim.interp.canon import Src
 from cutsim.kinematics import plan
 from cutsim.kinematics.paths import ArcGeom, SpatialPath, arc_geom
+from cutsim.stock.arrays import solid_arrays
 from cutsim.stock.helix import arc_sweep, merge_arcs
 from cutsim.base.specs import ToolSpec
 
@@ -46,8 +47,7 @@ def _cut(stock: m3d.Manifold, solids: list) -> tuple[m3d.Manifold, float]:
 
 
 def _mesh(part: m3d.Manifold) -> trimesh.Trimesh:
-    m = part.to_mesh()
-    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=False)
+    return trimesh.Trimesh(*solid_arrays(part), process=False)
 
 
 # -- constant Z ------------------------------------------------------------------------------------

@@ -285,7 +285,7 @@ def test_full_pass_volume_within_0_05_percent(tmp_path):
 def test_lead_finer_than_the_tolerance_is_the_turned_groove(tmp_path):
     """G33 with a lead of 1 um at tolerance 0.2 (fuzz seed 20261126 case 42440: 12,000 turns, the
     screw sweep's teeth 1 um wide took minutes): within the tolerance the cut is the revolved
-    sweep of the profile along the path (stock/removal.py fine_screw), so at every angle the part's
+    sweep of the profile along the path (stock/strategy_turning.py fine_screw), so at every angle the part's
     radius over the cut length is the programmed X/2 = 14 within the tolerance, and the bar keeps
     its 15 mm radius above the tool's start."""
     (tmp_path / "fine.nc").write_text("N10 M03 S100 X28. Z2.\nN20 G33 Z-20. F0.001\nN30 G00 X40.\n")

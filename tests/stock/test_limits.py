@@ -73,7 +73,7 @@ def test_raising_max_triangles_is_the_setting_named(tmp_path):
 def test_screw_estimate_matches_the_built_sweep():
     """The estimate before building equals the built sweep's triangles within 1 % (each pass swept
     on its own: grouping passes on one helix is switched off for this count)."""
-    from cutsim.stock import removal, sweeps, threads
+    from cutsim.stock import budget, strategy_turning, sweeps, threads
 
     setup = cutsim.load_setup(str(LATHE / "multipass.toml"))
     built = []
@@ -87,19 +87,19 @@ def test_screw_estimate_matches_the_built_sweep():
         return out
 
     estimates = []
-    add = removal.Work.add
+    add = budget.Work.add
 
     def recording(self, tris, src, what):
         if what == "this thread cut":
             estimates.append(tris)
         return add(self, tris, src, what)
 
-    removal.screw_sweep, threads.screw_sweep, removal.Work.add = counting, counting, recording
+    strategy_turning.screw_sweep, threads.screw_sweep, budget.Work.add = counting, counting, recording
     threads.motion = lambda path: None
     try:
         cutsim.simulate(str(LATHE / "multipass.nc"), setup)
     finally:
-        removal.screw_sweep, threads.screw_sweep, removal.Work.add = orig, orig, add
+        strategy_turning.screw_sweep, threads.screw_sweep, budget.Work.add = orig, orig, add
         threads.motion = orig_motion
     assert len(estimates) == 3 and len(built) == 3
     for est, n in zip(estimates, built):
@@ -394,7 +394,7 @@ def test_mill_estimate_bounds_the_built_hulls():
     """For short 3D polylines of a flat, a bull-nose and a ball-end mill, the estimate of a chain
     piece is at least the triangles ``hull_sweep`` builds (it is checked against the limit before
     anything is built, so it must not undercount) and within a small factor of them."""
-    import cutsim.stock.removal as R
+    import cutsim.stock.strategy_milling as R
     from cutsim.base.specs import ToolSpec
     from cutsim.stock import mill
 
@@ -406,7 +406,7 @@ def test_mill_estimate_bounds_the_built_hulls():
                 pts = np.cumsum(rng.uniform(-3, 3, size=(4, 3)), axis=0) + [0, 0, -2.0]
                 cap = mill.cap_height(0.0, tol)
                 built = sum(s.num_tri() for s in mill.hull_sweep(pts, tool, tol, cap))
-                est = R._chain_piece_triangles(pts, tool, tol, cap)
+                est = R.chain_piece_triangles(pts, tool, tol, cap)
                 assert built <= est <= 8 * max(built, 1), (kind, tol, built, est)
 
 
@@ -463,10 +463,10 @@ N130 G00 Z20.
 
 def _thread_counts(grouped: bool, setup, prog: str):
     """(estimates added for thread cuts, triangles of the thread sweeps built for the subtract)."""
-    from cutsim.stock import removal, sweeps, threads
+    from cutsim.stock import budget, strategy_turning, sweeps, threads
 
     built, estimates = [], []
-    orig, orig_motion, add = sweeps.screw_sweep, threads.motion, removal.Work.add
+    orig, orig_motion, add = sweeps.screw_sweep, threads.motion, budget.Work.add
 
     def counting(*a, **k):
         out = orig(*a, **k)
@@ -479,13 +479,13 @@ def _thread_counts(grouped: bool, setup, prog: str):
             estimates.append(tris)
         return add(self, tris, src, what)
 
-    removal.screw_sweep, threads.screw_sweep, removal.Work.add = counting, counting, recording
+    strategy_turning.screw_sweep, threads.screw_sweep, budget.Work.add = counting, counting, recording
     if not grouped:
         threads.motion = lambda path: None
     try:
         cutsim.simulate(prog, setup)
     finally:
-        removal.screw_sweep, threads.screw_sweep, removal.Work.add = orig, orig, add
+        strategy_turning.screw_sweep, threads.screw_sweep, budget.Work.add = orig, orig, add
         threads.motion = orig_motion
     return estimates, built
 

@@ -243,7 +243,7 @@ def test_slot_in_mesh_stock(tmp_path):
 
 def test_flute_check_same_path_deeper(tmp_path):
     """Flute checks skip a pass whose shank lies inside the shank of an earlier clean pass on the
-    same XY path (stock/mill.py ``_shadowed``), but not one that reaches lower into fresh stock. A
+    same XY path (stock/mill_checks.py ``_shadowed``), but not one that reaches lower into fresh stock. A
     6 mm end mill with 5 mm flutes on a 20 mm plate slots X-30..30 (through the plate, entering and
     leaving outside it) at Z-3 (flutes above the top), Z-6 (shank from Z-1: cleared by the Z-3 pass) and Z-13 (line 12):
     its shank from Z-8 meets the 2 mm from Z-8 to Z-6 that no pass took, over the shank's
@@ -290,7 +290,7 @@ tolerance = {tol}
 
 def test_tool_far_bigger_than_the_stock(tmp_path):
     """A 2 m flat end mill over a 10 x 10 x 5 mm plate: its sweeps reach far beyond the plate and
-    are cut off at the plate's box (stock/removal.py ``_Frame.clip``) without changing what the
+    are cut off at the plate's box (stock/cuts.py ``Frame.clip``) without changing what the
     plate loses. Plunge to Z-1 (a 3D move: hulls), ramp to X5 Z-2 (both discs cover the plate, the
     lower bottom is Z-2), then a level pass at Z-3 (a prism): the plate is faced to Z-3 exactly,
     300 mm^3, and no warning."""

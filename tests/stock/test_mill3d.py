@@ -192,10 +192,10 @@ def test_random_planar_lines_tube_equals_hulls(seed, monkeypatch):
 def test_long_programs_are_swept_and_subtracted_in_pieces(tmp_path, monkeypatch):
     """With tiny pieces (chains cut every 7 poses, a subtract after every solid) the raster and
     V groove of the depth-map test remove the same volume: pieces bound memory, not the result."""
-    from cutsim.stock import mill, removal
+    from cutsim.stock import budget, mill
 
     monkeypatch.setattr(mill, "CHAIN_POINTS", 7)
-    monkeypatch.setattr(removal, "CHUNK_TRIANGLES", 1)
+    monkeypatch.setattr(budget, "CHUNK_TRIANGLES", 1)
     test_wavy_raster_matches_the_depth_map(tmp_path)
 
 
