@@ -1,6 +1,6 @@
 """The Sinumerik interpreter's tables besides its G and M codes (codes.py): the calls it ignores
-or notes, what PROC ... SAVE restores, the limits of arrays, subprogram files and the call stack. Importing it
-registers the drilling cycles into the milling cycles' tables (drilling.register).
+or notes, what PROC ... SAVE restores, the limits of arrays, subprogram files and the call stack.
+Importing it registers the drilling cycles into the milling cycles' tables (drilling.register).
 """
 from __future__ import annotations
 
