@@ -6,7 +6,7 @@ from __future__ import annotations
 from ..canon import Src
 from ..core import Group
 from . import axes, machine
-from .codes import G_CODES, LANGUAGE_GROUPS, M_CODES
+from .codes import G_CODES, LANGUAGE_GROUPS, M_CODES, takes
 from .syntax import Call, Command, Line, MACHINE_COMMANDS, range_message, RANGES, Word
 from .cycle import CYCLES
 from .tables import NOTES
@@ -83,10 +83,10 @@ class Words:
         """G4 F<seconds> / G4 S<spindle revolutions>: a dwell, alone in its block with its F or S;
         the tool stands still (the modal feed and speed stay as they were)."""
         col = next(c for code, c in blk.gs if code == 4)
-        times = [blk.words.pop(a) for a in ("F", "S") if a in blk.words]
+        times = [blk.words.pop(a) for a in G_CODES[4].words.split() if a in blk.words]  # F, S
         if len(times) != 1:
             raise self.error(line, col, "G4 needs its dwell time: G4 F<seconds> or G4 S<revolutions>")
-        moving = [a for a in blk.words if a in "XYZ" or a in ("I", "J", "K", "CR")]
+        moving = [a for a in blk.words if takes(2, a)]  # the words of a move: X Y Z and a circle's I J K CR
         if moving:
             raise self.error(line, blk.words[moving[0]].col, "G4 (dwell) stands in a block without motion")
         blk.gs = [(code, c) for code, c in blk.gs if code != 4]
