@@ -88,7 +88,7 @@ LANGUAGE_GROUPS = (Group.MOTION, Group.PLANE, Group.DISTANCE, Group.FEED, Group.
 # codes that only change how the path is run, not where: accepted with one warning each
 PATH_ONLY = frozenset(c for c, row in G_CODES.items() if c == 9 or row.group in (Group.PATH_CONTROL,
                       Group.EXACT_STOP, Group.CORNER))
-# the ISO shell's codes (drilling.iso_codes)
+# the ISO shell's codes by group, in the order drilling.iso_codes checks them
 ISO_GROUPS = (Group.CANNED_CYCLE, Group.RETRACT, Group.LANGUAGE_MODE)
 
 

@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 from ..canon import Src
+from ..core import Group
 from .codes import G_CODES, ISO_GROUPS
 from .cycle import CYCLES
 from .milling import run_cycle
@@ -585,9 +586,10 @@ def iso_codes(m, blk, src: Src) -> bool:
     codes = [(c, col) for c, col in blk.gs if c in ISO_G]
     if codes:
         blk.gs[:] = [(c, col) for c, col in blk.gs if c not in ISO_G]
-    cycle = [(c, col) for c, col in codes if c in ISO_CYCLES or c in (80, 87)]
-    motion = [(c, col) for c, col in blk.gs if c in (0, 1, 2, 3)]
-    for group in (cycle, [(c, col) for c, col in codes if c in (98, 99)], [(c, col) for c, col in codes if c in (290, 291)]):
+    groups = [[(c, col) for c, col in codes if G_CODES[c].group is g] for g in ISO_GROUPS]
+    cycle = groups[0]  # G73, G74, G80 .. G89; then G98/G99 and G290/G291 (codes.ISO_GROUPS)
+    motion = [(c, col) for c, col in blk.gs if G_CODES[c].group is Group.MOTION]
+    for group in groups:
         if len({c for c, _ in group}) > 1:
             raise m.error(line, group[1][1], f"G{group[1][0]} conflicts with G{group[0][0]} in the same block")
     if cycle and cycle[0][0] != 80 and motion:
