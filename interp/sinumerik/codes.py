@@ -84,7 +84,7 @@ M_CODES: dict[int, Code] = {
 }
 
 # the groups the language checks for two different codes in one block (Words.check_groups)
-LANGUAGE_GROUPS = (Group.MOTION, Group.PLANE, Group.DISTANCE, Group.FEED, Group.RADIUS_COMP)
+LANGUAGE_GROUPS = frozenset((Group.MOTION, Group.PLANE, Group.DISTANCE, Group.FEED, Group.RADIUS_COMP))
 # codes that only change how the path is run, not where: accepted with one warning each
 PATH_ONLY = frozenset(c for c, row in G_CODES.items() if c == 9 or row.group in (Group.PATH_CONTROL,
                       Group.EXACT_STOP, Group.CORNER))

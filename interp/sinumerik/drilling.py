@@ -583,15 +583,17 @@ def iso_codes(m, blk, src: Src) -> bool:
     True when the block drills (the cycle is on and the block names X, Y, Z or R): the block's
     X/Y then position the tool with G0 and ``iso_drill`` drills there after the move."""
     line = src.line
-    codes = [(c, col) for c, col in blk.gs if c in ISO_G]
+    codes = [(c, col) for c, col in blk.gs if c in ISO_G] if blk.gs else []
+    cycle: list = []
     if codes:
         blk.gs[:] = [(c, col) for c, col in blk.gs if c not in ISO_G]
-    groups = [[(c, col) for c, col in codes if G_CODES[c].group is g] for g in ISO_GROUPS]
-    cycle = groups[0]  # G73, G74, G80 .. G89; then G98/G99 and G290/G291 (codes.ISO_GROUPS)
-    motion = [(c, col) for c, col in blk.gs if G_CODES[c].group is Group.MOTION]
-    for group in groups:
-        if len({c for c, _ in group}) > 1:
-            raise m.error(line, group[1][1], f"G{group[1][0]} conflicts with G{group[0][0]} in the same block")
+        groups = [[(c, col) for c, col in codes if G_CODES[c].group is g] for g in ISO_GROUPS]
+        cycle = groups[0]  # G73, G74, G80 .. G89; then G98/G99 and G290/G291 (codes.ISO_GROUPS)
+        for group in groups:
+            if len({c for c, _ in group}) > 1:
+                raise m.error(line, group[1][1], f"G{group[1][0]} conflicts with G{group[0][0]} in the same block")
+    motion = [(c, col) for c, col in blk.gs if G_CODES[c].group is Group.MOTION] \
+        if cycle or m.drill.iso is not None else []  # (it matters only with a cycle code or mode)
     if cycle and cycle[0][0] != 80 and motion:
         raise m.error(line, motion[0][1], f"G{motion[0][0]} and the drilling cycle G{cycle[0][0]} in one block")
     for c, col in codes:

@@ -237,9 +237,6 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
             blk.end = any(code in (2, 30) for code, _ in ms)
             blk.calls.extend(Ret(col) for code, col in ms if code == 17)
 
-    def convert_settings(self, st: Step) -> None:
-        self.settings(st.src, st.block)
-
     def convert_feed(self, st: Step) -> None:
         if "F" in st.words:
             f = st.words.pop("F")

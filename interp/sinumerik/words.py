@@ -4,7 +4,7 @@ compensation on, language calls and notes.
 from __future__ import annotations
 
 from ..canon import Src
-from ..core import Group
+from ..core import Group, Step
 from . import axes, machine
 from .codes import G_CODES, LANGUAGE_GROUPS, M_CODES, takes
 from .syntax import Call, Command, Line, MACHINE_COMMANDS, range_message, RANGES, Word
@@ -114,6 +114,8 @@ class Words:
         """Two different G codes of one of the language's modal groups (codes.LANGUAGE_GROUPS: G0 G1,
         G90 G91, G17 G18) in a block are an error at the second; the same code twice is harmless.
         (The machine side checks units and zero offsets, the ISO shell its drilling codes.)"""
+        if len(gs) < 2:
+            return  # (most blocks)
         seen: dict[Group, int] = {}
         for code, col in gs:
             group = G_CODES[code].group
@@ -124,8 +126,10 @@ class Words:
                 raise self.error(line, col, f"G{code} conflicts with G{seen[group]} in the same block (both {name})")
             seen[group] = code
 
-    def settings(self, src: Src, blk: Block) -> None:
-        """The machine keywords, then spindle and tool (T, D, M6)."""
+    def convert_settings(self, st: Step) -> None:
+        """The executor's hook (core.Interpreter.execute): the machine keywords, then spindle and
+        tool (T, D, M6)."""
+        src, blk = st.src, st.block
         machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (machine)
         line, words = src.line, blk.words
         direction = self.spindle_code(line, blk.ms)

@@ -45,7 +45,7 @@ def test_m_codes_outside_the_table_need_the_setup():
     assert outcome("G0 X1 M78\nM30\n").startswith("p.mpf:1:7: error: M78 is not known to the simulator")
 
 
-PAIRS = [(a, b) for g in LANGUAGE_GROUPS for a, b in itertools.combinations(sorted(c for c, r in G_CODES.items()
+PAIRS = [(a, b) for g in sorted(LANGUAGE_GROUPS, key=lambda g: g.value) for a, b in itertools.combinations(sorted(c for c, r in G_CODES.items()
                                                                                   if r.group is g), 2)]
 
 
