@@ -59,6 +59,10 @@ class Group(Enum):
     SPINDLE_MODE = "spindle speed mode"  # RS274NGC G96 G97
     OVERRIDE = "override switches"  # RS274NGC M48..M53
     IO = "digital and analog outputs"  # RS274NGC M62..M68
+    CANNED_CYCLE = "canned cycle"  # Sinumerik ISO G73 G74 G80..G89 (apart from the motion group)
+    LANGUAGE_MODE = "language mode"  # Sinumerik G290 G291 (Siemens / ISO dialect)
+    EXACT_STOP = "exact stop window"  # Sinumerik G601 G602 G603
+    CORNER = "compensation corners"  # Sinumerik G450 G451
 
     __hash__ = object.__hash__  # members are singletons: hashed by identity, without a Python call
 

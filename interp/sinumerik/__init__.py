@@ -2,9 +2,10 @@
 
 - language: ``syntax`` (limits, messages, the syntax tree), ``expressions`` and ``reader`` (a block's
   text into it), ``lowering`` (structured control flow into jumps), ``fast`` (the plain-line shortcut);
-- the run: ``interpreter`` (``Sinumerik``: blocks and moves) with its parts ``values`` (expressions and
-  variables), ``flow`` (jumps, CASE, REPEAT, the loop guard), ``calls`` (subprograms), ``words`` (a
-  block's words and G codes) and ``tables``;
+- the run: ``interpreter`` (``Sinumerik``, a ``core.Interpreter``: blocks through the core executor's
+  hooks, moves) with its parts ``values`` (expressions and variables), ``flow`` (jumps, CASE, REPEAT,
+  the loop guard), ``calls`` (subprograms), ``words`` (a block's words and G code groups); ``codes``
+  (the G and M tables) and ``tables`` (notes and limits);
 - the machine side as an owned object: ``machine`` (units, frames, extra axes, tools, spindles) on
   ``frames``; ``axes`` (AXNAME, AXSTRING, SPI, AXTOSPI, AX[..]);
 - cycles: ``cycle`` (parameters, ``Cycle``, the contour offset), ``milling`` (SLOT1/2, POCKET1-4,

@@ -17,6 +17,8 @@ import math
 from dataclasses import dataclass
 
 from ..canon import Src
+from ..core import Group
+from .codes import G_CODES, ISO_GROUPS
 from .cycle import CYCLES
 from .milling import run_cycle
 from .syntax import COORD_LIMIT, Call, SubCall, range_message
@@ -503,8 +505,8 @@ def moves_axes(words) -> bool:
 
 def after_block(m, src: Src, moved: bool, blk, stack: list) -> None:
     """Run the modal call after a block that programmed a position (not the MCALL block itself,
-    nor a block of the modal subprogram while it runs). (Hook in Sinumerik.block, after the
-    block's motion.)"""
+    nor a block of the modal subprogram while it runs). (Hook in Sinumerik.convert_end, after
+    the block's motion.)"""
     call = m.drill.mcall
     if not moved or call is None:
         return
@@ -548,8 +550,7 @@ RUNNERS = {"CYCLE81": cycle81, "CYCLE82": cycle82, "CYCLE83": cycle83, "CYCLE84"
 # tool stood on its axis when the cycle mode began), G99 the R plane.
 ISO_CYCLES = {73: "CYCLE83", 74: "CYCLE840", 81: "CYCLE81", 82: "CYCLE82", 83: "CYCLE83", 84: "CYCLE840",
               85: "CYCLE89", 86: "CYCLE86", 88: "CYCLE88", 89: "CYCLE89"}
-ISO_MODES = {98, 99, 290, 291}  # return level: initial level / R plane; Siemens / ISO dialect mode
-ISO_G = set(ISO_CYCLES) | {80, 87} | ISO_MODES
+ISO_G = frozenset(c for c, row in G_CODES.items() if row.group in ISO_GROUPS)  # with G80, G98/G99, G290/G291
 
 
 @dataclass
@@ -576,20 +577,23 @@ class DrillState:
 
 
 def iso_codes(m, blk, src: Src) -> bool:
-    """The block's ISO cycle codes and words (hook in Sinumerik.block, before the modal G codes):
+    """The block's ISO cycle codes and words (hook at the end of Sinumerik.check_g):
     G73/G74/G81..G89 start or change the modal cycle, G80 and G0..G3 end it, G98/G99 choose the
     return level; R, Q, P (dwell) and Z (the depth) of a block in cycle mode are the cycle's data.
     True when the block drills (the cycle is on and the block names X, Y, Z or R): the block's
     X/Y then position the tool with G0 and ``iso_drill`` drills there after the move."""
     line = src.line
-    codes = [(c, col) for c, col in blk.gs if c in ISO_G]
+    codes = [(c, col) for c, col in blk.gs if c in ISO_G] if blk.gs else []
+    cycle: list = []
     if codes:
         blk.gs[:] = [(c, col) for c, col in blk.gs if c not in ISO_G]
-    cycle = [(c, col) for c, col in codes if c in ISO_CYCLES or c in (80, 87)]
-    motion = [(c, col) for c, col in blk.gs if c in (0, 1, 2, 3)]
-    for group in (cycle, [(c, col) for c, col in codes if c in (98, 99)], [(c, col) for c, col in codes if c in (290, 291)]):
-        if len({c for c, _ in group}) > 1:
-            raise m.error(line, group[1][1], f"G{group[1][0]} conflicts with G{group[0][0]} in the same block")
+        groups = [[(c, col) for c, col in codes if G_CODES[c].group is g] for g in ISO_GROUPS]
+        cycle = groups[0]  # G73, G74, G80 .. G89; then G98/G99 and G290/G291 (codes.ISO_GROUPS)
+        for group in groups:
+            if len({c for c, _ in group}) > 1:
+                raise m.error(line, group[1][1], f"G{group[1][0]} conflicts with G{group[0][0]} in the same block")
+    motion = [(c, col) for c, col in blk.gs if G_CODES[c].group is Group.MOTION] \
+        if cycle or m.drill.iso is not None else []  # (it matters only with a cycle code or mode)
     if cycle and cycle[0][0] != 80 and motion:
         raise m.error(line, motion[0][1], f"G{motion[0][0]} and the drilling cycle G{cycle[0][0]} in one block")
     for c, col in codes:

@@ -11,13 +11,13 @@ R Q), signs, digits and points before the comment; no ``=``, ``(``, ``$``, ``"``
 ``%``, no exponent; at most 12 digits on either side of the point (the long way's digit limit is
 20); the block (its comment not counted) no longer than the long way's limit.
 
-``plain_evaluate`` is Sinumerik.evaluate for a block of constant G0/G1 X Y Z F words, without the
-per-word hooks (tests/interp/core/test_fast_readers.py runs every Sinumerik program both ways). Hooks:
-reader.split_units(..., fast=read_plain) and the first lines of Sinumerik.evaluate.
+``plain_evaluate`` is Sinumerik.read_words for a block of constant G0/G1 X Y Z F words, without
+the per-word hooks (tests/interp/core/test_fast_readers.py runs every Sinumerik program both ways).
+Hooks: reader.split_units(..., fast=read_plain) and the first lines of Sinumerik.read_words.
 
-``plain_block`` runs such a block without Sinumerik.block's chain of hooks (ISO cycles, machine
-settings and move, MCALL, compensation) when it can tell that none of them applies; hook: the
-first lines of Sinumerik.block (issue 13). Same test, with it on and off.
+``plain_block`` runs such a block without core.Interpreter.execute and Sinumerik's hooks on it (ISO
+cycles, machine settings and move, MCALL, compensation) when it can tell that none of them
+applies; hook: the first lines of Sinumerik.block. Same test, with it on and off.
 """
 from __future__ import annotations
 
@@ -26,7 +26,6 @@ import dataclasses
 from .syntax import COORD_LIMIT, MAX_BLOCK_CHARS, RANGES, Line, Num, Word
 from ..core.fast import plain_patterns
 from ..core.frames import ZERO
-from .machine import MACHINE_G
 
 _LETTERS = "GMXYZIJKFSTDLPABCUVWRQ"
 PLAIN_LINE, PLAIN_WORD = plain_patterns(_LETTERS, 12, r"[Nn]([0-9]{1,12})(?![0-9.])", r"(?s:;.*)?")
@@ -91,14 +90,14 @@ def read_plain(program: str, lineno: int, text: str) -> Line | None:
 _PLAIN_ADDRESSES = frozenset("XYZF")
 
 
-def plain_evaluate(m, ln: Line, block, value):
-    """``Sinumerik.evaluate(ln)`` for a block of plain constant words only (G0/G1, X, Y, Z, F, each
+def plain_evaluate(m, ln: Line, value) -> tuple[dict, list] | None:
+    """``Sinumerik.read_words`` for a block of plain constant words only (G0/G1, X, Y, Z, F, each
     axis once, every value a finite constant within its address's range, no AC/IC, no extension,
     no address that is a variable of the running level or an extra axis of the setup): the same
-    Block, built without the per-word hooks (which do nothing to these words). None (nothing done)
-    for any other block, which then goes the long way and raises its errors there. ``block`` and
-    ``value`` are the interpreter's Block and Value classes (handed in: interp/sinumerik/interpreter.py imports
-    this module)."""
+    words (by address, ``value`` the interpreter's Value class, handed in: interp/sinumerik/
+    interpreter.py imports this module) and G codes ((code, column) pairs), read without the
+    per-word hooks (which do nothing to these words). None (nothing done) for any other block,
+    which then goes the long way and raises its errors there."""
     words = {}
     gs = []
     scope = m.vars
@@ -112,7 +111,7 @@ def plain_evaluate(m, ln: Line, block, value):
             return None
         v = node.value
         if a == "G":
-            if (v != 0.0 and v != 1.0) or v in MACHINE_G:
+            if v != 0.0 and v != 1.0:
                 return None
             gs.append((int(v), st.col))
         elif a in _PLAIN_ADDRESSES and a not in words:
@@ -122,7 +121,7 @@ def plain_evaluate(m, ln: Line, block, value):
             words[a] = value(v, None, st.col)
         else:
             return None
-    return block(words, gs)
+    return words, gs
 
 
 # -- running a plain block -------------------------------------------------------------------------
@@ -161,7 +160,7 @@ def plain_block(m, ln: Line, src) -> bool:
             return False
         v = node.value
         if a == "G":
-            if (v != 0.0 and v != 1.0) or v in MACHINE_G:
+            if v != 0.0 and v != 1.0:
                 return False
             if motion is not None and v != motion:
                 return False  # G0 G1 in one block: the long way's error

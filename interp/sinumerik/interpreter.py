@@ -1,19 +1,23 @@
-"""Siemens Sinumerik 840D dialect, milling subset (seed 003, spec/sinumerik.md).
+"""Siemens Sinumerik 840D dialect, milling subset (spec/sinumerik.md), on the core executor.
 
 Blocks are read once into the typed syntax tree of interp/sinumerik/syntax.py (statements and
-expressions as dataclasses); expressions are evaluated when the block runs. A block runs in
-phases (``block``): evaluate its assignments and words in order, then the modal G codes, then
-spindle, tool and feed, then the motion (with radius compensation), then cycles and subprogram
-calls, then jumps and the program end. Cycles (SLOT1, POCKET1, CYCLE72, ...) expand in
-interp/sinumerik/milling.py, contour.py and drilling.py into ordinary moves through the ModalMachine methods. Tool radius
-compensation (G41/G42) buffers the compensated moves and offsets them analytically at G40.
+expressions as dataclasses); expressions are evaluated when the block runs. A block runs through
+``core.Interpreter.execute`` with the G and M tables of codes.py: ``read_words`` evaluates its
+assignments, DEFs and words in order; ``check_g`` the modal G codes (the machine side's units,
+zero offsets and path modes, then the motion, plane, distance and feed modes, the compensation
+and the ISO drilling codes); ``convert_settings`` spindle and tool; ``convert_feed`` F;
+``convert_motion`` the compensation changes and the move (with its chamfer or rounding, or the
+hole of an ISO cycle); ``convert_end`` MCALL, cycles and subprogram calls, jumps and the program
+end. Plain G0/G1 blocks take the short way of fast.py. Cycles (SLOT1, POCKET1, CYCLE72, ...)
+expand in milling.py, contour.py and drilling.py into ordinary moves through the ModalMachine
+methods. Tool radius compensation (G41/G42) buffers the compensated moves and offsets them at G40.
 
 The class is split by concern into parts on one declared state (``Sinumerik.__init__``):
 values.py (expressions and variables), flow.py (jumps, CASE, REPEAT, the loop guard), calls.py
-(subprograms), words.py (a block's words and G codes); this module runs blocks and moves. Imports
-flow one way: interpreter -> parts -> tables -> drilling -> milling, machine -> syntax; tables.py
-registers the drilling cycles into the cycles' tables; this module hands ``run_cycle`` and the
-cycle names to the machine side's hooks.
+(subprograms), words.py (a block's words, G code groups, settings); this module runs blocks and
+moves. Imports flow one way: interpreter -> parts -> tables -> drilling -> milling, machine ->
+codes, syntax; tables.py registers the drilling cycles into the cycles' tables; this module hands
+``run_cycle`` and the cycle names to the machine side's hooks.
 
 What the simulator assumes where Siemens' manuals are silent: docs/dialects/sinumerik.md.
 """
@@ -22,26 +26,30 @@ from __future__ import annotations
 
 from .. import canon
 from ..canon import Src
-from ..core import arc_centre
+from ..core import arc_centre, CENTRE_WORDS, Group, Interpreter, Step
 from ..core.geometry import FullCircle, radius_centre, RadiusTooSmall
 from ..core.compensation import compensate_records
 from ..errors import CutsimError
-from ..modal import InterpConfig, ModalMachine, PLANE_AXES
+from ..modal import InterpConfig, PLANE_AXES
 from . import corners as corner, drilling as drill, fast as sinumerik_fast, machine
+from .codes import G_CODES, M_CODES, takes
 from .calls import Calls
 from .flow import Flow
 from .syntax import (Assign, Branch, Call, Case, Command, COORD_LIMIT, Def, Frame, Goto, Line, range_message, Repeat,
     Ret, SubCall, Unit, Word)
 from .reader import split_units
 from .milling import run_cycle
-from .tables import AXIS_LETTER, call_name, LANG_CALLS
+from .tables import call_name, LANG_CALLS
 from .values import Block, Slot, Value, Values
 from .words import Words
 
 CR_SLACK = 1e-6  # how much the chord of a CR= circle may exceed its diameter (mm)
 
 
-class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
+class Sinumerik(Values, Flow, Calls, Words, Interpreter):
+    G_CODES = G_CODES
+    M_CODES = M_CODES
+
     def __init__(self, name: str, cfg: InterpConfig):
         super().__init__(name, cfg)
         self.params: dict[str, float] = {f"R{k}": float(v) for k, v in cfg.parameters.items()}
@@ -151,59 +159,26 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
         return CutsimError(self.unit_program, line, col, message)
 
 
-    # -- one block, in phases ----------------------------------------------------------------------
+    # -- one block: core.Interpreter.execute and its hooks ----------------------------------------
     def block(self, ln: Line, fr: Frame, stack: list[Frame]) -> bool:
         """Run one block; True when it ends the program (M2/M30 in the main program)."""
         src = Src(fr.unit.program, ln.line, 1, ln.nlabel or ln.label, fr.calls)
         if sinumerik_fast.plain_block(self, ln, src):  # constant G0/G1 X Y Z F, nothing else active
             return False
-        line = ln.line
         if self.corners.hold is not None:
             self.corners.hold.blocks += 1
-        blk = self.evaluate(ln)
-        motion, new_comp = self.modal_codes(blk.gs, line)
-        iso = drill.iso_codes(self, blk, src)  # G81 .. G89 / G80: True when this block drills a hole
-        end = self.settings(src, blk, motion)
-        self.unsupported(blk, line)
-        corner.comp_change(self, new_comp)  # a corner where G40/G41/G42 changes: not modelled
-        self.comp_on(new_comp, src, line)
-        moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
-        if iso:  # the hole position: G0 in the plane at the level the tool stands on, then the hole
-            modal_motion, self.motion = self.motion, 0
-            self.move(ln, src, blk.words, 0)
-            self.motion = modal_motion
-            drill.iso_drill(self, src)
-        elif blk.corner or self.corners.active():
-            corner.run_move(self, blk.corner, line, lambda: self.move(ln, src, blk.words, motion))
-        else:
-            self.move(ln, src, blk.words, motion)
-        if new_comp == 40 and self.comp_buf is not None:
-            corner.comp_end(self)  # the departure move, if it waits for its corner, goes into the compensation
-            self.flush_comp(src, line)
-        drill.after_block(self, src, moved, blk, stack)
-        if self.calls(blk, src, line, stack):
-            return False
-        for st in blk.jumps:
-            if self.jump(st, line, stack):
-                return end
-        if end:
-            if any(f.kind == "unit" for f in stack[1:]):  # M2/M30 in a subprogram: return
-                self.ret(stack)
-                return False
-            corner.finish(self)
-            if self.comp_buf is not None:
-                self.flush_comp(None, line)
-            self.end(src)
-        return end
+        return self.execute(Block(ln), src, stack).result
 
-    def evaluate(self, ln: Line) -> Block:
+    def read_words(self, blk: Block) -> Block:
         """Assignments and DEFs take effect in order; words are evaluated and range-checked;
-        commands are warned about or handed on (Block.commands); G4 takes its F/S as the dwell."""
-        blk = sinumerik_fast.plain_evaluate(self, ln, Block, Value)  # constant G0/G1 X Y Z F (sinumerik_fast.py)
-        if blk is not None:
+        commands are warned about or handed on (Block.commands); G4 takes its F/S as the dwell.
+        The evaluated block is its own split (``split_words``)."""
+        ln = blk.ln
+        plain = sinumerik_fast.plain_evaluate(self, ln, Value)  # constant G0/G1 X Y Z F (fast.py)
+        if plain is not None:
+            blk.words, blk.gs = plain
             return blk
         line = ln.line
-        blk = Block()
         for st in ln.stmts:
             if isinstance(st, Assign) and st.name in corner.CORNER_WORDS and not st.index and st.name not in self.vars:
                 corner.word(self, blk.corner, st.name, self.num(self.ev(st.value, line, st.col), line, st.col), line,
@@ -230,6 +205,88 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
             self.dwell(blk, line)
         return blk
 
+    @staticmethod
+    def split_words(blk: Block) -> tuple[list, list, dict]:
+        """The block's G and M codes as (code, column) pairs and its other words by address."""
+        return blk.gs, blk.ms, blk.words
+
+    def check_g(self, st: Step, gs: list[tuple[int, int]]) -> None:
+        """The G codes (known to codes.G_CODES since ``word``): one per language group; the machine
+        side's codes (units, zero offsets, G53, path modes) act; then the motion, the plane, distance
+        and feed modes and the compensation G40/G41/G42 the block names; last the ISO drilling codes."""
+        blk, line = st.block, st.block.line
+        self.check_groups(gs, line)
+        for code, col in machine.g_codes(self, gs, line):
+            group = G_CODES[code].group
+            if group is Group.MOTION:
+                st.motion = code
+            elif group is Group.PLANE and self.comp_buf is not None:
+                raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
+            elif group is Group.RADIUS_COMP:
+                blk.comp = code
+            else:
+                self.common_g(code)  # G90/G91, G94/G95, G17/G18/G19
+        blk.drills = drill.iso_codes(self, blk, st.src)  # G81 .. G89 / G80: True when this block drills a hole
+
+    def check_m(self, st: Step, ms: list[tuple[int, int]]) -> None:
+        """The M codes (known to codes.M_CODES since ``word``): M2/M30 end the program after the
+        block, M17 returns like RET. The spindle direction is taken in ``convert_settings``, after
+        the machine keywords (their errors come first)."""
+        if ms:
+            blk = st.block
+            blk.end = any(code in (2, 30) for code, _ in ms)
+            blk.calls.extend(Ret(col) for code, col in ms if code == 17)
+
+    def convert_feed(self, st: Step) -> None:
+        if "F" in st.words:
+            f = st.words.pop("F")
+            if f.value <= 0:
+                raise self.error(st.src.line, f.col, "feed F must be positive")
+            self.feed = f.value
+
+    def convert_motion(self, st: Step) -> None:
+        """Machine keywords left over are errors; radius compensation starts (a corner waiting for
+        its element where it changes is refused); the move, or the hole of an ISO drilling cycle,
+        or the move with its chamfer or rounding; G40 ends the compensation after the move."""
+        blk, src, line = st.block, st.src, st.src.line
+        self.unsupported(blk, line)
+        corner.comp_change(self, blk.comp)  # a corner where G40/G41/G42 changes: not modelled
+        self.comp_on(blk.comp, src, line)
+        blk.moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
+        if blk.drills:  # the hole position: G0 in the plane at the level the tool stands on, then the hole
+            modal_motion, self.motion = self.motion, 0
+            self.move(src, blk.words, 0)
+            self.motion = modal_motion
+            drill.iso_drill(self, src)
+        elif blk.corner or self.corners.active():
+            corner.run_move(self, blk.corner, line, lambda: self.move(src, blk.words, st.motion))
+        else:
+            self.move(src, blk.words, st.motion)
+        if blk.comp == 40 and self.comp_buf is not None:
+            corner.comp_end(self)  # the departure move, if it waits for its corner, goes into the compensation
+            self.flush_comp(src, line)
+
+    def convert_end(self, st: Step) -> None:
+        """The modal call after a block that moved, subprogram calls, jumps, the program end;
+        ``Step.result`` is True when the program ends (``st.context``: the run loop's stack)."""
+        blk, src, line, stack = st.block, st.src, st.src.line, st.context
+        st.result = False
+        drill.after_block(self, src, blk.moved, blk, stack)
+        if self.calls(blk, src, line, stack):
+            return
+        for j in blk.jumps:
+            if self.jump(j, line, stack):
+                st.result = blk.end
+                return
+        if blk.end:
+            if any(f.kind == "unit" for f in stack[1:]):  # M2/M30 in a subprogram: return
+                self.ret(stack)
+                return
+            corner.finish(self)
+            if self.comp_buf is not None:
+                self.flush_comp(None, line)
+            self.end(src)
+            st.result = True
 
     # -- motion ----------------------------------------------------------------------------------
     def axis_targets(self, words: dict[str, Value]) -> dict[int, float]:
@@ -241,8 +298,8 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
                 end[i] = w.value if ab else self.pos[i] + w.value
         return end
 
-    def move(self, ln: Line, src: Src, words: dict[str, Value], motion_word) -> None:
-        line = ln.line
+    def move(self, src: Src, words: dict[str, Value], motion_word) -> None:
+        line = src.line
         machine.move(self, src, words, run_cycle)  # WCS -> machine: units, frames, extra axes (machine)
         cols = {i: words[a].col for i, a in enumerate("XYZ") if a in words}
         targets = self.axis_targets(words)
@@ -255,14 +312,14 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
         end = (end[0], end[1], end[2])
         if self.motion in (0, 1):
             for a in ("I", "J", "K", "CR"):
-                if a in words:
+                if a in words and not takes(self.motion, a):  # the circle's words (codes.G_CODES)
                     raise self.error(line, words[a].col, f"address {a} has no meaning in a G{self.motion} block")
             (self.rapid if self.motion == 0 else self.linear)(src, end)
             return
         nrm = PLANE_AXES[self.plane][2]
-        if AXIS_LETTER[nrm] in words:
-            raise self.error(line, words[AXIS_LETTER[nrm]].col,
-                             f"{AXIS_LETTER[nrm]} is not in the plane {self.plane} of the circle")
+        if CENTRE_WORDS[nrm] in words:
+            raise self.error(line, words[CENTRE_WORDS[nrm]].col,
+                             f"{CENTRE_WORDS[nrm]} is not in the plane {self.plane} of the circle")
         cw = (self.motion == 2) != self.machine.arc_flip  # a mirror turns G2 into G3
         centre = self.radius_centre(line, words, end, cw) if "CR" in words else self.given_centre(line, words)
         self.arc(src, end, (centre[0], centre[1], centre[2]), cw)
@@ -273,7 +330,7 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
         a, b, _ = PLANE_AXES[self.plane]
         cr = words.pop("CR")
         r, ccol = cr.value, cr.col
-        if any(AXIS_LETTER[i] in words for i in (a, b)):
+        if any(CENTRE_WORDS[i] in words for i in (a, b)):
             raise self.error(line, ccol, "a circle takes either CR= or its centre I/J/K, not both")
         if r == 0:
             raise self.error(line, ccol, "CR must not be 0")
@@ -291,9 +348,9 @@ class Sinumerik(Values, Flow, Calls, Words, ModalMachine):
         """The centre from I/J/K: incremental from the start (core.arc_centre, as every dialect), or
         =AC(..) absolute."""
         a, b, _ = PLANE_AXES[self.plane]
-        given = {i: words.pop(AXIS_LETTER[i]) for i in (a, b) if AXIS_LETTER[i] in words}
+        given = {i: words.pop(CENTRE_WORDS[i]) for i in (a, b) if CENTRE_WORDS[i] in words}
         if not given:
-            raise self.error(line, 1, f"circle needs its centre ({AXIS_LETTER[a]}/{AXIS_LETTER[b]}) or a radius CR=")
+            raise self.error(line, 1, f"circle needs its centre ({CENTRE_WORDS[a]}/{CENTRE_WORDS[b]}) or a radius CR=")
         centre = arc_centre(self.pos, self.plane, False, {i: w.value for i, w in given.items() if w.mode != "AC"})
         for i, w in given.items():
             if w.mode == "AC":

@@ -1,5 +1,5 @@
 """Sinumerik machine-side semantics: units, frames, extra axes, tools, spindles and machine functions
-(issue 12; docs/dialects/sinumerik.md, "Units, frames and axes").
+(docs/dialects/sinumerik.md, "Units, frames and axes").
 
 Pure interpreter logic: the Sinumerik interpreter (interp/sinumerik/interpreter.py) keeps its position
 ``m.pos`` in **machine coordinates in mm** (what the canonical records carry); the program speaks
@@ -12,10 +12,10 @@ every programmed point (end points, arc centres, cycle moves)::
 G53 and SUPA suppress both offsets for their block. A point that is not programmed keeps its WCS
 value (so a changed offset moves only the axes a block names, as on the control).
 
-The interpreter calls in through one small hook in each of ``word``, ``modal_codes``,
-``settings``, ``move``, ``change_tool`` (and reads ``arc_flip``): see ``state``. Imports flow one
-way: this module imports only syntax and frames below it; the interpreter hands in what it needs from
-above (the cycle names to ``settings``, ``run_cycle`` to ``move``).
+The interpreter calls in through one small hook in each of its ``word``, ``check_g`` (``g_codes``),
+``settings``, ``move``, ``change_tool`` (and reads ``arc_flip``). Imports flow one way: this module
+imports only codes, syntax and frames below it; the interpreter hands in what it needs from above
+(the cycle names to ``settings``, ``run_cycle`` to ``move``).
 """
 from __future__ import annotations
 
@@ -28,27 +28,12 @@ from ..errors import CutsimError
 from ..modal import PLANE_AXES, InterpConfig
 from ..core.frames import Affine, cofactor, IDENTITY, mat_mul, Mat, ZERO
 from .frames import _diag, _rot
-from .syntax import COORD_LIMIT, KNOWN_M, range_message
+from ..core import CENTRE_WORDS, Group
+from .codes import G_CODES, M_CODES, PATH_ONLY
+from .syntax import COORD_LIMIT, range_message
 
 INCH = 25.4
 AXES = "XYZ"
-CENTRE_LETTER = {0: "I", 1: "J", 2: "K"}
-UNIT_G = {70: (True, False), 71: (False, False), 700: (True, True), 710: (False, False)}
-SETTABLE_G = {54, 55, 56, 57, *range(505, 600)}
-# G codes that do not change the tool path: accepted with one warning each (what they do on the machine)
-PATH_G = {9: "exact stop for one block", 60: "exact stop", 64: "continuous-path mode", 601: "exact stop fine",
-          602: "exact stop coarse", 603: "exact stop at interpolator end", 641: "continuous-path mode with rounding",
-          642: "continuous-path mode with axial tolerances", 643: "block-internal rounding",
-          644: "rounding with maximum dynamics", 645: "rounding with tangential transitions",
-          450: "transition circle at outside corners of radius compensation",
-          451: "intersection at outside corners of radius compensation; simulated as G450, the part is the same"}
-# spindle speed modes: G97 (S in rpm, the start state) passes silently; G96 (S a cutting speed in m/min,
-# LIMS the speed limit) changes the spindle speed with the tool's diameter, not the path: one warning
-SPEED_G = {96: "constant cutting speed", 961: "constant cutting speed with the feed per minute",
-           97: "", 971: ""}
-MACHINE_G = set(UNIT_G) | SETTABLE_G | {53, 153, 500} | set(PATH_G) | set(SPEED_G)
-# M codes every 840D knows that do not change the tool path: spindle orientation and gear stages
-QUIET_M = {19, 40, 41, 42, 43, 44, 45}
 ROTARY_LETTERS = "ABC"
 AXIS_NAME = re.compile(r"[A-Z][0-9]*")  # an axis address: A, B, W, X2 (AX[X2]=..)
 # the addresses the language itself means (X Y Z are the machine's own axes); any other single letter
@@ -184,17 +169,14 @@ def axis_message(name: str) -> str:
 
 # -- hook: word (a block's addresses, before the interpreter's own checks) ---------------------------
 def word(m, st, val, line: int, blk) -> bool:
-    """Addresses this module owns: the machine G codes (units, settable frames, path modes), M codes
-    beyond the language's (the setup's machine M functions), extra axes, ``T="name"``, spindle
-    addresses ``M1=3``/``S1=1000``, ``SPOS``, ``RPL``. True when the word is taken care of."""
+    """Addresses this module owns: M codes beyond the table (the setup's machine M functions),
+    extra axes, ``T="name"``, spindle addresses ``M1=3``/``S1=1000``, ``SPOS``, ``RPL``. True when
+    the word is taken care of."""
     ms = m.machine
     addr = st.address.upper()
     ext = getattr(st, "ext", None)
     if ext is not None and addr in ("M", "S"):  # M1=3, S1=1000: spindle 1
         return spindle_address(m, ms, addr, ext, val, line, st.col, blk)
-    if addr == "G" and not isinstance(val, str) and val == int(val) and int(val) in MACHINE_G:
-        blk.gs.append((int(val), st.col))
-        return True
     if addr == "M" and not isinstance(val, str):
         return m_code(m, val, st.col, line, blk)
     if addr == "T" and isinstance(val, str):
@@ -219,10 +201,12 @@ def word(m, st, val, line: int, blk) -> bool:
 
 
 def m_code(m, val: float, col: int, line: int, blk) -> bool:
-    if val != int(val) or int(val) in KNOWN_M:
+    """An M code outside the table (codes.M_CODES): a machine function the setup declares passes;
+    any other is an error. False for the table's codes (and a value that is not whole)."""
+    if val != int(val) or int(val) in M_CODES:
         return False
     code = int(val)
-    if code in QUIET_M or code in m.cfg.m_functions:
+    if code in m.cfg.m_functions:
         return True
     raise m.error(line, col, f"M{code} is not known to the simulator (a machine M function: declare it in the setup: "
                   f"[machine] m_functions = [{code}])")
@@ -245,8 +229,9 @@ def spindle_address(m, ms: Machine, letter: str, n: int, val, line: int, col: in
     if code in (3, 4, 5):
         blk.ms.append((code, col))
         return True
-    if code in QUIET_M or code in m.cfg.m_functions:
-        return True
+    row = M_CODES.get(code)
+    if (row is not None and row.group in (Group.SPINDLE, Group.GEAR)) or code in m.cfg.m_functions:
+        return True  # spindle positioning, gear stages, the setup's machine functions: no path effect
     raise m.error(line, col, f"M{n}={code} is not a spindle function the simulator knows (M{n}=3, 4, 5, 19, 40 to 45; a "
                   f"machine function: declare it in the setup: [machine] m_functions = [{code}])")
 
@@ -261,49 +246,54 @@ def tool_number(m, name: str, line: int, col: int) -> int:
     raise m.error(line, col, f"tool \"{name}\" is not in the setup (give the tool its name: [[tool]] name = \"{name}\")")
 
 
-# -- hook: modal_codes (the block's G codes, before the interpreter applies its own) ------------------
+# -- hook: check_g (the block's G codes, before the interpreter applies its own) ----------------------
 def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
-    """Apply units, settable frames, G53 and the path-mode codes; the rest is returned for the
-    interpreter (G41/G42 swapped while a mirror turns the plane over)."""
+    """Apply units, settable frames, G53 and the path-mode codes (codes.G_CODES); the rest is
+    returned for the interpreter (G41/G42 swapped while a mirror turns the plane over)."""
     ms = m.machine
     ms.suppress = False
     rest = []
-    seen: dict[str, tuple[int, int]] = {}
+    seen: dict[Group, tuple[int, int]] = {}
     for code, col in gs:
-        group = ("units" if code in UNIT_G else "frame" if code in SETTABLE_G or code == 500 else None)
-        if group:
+        group = G_CODES[code].group
+        if group is Group.UNITS or group is Group.ZERO_OFFSET:
             if group in seen:
                 raise m.error(line, col, f"G{code} conflicts with G{seen[group][0]} in the same block")
             seen[group] = (code, col)
-        if code in UNIT_G:
-            ms.inch, ms.inch_feed = UNIT_G[code]
+        if group is Group.UNITS:
+            ms.inch, ms.inch_feed = code in (70, 700), code == 700
         elif code == 500:
             ms.settable = "G500"
             ms.offset = tuple(map(float, m.cfg.work_offsets.get("G500", ZERO)))  # type: ignore
-        elif code in SETTABLE_G:
-            key = f"G{code}"
-            ms.settable = key
-            if key in m.cfg.work_offsets:
-                ms.offset = tuple(map(float, m.cfg.work_offsets[key]))  # type: ignore
-            else:
-                ms.offset = ZERO
-                ms.warn_once(m, None, key, f"{key}: no work offset in the setup, offset 0 (declare it: "
-                             f"[work_offsets] {key} = [x, y, z])")
+        elif group is Group.ZERO_OFFSET:
+            settable(m, ms, f"G{code}")
         elif code in (53, 153):
             suppress(m, ms, f"G{code}")
-        elif code in PATH_G:
-            ms.warn_once(m, None, f"G{code}", f"G{code} ({PATH_G[code]}) does not change the tool path; accepted")
-        elif code in SPEED_G:
+        elif code in PATH_ONLY:
+            ms.warn_once(m, None, f"G{code}", f"G{code} ({G_CODES[code].meaning}) does not change the tool path; "
+                         "accepted")
+        elif group is Group.SPINDLE_MODE:
             if code in (961, 971):
                 m.per_rev = False  # G961/G971: the feed in mm/min, as G94
-            if SPEED_G[code]:
-                ms.warn_once(m, None, f"G{code}", f"G{code} ({SPEED_G[code]}): S is a cutting speed in m/min; the "
-                             "tool path is unchanged, the spindle speed is recorded as written (not in rpm)")
+            if code in (96, 961):
+                ms.warn_once(m, None, f"G{code}", f"G{code} ({G_CODES[code].meaning}): S is a cutting speed in "
+                             "m/min; the tool path is unchanged, the spindle speed is recorded as written (not in rpm)")
         elif code in (41, 42) and flipped(ms, m.plane):
             rest.append((83 - code, col))
         else:
             rest.append((code, col))
     return rest
+
+
+def settable(m, ms: Machine, key: str) -> None:
+    """G54 .. G57, G505 .. G599: the setup's work offset of that name (0 with one warning without)."""
+    ms.settable = key
+    if key in m.cfg.work_offsets:
+        ms.offset = tuple(map(float, m.cfg.work_offsets[key]))  # type: ignore
+    else:
+        ms.offset = ZERO
+        ms.warn_once(m, None, key, f"{key}: no work offset in the setup, offset 0 (declare it: "
+                     f"[work_offsets] {key} = [x, y, z])")
 
 
 def suppress(m, ms: Machine, what: str) -> None:
@@ -600,7 +590,7 @@ def move(m, src, words: dict, run_cycle) -> None:
     if not arc:
         return
     pa, pb, _ = PLANE_AXES[m.plane]
-    letters = (CENTRE_LETTER[pa], CENTRE_LETTER[pb])
+    letters = (CENTRE_WORDS[pa], CENTRE_WORDS[pb])
     if "CR" in words or any(k in words for k in letters):
         col = min(words[k].col for k in ("CR", *letters) if k in words)
         ms.arc_flip = plane_image(m, ms, m.plane, line, col)

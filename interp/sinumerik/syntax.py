@@ -25,9 +25,6 @@ KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EX
             "TO", "AND", "OR", "XOR", "NOT", "DIV", "MOD", "B_AND", "B_OR", "B_XOR", "B_NOT"} | STRUCTURED
 TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
 JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
-# the language's own M codes (interp/sinumerik/interpreter.py); every other M code is the machine side's
-# (interp/sinumerik/machine.py: spindle orientation, gear stages, the setup's m_functions)
-KNOWN_M = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 17, 30}
 # DIAMOF (radius programming) is a mill's only mode: nothing to say about it
 IGNORED_WORDS = {"DIAMOF"}
 # Bare keywords without parameters read as ``Command`` (never a subprogram, never a file name):

@@ -1,30 +1,17 @@
-"""The Sinumerik interpreter's tables: the G codes it knows, the calls it ignores or notes, what
-PROC ... SAVE restores, the limits of arrays, subprogram files and the call stack. Importing it
-registers the drilling cycles into the milling cycles' tables (drilling.register).
+"""The Sinumerik interpreter's tables besides its G and M codes (codes.py): the calls it ignores
+or notes, what PROC ... SAVE restores, the limits of arrays, subprogram files and the call stack.
+Importing it registers the drilling cycles into the milling cycles' tables (drilling.register).
 """
 from __future__ import annotations
 
 import os
 import re
 
-from ..core import Code, MOTION
-from ..modal import PLANES
 from . import drilling as drill
 from .syntax import KEYWORDS as LANG_KEYWORDS, MACHINE_COMMANDS
 from .cycle import _spec, ANGLES, CYCLES, DRILLING, SPECS
 from .milling import RUNNERS
 
-
-KNOWN_G = {0, 1, 2, 3, 4, 9, 17, 18, 19, 40, 41, 42, 53, 54, 55, 56, 57, 60, 64, 90, 91, 94, 95, 500, 505, 506,
-           *drill.ISO_G}  # the ISO shell's drilling cycles G73 .. G89 / G80, G98/G99, G290/G291
-
-# modal groups of the language's own G codes (core.Code rows; the machine functions keep theirs)
-G_CODES = {**{c: Code(MOTION, "XYZIJK", m) for c, m in ((0, "rapid"), (1, "line"), (2, "arc cw"), (3, "arc ccw"))},
-           **{c: Code("plane", "", p) for c, p in PLANES.items()},
-           90: Code("distance mode", "", "absolute"), 91: Code("distance mode", "", "incremental"),
-           94: Code("feed mode", "F", "per minute"), 95: Code("feed mode", "F", "per revolution"),
-           40: Code("radius compensation", "", "off"), 41: Code("radius compensation", "", "left"),
-           42: Code("radius compensation", "", "right")}
 
 # calls with no geometric effect (high-speed settings, blank definition for the HMI)
 IGNORED_CALLS = {"WORKPIECE", "CYCLE832"}
@@ -75,7 +62,6 @@ MAX_SUB_BYTES = 10_000_000  # a NAME.spf file beside the program
 
 MAX_STACK = 64  # subprograms (16 of them at most) and REPEAT sections open at once
 
-AXIS_LETTER = {0: "I", 1: "J", 2: "K"}  # the centre address of each axis
 
 def call_name(file: str) -> str:
     """The name a call uses for a subprogram file: "subs/L_VENDOR.SPF" and "_N_L_VENDOR_SPF" are

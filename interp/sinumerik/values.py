@@ -7,7 +7,7 @@ import math
 
 from ..modal import PLANE_AXES
 from . import axes, corners as corner
-from .syntax import (Assign, BinOp, Def, EXPR_ADDRESSES, FuncCall, Index, Neg, Not, Num, R_LIMIT, R_NAME, RIndex, Stmt,
+from .syntax import (Assign, BinOp, Def, EXPR_ADDRESSES, FuncCall, Index, Line, Neg, Not, Num, R_LIMIT, R_NAME, RIndex, Stmt,
     Str, STRING_FUNCS, Var)
 from .tables import COMPARE, MAX_ARRAY, UNSUPPORTED_NAMES
 from dataclasses import dataclass, field
@@ -115,7 +115,9 @@ class Value:
 
 @dataclass
 class Block:
-    """What reading a block's statements gives: its words, G and M codes, calls and jumps."""
+    """One block as it runs through ``core.Interpreter.execute``: its Line and what reading its
+    statements gives (words, G and M codes, calls and jumps), then what the hooks decide about it."""
+    ln: Line
     words: dict[str, Value] = field(default_factory=dict)
     gs: list[tuple[int, int]] = field(default_factory=list)  # (code, column)
     ms: list[tuple[int, int]] = field(default_factory=list)
@@ -125,7 +127,14 @@ class Block:
     # the ones it implements; any left over is an error (``unsupported``)
     commands: list[tuple[str, int]] = field(default_factory=list)
     corner: dict = field(default_factory=dict)  # CHF CHR RND RNDM FRC FRCM -> (value, column) (corners)
+    comp: int | None = None  # the G40/G41/G42 it names
+    drills: bool = False  # an ISO drilling cycle drills a hole at its position (drilling.iso_codes)
+    end: bool = False  # M2/M30
+    moved: bool = False  # it programs X, Y or Z (a modal call runs after it: drilling.after_block)
 
+    @property
+    def line(self) -> int:
+        return self.ln.line
 
 
 class Values:

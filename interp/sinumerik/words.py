@@ -4,11 +4,12 @@ compensation on, language calls and notes.
 from __future__ import annotations
 
 from ..canon import Src
-from ..modal import PLANES
+from ..core import Group, Step
 from . import axes, machine
-from .syntax import Call, Command, KNOWN_M, Line, MACHINE_COMMANDS, range_message, RANGES, Ret, Word
+from .codes import G_CODES, LANGUAGE_GROUPS, M_CODES, takes
+from .syntax import Call, Command, Line, MACHINE_COMMANDS, range_message, RANGES, Word
 from .cycle import CYCLES
-from .tables import G_CODES, KNOWN_G, NOTES
+from .tables import NOTES
 from .values import Block, to_text, Value
 
 
@@ -82,21 +83,21 @@ class Words:
         """G4 F<seconds> / G4 S<spindle revolutions>: a dwell, alone in its block with its F or S;
         the tool stands still (the modal feed and speed stay as they were)."""
         col = next(c for code, c in blk.gs if code == 4)
-        times = [blk.words.pop(a) for a in ("F", "S") if a in blk.words]
+        times = [blk.words.pop(a) for a in G_CODES[4].words.split() if a in blk.words]  # F, S
         if len(times) != 1:
             raise self.error(line, col, "G4 needs its dwell time: G4 F<seconds> or G4 S<revolutions>")
-        moving = [a for a in blk.words if a in "XYZ" or a in ("I", "J", "K", "CR")]
+        moving = [a for a in blk.words if takes(2, a)]  # the words of a move: X Y Z and a circle's I J K CR
         if moving:
             raise self.error(line, blk.words[moving[0]].col, "G4 (dwell) stands in a block without motion")
         blk.gs = [(code, c) for code, c in blk.gs if code != 4]
 
     def word(self, st: Word, line: int, blk: Block) -> None:
         val = self.ev(st.value, line, st.col)
-        if machine.word(self, st, val, line, blk):  # units, frames, extra axes, T="name", M1=3 (machine)
+        if machine.word(self, st, val, line, blk):  # extra axes, T="name", M1=3, machine M functions (machine)
             return
         if st.address in ("G", "M"):
             v = self.num(val, line, st.col)
-            known = KNOWN_G if st.address == "G" else KNOWN_M
+            known = G_CODES if st.address == "G" else M_CODES
             if v != int(v) or int(v) not in known:
                 raise self.error(line, st.col, f"unknown {st.address} code {st.address}{v:g}")
             (blk.gs if st.address == "G" else blk.ms).append((int(v), st.col))
@@ -110,45 +111,28 @@ class Words:
         blk.words[st.address] = Value(v, st.mode, st.col)
 
     def check_groups(self, gs: list[tuple[int, int]], line: int) -> None:
-        """Two different G codes of one modal group in a block (G90 G91, G17 G18) are an error at the
-        second (the shared table rows of interp/core.py; the same code twice is harmless)."""
-        seen: dict[str, int] = {}
+        """Two different G codes of one of the language's modal groups (codes.LANGUAGE_GROUPS: G0 G1,
+        G90 G91, G17 G18) in a block are an error at the second; the same code twice is harmless.
+        (The machine side checks units and zero offsets, the ISO shell its drilling codes.)"""
+        if len(gs) < 2:
+            return  # (most blocks)
+        seen: dict[Group, int] = {}
         for code, col in gs:
-            row = G_CODES.get(code)
-            if row is None:
+            group = G_CODES[code].group
+            if group not in LANGUAGE_GROUPS:
                 continue
-            if row.group in seen and seen[row.group] != code:
-                raise self.error(line, col, f"G{code} conflicts with G{seen[row.group]} in the same block "
-                                 f"(both {row.group})")
-            seen[row.group] = code
+            if group in seen and seen[group] != code:
+                name = str(group) if group is Group.MOTION else group.value  # as the message names them
+                raise self.error(line, col, f"G{code} conflicts with G{seen[group]} in the same block (both {name})")
+            seen[group] = code
 
-    def modal_codes(self, gs: list[tuple[int, int]], line: int) -> tuple[int | None, int | None]:
-        """Apply the block's modal G codes; the motion (G0..G3) and the G40/G41/G42 it names."""
-        self.check_groups(gs, line)
-        gs = machine.g_codes(self, gs, line)  # G70/G71/G700/G710, G54.., G53, G64.. (machine)
-        motion = None
-        new_comp = None
-        for code, col in gs:
-            if code in (0, 1, 2, 3):
-                if motion is not None and motion != code:
-                    raise self.error(line, col, f"G{code} conflicts with G{motion} in the same block")
-                motion = code
-            elif code in PLANES and self.comp_buf is not None:
-                raise self.error(line, col, "the plane cannot change while radius compensation G41/G42 is on")
-            elif code in (40, 41, 42):
-                new_comp = code
-            else:
-                self.common_g(code)  # G90/G91, G94/G95, G17/G18/G19
-        return motion, new_comp
-
-    def settings(self, src: Src, blk: Block, motion: int | None) -> bool:
-        """Spindle, tool (T, D, M6), feed and the motion mode; True when an M2/M30 ends the program."""
+    def convert_settings(self, st: Step) -> None:
+        """The executor's hook (core.Interpreter.execute): the machine keywords, then spindle and
+        tool (T, D, M6)."""
+        src, blk = st.src, st.block
         machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (machine)
         line, words = src.line, blk.words
         direction = self.spindle_code(line, blk.ms)
-        end = any(code in (2, 30) for code, _ in blk.ms)
-        change = any(code == 6 for code, _ in blk.ms)
-        blk.calls.extend(Ret(col) for code, col in blk.ms if code == 17)
         if "S" in words:
             self.spindle(src, direction, words.pop("S").value)
         elif direction is not None:
@@ -163,16 +147,8 @@ class Words:
             if d.value != int(d.value):
                 raise self.error(line, d.col, "D must be a whole offset number")
             self.d_no = int(d.value)
-        if change:
+        if any(code == 6 for code, _ in blk.ms):
             self.change_tool(src)
-        if "F" in words:
-            f = words.pop("F")
-            if f.value <= 0:
-                raise self.error(line, f.col, "feed F must be positive")
-            self.feed = f.value
-        if motion is not None:
-            self.motion = motion
-        return end
 
     def change_tool(self, src: Src) -> None:
         if machine.change_tool(self, src):  # T0 M6 empties the spindle (machine)
