@@ -73,6 +73,14 @@ G_NOT_MODELLED = {
     101: "measuring offsets into the zero offsets", 102: "measuring offsets out of the zero offsets",
     74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
     303: "circle in space", 150: "spline", 151: "spline",
+    331: "tapping with the spindle following the path; on a lathe tap with G33 Z.. K.. at X0",
+    332: "retracting a tap with the spindle following the path; on a lathe with G33 Z.. K.. and M04",
+}
+# G codes harmless on a mill that change the part on a lathe, where the workpiece spindle turns with
+# the path: exit 2 there
+G_LATHE_NOT_MODELLED = {
+    63: "tapping with the spindle following the path: its start angle, where the spindle stood after "
+        "M05 or M19, is not known to the simulator; tap with G33 Z.. K.. at X0",
 }
 # implicit subroutine calls (manual: "Implicit subroutine calls (G80-G89/G800..)"): each runs the global
 # subprogram the machine maker configures for it once, at the end of its block ("no modal effect")

@@ -26,6 +26,8 @@ RULES = {  # every rule of the issue has its file
     "incremental-over-range", "parameter-number-over-99", "lead-below-minimum", "tool-not-whole",
     "isg-lead-309-digits", "isg-coordinate-over-range", "isg-fullwidth-digit", "isg-arabic-indic-digit",
     "isg-lead-below-resolution", "isg-calls-deeper-than-20",
+    # codes of other controls the manuals do not describe, and lathe-only limits of ISG
+    "g81-drilling-cycle", "g84-thread-cycle", "g42-nose-radius", "isg-g63-on-a-lathe", "isg-nose-radius-plane",
 }
 
 

@@ -23,7 +23,7 @@ RULES = {  # one program per rule of docs/dialects/isg.md that a real program ca
     "mcs-on", "radius-comp", "mirroring", "unknown-command", "global-file-missing", "implicit-call-missing",
     "macro-undefined", "comment-not-closed", "var-not-closed", "string-as-coordinate", "g70-inch",
     "expression-nesting", "modal-block", "modal-cycle-twice", "cs-circle-tilted", "rotation-bad-key",
-    "mirror-under-compensation", "zero-offset-index", "local-header-text", "delete-missing",
+    "mirror-under-compensation", "zero-offset-index", "local-header-text", "delete-missing", "g331-tapping",
 }
 
 
