@@ -128,3 +128,24 @@ def test_tap_programmed_with_the_wrong_lead_strips_the_thread(tmp_path, dialect)
     good = simulate(tmp_path, dialect)
     bad = simulate(tmp_path, dialect, lead=1.25)
     assert good.part.volume() - bad.part.volume() > 50.0
+
+
+# -- the example ----------------------------------------------------------------------------------
+@pytest.mark.parametrize("change,failing", [
+    ({"G33 Z-21. F1.5": "G33 Z-21. F1.25", "G33 Z3. F1.5": "G33 Z3. F1.25"}, {"removed"}),  # wrong pitch
+    ({"G33 Z-21.": "G33 Z-12."}, {"removed"}),  # too shallow
+    ({}, set()),
+])
+def test_drill_tap_example_fails_when_made_wrong(change, failing):
+    """examples/cnc8x6-lathe/drill-tap-m10 passes its checks (also in tests/app/test_examples.py)
+    and fails the removed volume with the tap programmed at the wrong pitch or stopped short."""
+    from conftest import REPO_EXAMPLES
+
+    base = REPO_EXAMPLES / "cnc8x6-lathe" / "drill-tap-m10"
+    program = base.with_suffix(".nc").read_text()
+    for old, new in change.items():
+        assert old in program
+        program = program.replace(old, new)
+    res = cutsim.simulate("p.nc", str(base.with_suffix(".toml")), text=program)
+    assert res.report["warnings"] == []
+    assert {c["name"] for c in res.report["checks"] if not c["passed"]} == failing
