@@ -28,6 +28,7 @@ RULES = {  # every rule of the issue has its file
     "isg-lead-below-resolution", "isg-calls-deeper-than-20",
     # codes of other controls the manuals do not describe, and lathe-only limits of ISG
     "g81-drilling-cycle", "g84-thread-cycle", "g42-nose-radius", "isg-g63-on-a-lathe", "isg-nose-radius-plane",
+    "isg-g332-without-g331", "isg-g331-with-m03", "isg-g331-without-pitch",
 }
 
 
