@@ -194,3 +194,48 @@ def test_uncompensated_program_misses_the_contour(tmp_path):
     k = res.report["stock_volume"] / (math.pi * 256.0 * 60.0)
     expect = k * removed_volume(R)
     assert expect - res.report["removed_volume"] > 5.0, (res.report["removed_volume"], expect)
+
+
+# -- property: random turned contours --------------------------------------------------------------
+def _random_profile(rng) -> list[tuple[float, float]]:
+    """An outside contour (x radius, z) turned towards the chuck: z falls, x never falls, each
+    element straight along Z or rising at 10..60 degrees (never a face: the corner moves stay
+    within the contour's elements), at least 2 mm long; neighbours differ by 2 degrees or more (a
+    join within the rounding of the coordinates is bridged by a short line instead of a corner)."""
+    pts = [(round(float(rng.uniform(4, 8)), 4), 2.0)]
+    last = 0.0
+    for _ in range(int(rng.integers(2, 7))):
+        x, z = pts[-1]
+        length = float(rng.uniform(2.0, 8.0))
+        a = 0.0 if rng.random() < 0.5 else math.radians(float(rng.uniform(10, 60)))
+        if a and abs(a - last) < math.radians(2.0):  # (nearly) tangent joins are bridged, not cornered
+            a = last + math.radians(3.0) if a < math.radians(57.0) else last - math.radians(3.0)
+        last = a
+        pts.append((round(x + length * math.sin(a), 4), round(z - length * math.cos(a), 4)))
+    return pts
+
+
+@pytest.mark.parametrize("seed", range(60))
+def test_random_contours_nose_centre_on_the_offset(seed):
+    """For a random contour, G42 and edge position 3: every compensated point moved back from the tip
+    to the nose's centre (+r, +r) lies r from both contour elements it joins (on their outer side),
+    except where an outside corner is extended (the turn is then at most 60 degrees here: the point
+    lies r from each element's line, beyond its end). So each element's offset is exactly r: the
+    nose touches the contour and never cuts into it."""
+    rng = np.random.default_rng(seed)
+    r = float(rng.uniform(0.1, 1.6))
+    prof = _random_profile(rng)
+    x0, z0 = prof[0]
+    lines = [f"N{10 * (i + 4)} X{x:.4f} Z{z:.4f}" for i, (x, z) in enumerate(prof[1:])]
+    text = (f"%p\nN10 G52\nN15 T1 M03 S800\nN20 G00 X{x0:.4f} Z{z0 + 4:.4f}\nN30 G42 G01 Z{z0:.4f} F100\n"
+            + "\n".join(lines) + f"\nN90 G40 X{prof[-1][0] + 3:.4f}\nN95 M30\n")
+    got = run(text, r=r)
+    elems = [((x0, z0 + 4), (x0, z0))] + list(zip(prof[:-1], prof[1:])) + [(prof[-1], (prof[-1][0] + 3, prof[-1][1]))]
+    for k, (x, z) in enumerate(got[1:-1], start=0):  # the end of element k joins k and k + 1
+        cx, cz = x + r, z + r
+        for (xa, za), (xb, zb) in elems[k:k + 2]:
+            dz, dx = zb - za, xb - xa
+            n = math.hypot(dz, dx)
+            # signed distance to the right of the travel (seen with X up, Z to the right): (dx, -dz)/n
+            side = ((cz - za) * dx - (cx - xa) * dz) / n
+            assert abs(side - r) < 2e-6, (seed, k, side, r)
