@@ -131,17 +131,20 @@ def test_tap_programmed_with_the_wrong_lead_strips_the_thread(tmp_path, dialect)
 
 
 # -- the example ----------------------------------------------------------------------------------
-@pytest.mark.parametrize("change,failing", [
-    ({"G33 Z-21. F1.5": "G33 Z-21. F1.25", "G33 Z3. F1.5": "G33 Z3. F1.25"}, {"removed"}),  # wrong pitch
-    ({"G33 Z-21.": "G33 Z-12."}, {"removed"}),  # too shallow
-    ({}, set()),
+@pytest.mark.parametrize("folder,change,failing", [
+    ("cnc8x6-lathe", {"G33 Z-21. F1.5": "G33 Z-21. F1.25", "G33 Z3. F1.5": "G33 Z3. F1.25"}, {"removed"}),  # pitch
+    ("cnc8x6-lathe", {"G33 Z-21.": "G33 Z-12."}, {"removed"}),  # too shallow
+    ("cnc8x6-lathe", {}, set()),
+    ("isg-lathe", {"G331 Z-20 K1.5": "G331 Z-20 K1.25"}, {"removed"}),
+    ("isg-lathe", {"G331 Z-20": "G331 Z-12"}, {"removed"}),
+    ("isg-lathe", {}, set()),
 ])
-def test_drill_tap_example_fails_when_made_wrong(change, failing):
-    """examples/cnc8x6-lathe/drill-tap-m10 passes its checks (also in tests/app/test_examples.py)
-    and fails the removed volume with the tap programmed at the wrong pitch or stopped short."""
+def test_drill_tap_example_fails_when_made_wrong(folder, change, failing):
+    """examples/{cnc8x6,isg}-lathe/drill-tap-m10 pass their checks (also in tests/app/test_examples.py)
+    and fail the removed volume with the tap programmed at the wrong pitch or stopped short."""
     from conftest import REPO_EXAMPLES
 
-    base = REPO_EXAMPLES / "cnc8x6-lathe" / "drill-tap-m10"
+    base = REPO_EXAMPLES / folder / "drill-tap-m10"
     program = base.with_suffix(".nc").read_text()
     for old, new in change.items():
         assert old in program
