@@ -80,6 +80,21 @@ def inner_radius(segs: np.ndarray, z: float) -> float:
     return float(np.min(r0[hit] + t * (r1[hit] - r0[hit])))
 
 
+def assert_m10_groove(res, rho: int, z0: float = 3.0) -> None:
+    """The M10x1.5 groove between Z-2 and Z-10, seen in three half-planes: nothing beyond D/2 = 5,
+    its roots at r 5 (within 3 tolerances) centred at z0 + 1.5 rho phi / 360 (mod 1.5), to the root
+    flat's half-width P/16 and 0.01."""
+    mesh = load(res)
+    for phi in (37.3, 151.9, 263.1):
+        pts = section(mesh, phi).reshape(-1, 2)
+        near = pts[(pts[:, 1] < -2.0) & (pts[:, 1] > -10.0) & (pts[:, 0] < 7.0)]
+        assert float(near[:, 0].max()) <= 5.0 + 1e-6
+        root = near[near[:, 0] > 5.0 - 3 * TOL]
+        assert len(root) >= 6, phi
+        expect = z0 + 1.5 * rho * phi / 360.0
+        assert np.all(np.abs(wrap(root[:, 1] - expect, 1.5)) < 1.5 / 16.0 + 0.01), (phi, root[:5])
+
+
 @pytest.mark.parametrize("dialect", ["cnc8x6", "isg"])
 def test_drilled_bore_diameter_and_depth(tmp_path, dialect):
     """The drill's bore (before the tap: only the drilling blocks run, M30 after N40)."""
@@ -107,16 +122,7 @@ def test_tapped_thread_root_and_phase(tmp_path, dialect, spindle, rho):
     3 + 1.5 rho phi / 360 (mod 1.5); the return on the same helix removes nothing more."""
     res = simulate(tmp_path, dialect, spindle)
     assert res.report["warnings"] == []
-    mesh = load(res)
-    for phi in (37.3, 151.9, 263.1):
-        segs = section(mesh, phi)
-        pts = segs.reshape(-1, 2)
-        near = pts[(pts[:, 1] < -2.0) & (pts[:, 1] > -10.0) & (pts[:, 0] < 9.0)]
-        assert float(near[:, 0].max()) <= 5.0 + 1e-6
-        root = near[near[:, 0] > 5.0 - 3 * TOL]
-        assert len(root) >= 6, phi
-        expect = 3.0 + 1.5 * rho * phi / 360.0
-        assert np.all(np.abs(wrap(root[:, 1] - expect, 1.5)) < 1.5 / 16.0 + 0.01), (phi, root[:5])
+    assert_m10_groove(res, rho)
     one_way = simulate(tmp_path, dialect, spindle, until="N80").part.volume()
     assert abs(res.part.volume() - one_way) < 1e-6
 

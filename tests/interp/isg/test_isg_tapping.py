@@ -9,16 +9,17 @@ z = 3 + P rho phi / 360 (mod P) for a tap entering at Z3 at the zero pulse, rho 
 """
 from __future__ import annotations
 
-import math
+import sys
+from pathlib import Path
 
-import numpy as np
 import pytest
 
 import cutsim
 from cutsim.interp import InterpConfig, interpret
-from support.geometry import load, section, wrap
 
-TOL = 0.002
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "cnc8x6"))
+from test_lathe_holes import assert_m10_groove  # noqa: E402
+
 SETUP = """[machine]
 kind = "lathe"
 dialect = "isg"
@@ -72,15 +73,7 @@ def test_records():
 def test_thread_root_and_hand(tmp_path, k, rho):
     res = simulate(tmp_path, f"N60 G331 Z-16 K{k} S200\nN70 G332 Z3\n")
     assert res.report["warnings"] == []
-    mesh = load(res)
-    for phi in (37.3, 151.9, 263.1):
-        pts = section(mesh, phi).reshape(-1, 2)
-        near = pts[(pts[:, 1] < -2.0) & (pts[:, 1] > -10.0) & (pts[:, 0] < 7.0)]
-        assert float(near[:, 0].max()) <= 5.0 + 1e-6
-        root = near[near[:, 0] > 5.0 - 3 * TOL]
-        assert len(root) >= 6, phi
-        expect = 3.0 + 1.5 * rho * phi / 360.0
-        assert np.all(np.abs(wrap(root[:, 1] - expect, 1.5)) < 1.5 / 16.0 + 0.01), (phi, root[:5])
+    assert_m10_groove(res, rho)
 
 
 def test_g332_follows_the_helix_at_any_depth(tmp_path):
