@@ -98,6 +98,20 @@ def test_inside_g41_edge2():
     assert got[2] == (6.0, round(R * (S2 - 2), 6))
 
 
+def test_concave_fillet_arc():
+    """Z-10 at X20, then a fillet of radius 2 (G02, centre (x 12, z -10), I2 a radius) into the
+    shoulder face at Z-12, up to X30. The nose's centre runs the fillet at radius 2 - r = 1.2 about
+    (12, -10), from (10.8, -10) to (12, -11.2); the tip, moved by (-r, -r), from (10, -10.8) to
+    (11.2, -12) about (11.2, -10.8), clockwise as programmed; X20 = 2 x 10, X22.4 = 2 x 11.2."""
+    cfg = InterpConfig(dialect="isg", machine_kind="lathe", start=(30.0, 0.0, 50.0), tool_noses={1: (R, 3)})
+    text = ("%a\nN10 G51\nN15 T1 M03 S800\nN20 G00 X20 Z4\nN30 G42 G01 Z0 F100\nN40 Z-10\nN50 G02 X24 Z-12 K0 I2\n"
+            "N60 G01 X30\nN70 G40 X40\nN80 M30\n")
+    arc = [m for m in interpret("t.nc", text, cfg).moves if hasattr(m, "center")]
+    assert len(arc) == 1 and arc[0].clockwise
+    got = [tuple(round(v, 6) + 0.0 for v in p) for p in (arc[0].start, arc[0].end, arc[0].center)]
+    assert got == [(20.0, 0.0, -10.8), (22.4, 0.0, -12.0), (22.4, 0.0, -10.8)]
+
+
 def test_plane_other_than_zx_refused():
     with pytest.raises(CutsimError, match="turning plane"):
         run("%p\nG17\nT1 M03 S100\nG42 G01 X10 Z0 F100\nM30\n")
