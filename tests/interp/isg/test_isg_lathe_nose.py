@@ -253,3 +253,22 @@ def test_random_contours_nose_centre_on_the_offset(seed):
             # signed distance to the right of the travel (seen with X up, Z to the right): (dx, -dz)/n
             side = ((cz - za) * dx - (cx - xa) * dz) / n
             assert abs(side - r) < 2e-6, (seed, k, side, r)
+
+
+@pytest.mark.parametrize("change,failing", [
+    ("", set()),
+    ("N30 G01 Z2 F200", {"chamfer", "taper", "removed"}),  # no compensation: the nose stands off the slopes
+    ("N30 G41 G01 Z2 F200", {"chamfer", "diameter 20", "taper", "diameter 30", "removed"}),  # the wrong side
+])
+def test_example_fails_when_made_wrong(change, failing):
+    """examples/isg-lathe/nose-radius passes its checks (also tests/app/test_examples.py) and fails
+    them without compensation or with it on the wrong side."""
+    from conftest import REPO_EXAMPLES
+
+    base = REPO_EXAMPLES / "isg-lathe" / "nose-radius"
+    program = base.with_suffix(".nc").read_text()
+    if change:
+        program = program.replace("N30 G42 G01 Z2 F200", change)
+        assert change in program
+    res = cutsim.simulate("p.nc", str(base.with_suffix(".toml")), text=program)
+    assert {c["name"] for c in res.report["checks"] if not c["passed"]} == failing
