@@ -107,6 +107,14 @@ class ToolSpec:
         1 inside L, 8 straight to -X, 6 to +X, 7 to -Z, 5 to +Z, 9 a profile tool (centre)."""
         return EDGE_POSITIONS[self.tip_direction]
 
+    @property
+    def nose_radius(self) -> float:
+        """The radius of the nose that nose radius compensation offsets by: a turning or thread
+        tool's ``tip_radius``, a grooving tool's ``corner_radius``; 0 for a profile or axial tool."""
+        if self.kind in ("turning", "thread"):
+            return self.tip_radius
+        return self.corner_radius if self.kind == "grooving" else 0.0
+
 
 # (dx, dz) signs of the tool's point from its nose centre -> cutting edge position (X up, Z right)
 EDGE_POSITIONS = {(1, 1): 1, (1, -1): 2, (-1, -1): 3, (-1, 1): 4, (0, 1): 5, (1, 0): 6, (0, -1): 7,

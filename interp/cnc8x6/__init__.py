@@ -1,7 +1,7 @@
 """MEFI CNC8x6 dialect (lathes and mills): seeds 000/001 (G33 threads) and 002 (helix, jumps).
 See docs/dialects/cnc8x6.md for what the simulator assumes where the manuals are silent.
 
-- ``language``     code tables, limits, the line scanner and parse;
+- ``language``     code tables (and the codes of other controls it refuses by name), limits, the line scanner and parse;
 - ``interpreter``  Cnc8x6 on the core executor: run loops, R parameters, helix, the execute hooks;
 - ``plain``        the plain-block and plain-line shortcuts;
 - ``threads``      G33 with runout and lead-in;

@@ -9,7 +9,7 @@ from ..core import Group, Interpreter, Step, sweep_degrees
 from ..core.lexer import Block, Word, check_length, check_range, iter_lines
 from ..core.modal import AXES, InterpConfig
 from ..errors import CutsimError
-from .language import BLOCK_LINES, G_CODES, JUMP, LIMITS, M_CODES, RESERVED_PARAMS, parse, scan
+from .language import BLOCK_LINES, G_CODES, JUMP, LIMITS, M_CODES, NOT_DESCRIBED, RESERVED_PARAMS, parse, scan
 from .loops import loops_error, running_loops_error
 from .plain import PlainPath
 from .threads import Threads
@@ -27,6 +27,14 @@ class Cnc8x6(PlainPath, Threads, Interpreter):
         self.helix_axis = "Z"  # the axis G10 set the pitch on
         self.blocks: list[Block] = []  # run_blocks: the program's blocks (stream keeps none)
         self.loops: dict[int, int] = {}  # run_blocks: G73 block index -> repeats still to do
+
+    def check_g(self, st: Step, gs: list[Word]) -> None:
+        """The core's check, after naming the codes of other controls the manual does not describe."""
+        for g in gs:
+            if g.value == int(g.value) and int(g.value) in NOT_DESCRIBED:
+                raise self.error(st.block.line, g.col, f"G{g.raw} ({NOT_DESCRIBED[int(g.value)]}) is not modelled by "
+                                 "the simulator")
+        super().check_g(st, gs)
 
     # -- main loop -------------------------------------------------------------------------------
     def run(self, text: str) -> canon.Program:

@@ -28,6 +28,17 @@ G_CODES = {
     98: Code(Group.HELIX_OFF, "", "helix off"),
     **ISO_G_CODES,
 }
+# G codes a reader of other controls expects, which the CNC8x6 manual extracts do not describe:
+# exit 2 with the way the manual's programs do the job (docs/dialects/cnc8x6.md)
+_CYCLE = ("a drilling cycle, which the CNC8x6 manual does not describe: on a lathe drill with G01 along Z at X0 "
+          "and tap with G33 at X0 (a tap in the setup)")
+NOT_DESCRIBED = {
+    **{code: _CYCLE for code in (81, 82, 83, 85, 86, 87, 88, 89)},
+    84: "the thread cutting cycle the manual names but does not describe: program the passes with G33 (the "
+        "manual's example 1), or tap with G33 along Z at X0",
+    41: "tool nose radius compensation, which the CNC8x6 manual does not describe: program the tool tip path",
+    42: "tool nose radius compensation, which the CNC8x6 manual does not describe: program the tool tip path",
+}
 # M words: spindle, program end, stops, coolant and gear ranges (the last ones have no geometric effect).
 M_CODES = {
     **ISO_M_CODES,

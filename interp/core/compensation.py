@@ -15,12 +15,17 @@ to the right), the neighbours joined
 ``compensate_records`` applies it to canonical records (interp/canon.py) between a selection and a
 deselection: the first motion in the plane is the approach, the deselection block's motion the
 departure; moves along the tool axis only are done where the tool stands.
+
+On a lathe the offset path is the path of the nose's centre, while the control point the program
+moves is the tool's theoretical tip, which lies ``r`` from the centre along each axis the cutting
+edge position points (``nose_shift``): the compensated path is the offset path moved by that.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
+from ...base.specs import EDGE_POSITIONS
 from .. import canon
 from .modal import PLANE_AXES
 
@@ -151,6 +156,12 @@ def _with_end(e: Elem, p, at_end: bool) -> Elem:
     if e.kind == "L":
         return Elem("L", e.start, p) if at_end else Elem("L", p, e.end)
     return Elem("A", e.start, p, e.centre, e.cw) if at_end else Elem("A", p, e.end, e.centre, e.cw)
+
+
+def _moved(e: Elem, v) -> Elem:
+    """The element translated by ``v``."""
+    c = None if e.centre is None else _add(e.centre, v)
+    return Elem(e.kind, _add(e.start, v), _add(e.end, v), c, e.cw)
 
 
 def _check_trim(orig: Elem, new: Elem, idx: int) -> None:
@@ -321,8 +332,23 @@ def _contour(buf, body, plane, error, strict: bool):
     return elems, owner
 
 
+# cutting edge position (1-9) -> signs (dx, dz) of the theoretical tip seen from the nose's centre
+EDGE_TIP = {edge: signs for signs, edge in EDGE_POSITIONS.items()}
+
+
+def nose_shift(edge: int, r: float, plane: str) -> tuple[float, float]:
+    """From the nose's centre to the theoretical tip of a lathe tool of nose radius ``r`` and cutting
+    edge position ``edge`` (docs/setup.md's figure: +X up, +Z to the right; 9 the centre itself), in
+    the plane's coordinates (ZX: (z, x), X a radius)."""
+    dx, dz = EDGE_TIP.get(edge, (0, 0))
+    v = [0.0, 0.0, 0.0]
+    v[0], v[2] = dx * r, dz * r
+    a, b, _ = PLANE_AXES[plane]
+    return (v[a], v[b])
+
+
 def compensate_records(buf: list, d: float, plane: str, departure: bool, direct: bool, linear: bool, error,
-                       strict: bool = True):
+                       strict: bool = True, shift: tuple[float, float] = (0.0, 0.0)):
     """Records from a G41/G42 selection to the deselection -> the tool centre records.
 
     The first motion that moves in the plane is the approach and the last one, when ``departure``
@@ -334,6 +360,8 @@ def compensate_records(buf: list, d: float, plane: str, departure: bool, direct:
     Not ``strict`` (Sinumerik, always direct): the first motion of any kind is the approach, a
     departure needs two motions before it, any motion may approach or depart (it is done straight),
     full circles and thread moves are offset too (see ``_contour``).
+    ``shift`` (in the plane) moves the offset path before the approach and departure are joined to
+    it: a lathe tool's tip from its nose centre (``nose_shift``).
     ``error(record, message)`` builds the exception for a record that cannot be compensated."""
     if strict:
         motions = [k for k, r in enumerate(buf) if isinstance(r, canon.MOTIONS) and _in_plane(r, plane)]
@@ -356,6 +384,8 @@ def compensate_records(buf: list, d: float, plane: str, departure: bool, direct:
     except OffsetError as e:
         r = buf[owner[e.index]]
         raise error(r, f"radius compensation: {e}") from None
+    if shift != (0.0, 0.0):
+        chain = [(_moved(e, shift), i) for e, i in chain]
     if not direct:  # the approach starts, the departure ends where programmed
         e0, i0 = chain[0]
         chain[0] = (_with_end(e0, _p2(buf[first].start, plane), False), i0)

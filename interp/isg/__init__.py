@@ -12,8 +12,8 @@ docs/dialects/isg.md for what the simulator assumes where the manual is silent.
 - ``tables``       the G and M code tables and limits;
 - ``interpreter``  Isg on the core executor, made of its parts, each with its state:
   ``variables``, ``flow`` (control flow, block counts), ``frames`` (offsets, #CS, rotation,
-  mirroring), ``compensation`` (G40/G41/G42), ``calls`` (subprograms), ``motion`` (paths, circles,
-  G33) and ``commands`` (# commands).
+  mirroring), ``compensation`` (G40/G41/G42; on a lathe the nose radius), ``calls``
+  (subprograms), ``motion`` (paths, circles, G33) and ``commands`` (# commands).
 """
 from .interpreter import Isg, interpret
 

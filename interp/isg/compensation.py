@@ -1,15 +1,34 @@
 """ISG tool radius compensation G40/G41/G42 (G25/G26 transitions, G138/G139 selection): the records
-between selection and deselection are buffered and offset by core.compensation."""
+between selection and deselection are buffered and offset by core.compensation. On a lathe it is
+the tool nose radius compensation of the turning functions: the offset is the nose radius and the
+path is moved from the nose's centre to the tool's theoretical tip by its cutting edge position
+(TwinCAT CNC tool data, "cutter position" 1-9)."""
 from __future__ import annotations
+
+import dataclasses
 
 from .tables import TRC_METHODS
 from .. import canon
 from ..canon import Src
 from ..core import Group, Step
 from ..errors import CutsimError
-from ..core.compensation import compensate_records
+from ..core.compensation import compensate_records, nose_shift
 from ..core.lexer import Word
 from ..core.modal import PLANE_AXES
+
+def x_scaled(rec, k: float):
+    """A record with its X values (and an arc's centre X) multiplied by ``k`` when it is in diameter
+    mode: 0.5 turns diameters into the radii the offset geometry needs, 2.0 turns them back."""
+    if not isinstance(rec, canon.MOTIONS) or not rec.diameter:
+        return rec
+
+    def sx(p):
+        return (p[0] * k, p[1], p[2])
+    kw = {"start": sx(rec.start), "end": sx(rec.end)}
+    if isinstance(rec, canon.Arc):
+        kw["center"] = sx(rec.center)
+    return dataclasses.replace(rec, **kw)
+
 
 class Compensation:
     """Tool radius compensation of Isg (a part of it). State: ``tool_no`` / ``d_zero`` (the active
@@ -67,7 +86,13 @@ class Compensation:
             return v if isinstance(v, float) else 0.0
         if self.d_zero or self.tool_no is None:
             return 0.0
+        if self.cfg.machine_kind == "lathe":
+            return float(self.cfg.tool_noses.get(self.tool_no, (0.0, 9))[0])
         return float(self.cfg.tool_radii.get(self.tool_no, 0.0))
+
+    def nose_edge(self) -> int:
+        """The active lathe tool's cutting edge position (1-9; 9 when unknown: the centre)."""
+        return self.cfg.tool_noses.get(self.tool_no, (0.0, 9))[1] if self.tool_no is not None else 9
 
     def check_trc_method(self, st: Step, g: Word, what: str) -> None:
         """G41/G42/G40 (word ``g``) under a selection method the simulator does not model: an error."""
@@ -93,13 +118,15 @@ class Compensation:
                 raise self.error(line, g.col, f"G{code} while G{self.comp} is active: a change of the compensation "
                                  "side without G40 is not modelled by the simulator (program G40 in between)")
             return
-        if self.cfg.machine_kind == "lathe":
-            raise self.error(line, g.col, f"G{code} (tool nose radius compensation on a lathe) is not modelled by the "
-                             "simulator: program the tool tip path (G40)")
+        lathe = self.cfg.machine_kind == "lathe"
+        if lathe and self.plane != "ZX":
+            raise self.error(line, g.col, f"G{code} on a lathe in the plane {self.plane}: tool nose radius compensation "
+                             "works in the turning plane (G18, ZX)")
         self.check_trc_method(st, g, "select it")
         r = self.trc_radius()
         if r == 0:
-            self.warn(st.src, f"G{code} with tool radius 0 (the setup gives no radius for the active tool, or D0): "
+            what = "nose radius" if lathe else "tool radius"
+            self.warn(st.src, f"G{code} with {what} 0 (the setup gives none for the active tool, or D0): "
                       "the path is not offset")
         self.comp, self.comp_radius, self.comp_plane, self.comp_off = code, r, self.plane, False
         a, c, _ = PLANE_AXES[self.plane]
@@ -115,8 +142,14 @@ class Compensation:
 
         def err(r, msg):
             return CutsimError(r.src.program, r.src.line, r.src.col, msg)
+        lathe = self.cfg.machine_kind == "lathe"
+        shift = nose_shift(self.nose_edge(), self.comp_radius, self.comp_plane) if lathe else (0.0, 0.0)
+        if lathe:
+            buf = [x_scaled(r, 0.5) for r in buf]
         recs = compensate_records(buf, side * self.comp_radius, self.comp_plane, departure,
-                                  self.trc_method[0] == 138, self.trc_linear, err)
+                                  self.trc_method[0] == 138, self.trc_linear, err, shift=shift)
+        if lathe:
+            recs = [x_scaled(r, 2.0) for r in recs]
         self.program.records.extend(recs)
         for rec in reversed(recs):
             if isinstance(rec, canon.MOTIONS):

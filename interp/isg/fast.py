@@ -13,7 +13,7 @@ long way, as is a repeated address other than G and M and any number the long wa
 ``plain_block`` runs such a block (G00/G01, X, Y, Z, F) without core.Interpreter.execute's
 pipeline, with the same effect (tests/interp/core/test_fast_readers.py runs every ISG program both ways); which blocks
 it may take follows from IsgBlock's fields (core.fast.plain_fields).
-Hooks: program.parse(..., fast=read_plain) and the first lines of Isg.block (issue 13).
+Hooks: program.parse(..., fast=read_plain) and the first lines of Isg.block.
 """
 from __future__ import annotations
 

@@ -13,7 +13,8 @@ from .frames import Frames
 from .motion import Motion
 from .program import parse
 from .reader import IsgBlock, LIMITS
-from .tables import G_AXIS_PARAMS, G_CODES, G_HARMLESS, G_NOT_MODELLED, IMPLICIT_CALLS, MIRRORS, M_CODES, TRC_METHODS
+from .tables import (G_AXIS_PARAMS, G_CODES, G_HARMLESS, G_LATHE_NOT_MODELLED, G_NOT_MODELLED, IMPLICIT_CALLS, MIRRORS,
+                     M_CODES, TRC_METHODS)
 from .variables import Variables
 from .. import canon
 from ..canon import Src
@@ -105,6 +106,9 @@ class Isg(Motion, Calls, Compensation, Frames, Flow, Variables, Commands, PlainP
                 else:
                     self.trc_method = (code, g)
                 continue
+            if code in G_LATHE_NOT_MODELLED and self.cfg.machine_kind == "lathe":
+                raise self.error(line, g.col, f"G{g.raw} on a lathe ({G_LATHE_NOT_MODELLED[code]}) is not modelled "
+                                 "by the simulator")
             if code in G_HARMLESS:
                 self.warn_once(("G", code), st.src, f"G{g.raw} ({G_HARMLESS[code]}) does not change the tool path: "
                                "accepted, not simulated")

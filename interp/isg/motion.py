@@ -1,5 +1,6 @@
 """ISG motions: the path (G0/G1/G2/G3 through the frame and the compensation), circles by centre
-(G161/G162) or radius R, in turned frames, and G33 threads with their lead on I/J/K."""
+(G161/G162) or radius R, in turned frames, G33 threads with their lead on I/J/K and tapping on a
+lathe's spindle axis (G331/G332)."""
 from __future__ import annotations
 
 from .reader import IsgBlock
@@ -12,7 +13,8 @@ from ..core.modal import AXES, PLANE_AXES
 class Motion:
     """The motions of Isg (a part of it). State: ``lead`` ((mm/rev, axis letter) of G33), ``offset``
     (S.OFFSET, degrees), ``circle_r`` (R, modal) with ``r_col`` (the column of the block's R word,
-    1 without one) and ``centre_abs`` (G161)."""
+    1 without one), ``centre_abs`` (G161) and ``tapped`` (where the last G331/G332 left the tap and
+    the spindle) with ``tap_pitch`` (G331's signed K)."""
 
     def __init__(self, name, cfg):
         super().__init__(name, cfg)
@@ -21,6 +23,8 @@ class Motion:
         self.circle_r: float | None = None
         self.r_col = 1
         self.centre_abs = False
+        self.tapped: tuple | None = None  # the last G331/G332: (end point, signed pitch, direction, end angle)
+        self.tap_pitch: float | None = None  # G331's K, signed (modal)
 
     def convert_motion(self, st: Step) -> None:
         g = st.g.get(Group.RADIUS_COMP)
@@ -53,7 +57,11 @@ class Motion:
         values = {i: w.value for i, w in axis_words.items()}
         cols = {i: w.col for i, w in axis_words.items()}
         centre = {a: words.pop(a) for a in "IJK" if a in words}
-        if self.motion == 33:
+        if axis_words and self.motion not in (331, 332):
+            self.tapped = None  # another move: the spindle no longer follows the tap
+        if self.motion in (331, 332):
+            self.tap_block(st, centre, values, cols)
+        elif self.motion == 33:
             if self.turned:
                 raise self.error(b.line, 1, "G33 in rotated or mirrored coordinates is not modelled by the simulator")
             self.thread_block(b, src, centre, values, cols)
@@ -98,6 +106,68 @@ class Motion:
         self.check_position(b.line, end, cols)
         lead, axis = self.lead
         self.synced(src, end, lead, axis, self.offset)
+
+    def tap_block(self, st: Step, leads: dict[str, Word], values: dict[int, float], cols: dict[int, int]) -> None:
+        """G331 Z.. K.. taps along Z on a lathe: the spindle follows the feed, K > 0 a right-hand thread
+        (turning as under M03), K < 0 a left-hand one. G332 Z.. [K..] backs the tap out with the spindle
+        reversed, along the helix the G331 before it cut (TwinCAT CNC turning functions, "Tapping
+        (G331/G332)"). The first G331 meets the workpiece at the spindle's zero pulse, as a G33 does; a
+        G331 or G332 continuing from where the last one stopped keeps its helix."""
+        b, code = st.block, self.motion
+        gcol = next((w.col for w in b.words if w.letter == "G" and w.value == code), 0)
+        if self.cfg.machine_kind != "lathe":
+            raise self.error(b.line, gcol or 1, f"G{code} on a mill is not modelled by the simulator (a tap is a lathe tool: "
+                             "on a lathe it taps along Z at X0)")
+        for c, m in st.m if values or gcol > 1 else ():
+            if c in (3, 4, 5, 19):
+                raise self.error(b.line, m.col, f"M{m.raw} cannot be programmed with G331/G332: the spindle follows the tap")
+        for a, w in leads.items():
+            if a != "K":
+                raise self.error(b.line, w.col, f"the pitch of G{code} is programmed on K (along Z), not on {a}")
+        pitch = leads["K"] if "K" in leads else None
+        if pitch is not None and pitch.value == 0:
+            raise self.error(b.line, pitch.col, f"the pitch K{pitch.raw} must not be zero")
+        for i in (0, 1):
+            if i in values and self.target(values)[i] != self.pos[i]:
+                raise self.error(b.line, cols[i], f"G{code} taps along Z: {'XY'[i]} must stay where it is")
+        if code == 332:
+            return self.tap_back(st, gcol, pitch, values)
+        if pitch is not None:
+            self.tap_pitch = pitch.value
+        if self.tap_pitch is None:
+            raise self.error(b.line, gcol or 1, "G331 without a pitch: program it on K, signed (K1.5 a right-hand thread, "
+                             "K-1.5 a left-hand one)")
+        if not values:
+            return
+        k = self.tap_pitch
+        direction = 1 if k > 0 else -1
+        t = self.tapped
+        start = t[3] if t is not None and t[0] == tuple(self.pos) and t[1] == k and t[2] == direction else 0.0
+        self.tap_move(st.src, self.target(values), k, direction, start)
+
+    def tap_back(self, st: Step, gcol: int, pitch: Word | None, values: dict[int, float]) -> None:
+        """G332: the reverse of the G331 (or G332) that left the tap here, on its helix; the spindle
+        stands when it is done."""
+        t, b = self.tapped, st.block
+        if t is None or t[0] != tuple(self.pos):
+            raise self.error(b.line, gcol or 1, "G332 backs out the tap from where a G331 stopped: program it right after "
+                             "the G331, from its end point")
+        if pitch is not None and abs(pitch.value) != abs(t[1]):
+            raise self.error(b.line, pitch.col, f"G332 with the pitch K{pitch.raw}: it must be the G331's, {abs(t[1]):g}")
+        if not values:
+            return
+        self.tap_move(st.src, self.target(values), t[1], -t[2], (-t[3]) % 360.0)
+        self.spindle(st.src, 0, None)
+
+    def tap_move(self, src: Src, end, k: float, direction: int, start: float) -> None:
+        """One spindle-synchronised move along Z at pitch |k|, the spindle turning ``direction``,
+        starting ``start`` degrees past the zero pulse; remembers where it leaves tap and spindle
+        (the angle turned since the zero pulse, in the direction of rotation)."""
+        self.check_position(src.line, end)
+        z0 = self.pos[2]
+        self.spindle(src, direction, None)
+        self.synced(src, end, abs(k), "Z", start)
+        self.tapped = (tuple(self.pos), k, direction, (start + 360.0 * abs(end[2] - z0) / abs(k)) % 360.0)
 
     def circle(self, b: IsgBlock, src: Src, words: dict[str, Word], values: dict[int, float],
                cols: dict[int, int]) -> None:

@@ -17,6 +17,8 @@ G_CODES = {
     2: Code(Group.MOTION, "XYZIJKF", "clockwise arc, centre I/J/K from the start"),
     3: Code(Group.MOTION, "XYZIJKF", "counter-clockwise arc, centre I/J/K from the start"),
     33: Code(Group.MOTION, "XYZIJK", "thread, lead on I/J/K (mm/rev)"),
+    331: Code(Group.MOTION, "XYZK", "tapping on a lathe's spindle axis, signed pitch on K (mm/rev)"),
+    332: Code(Group.MOTION, "XYZK", "retracting the tap along its helix, the spindle reversed"),
     40: Code(Group.RADIUS_COMP, "", "tool radius compensation off"),
     41: Code(Group.RADIUS_COMP, "", "tool radius compensation left"),
     42: Code(Group.RADIUS_COMP, "", "tool radius compensation right"),
@@ -73,6 +75,12 @@ G_NOT_MODELLED = {
     101: "measuring offsets into the zero offsets", 102: "measuring offsets out of the zero offsets",
     74: "homing (a move to the reference point)", 100: "measuring", 106: "measuring", 310: "measuring",
     303: "circle in space", 150: "spline", 151: "spline",
+}
+# G codes harmless on a mill that change the part on a lathe, where the workpiece spindle turns with
+# the path: exit 2 there
+G_LATHE_NOT_MODELLED = {
+    63: "tapping with the spindle following the path: its start angle, where the spindle stood after "
+        "M05 or M19, is not known to the simulator; tap with G33 Z.. K.. at X0",
 }
 # implicit subroutine calls (manual: "Implicit subroutine calls (G80-G89/G800..)"): each runs the global
 # subprogram the machine maker configures for it once, at the end of its block ("no modal effect")

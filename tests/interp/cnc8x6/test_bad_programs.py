@@ -23,6 +23,8 @@ RULES = {  # every rule of the issue has its file
     # limits (issue 10): numbers out of range, foreign digits, nesting
     "number-309-digits", "coordinate-over-range", "fullwidth-digit", "g73-q-over-range", "g33-end-over-range",
     "incremental-over-range", "parameter-number-over-99", "lead-below-minimum", "tool-not-whole",
+    # codes of other controls the manuals do not describe
+    "g81-drilling-cycle", "g84-thread-cycle", "g42-nose-radius",
 }
 
 

@@ -29,6 +29,8 @@ RULES = {  # one program per rule of docs/dialects/isg.md that a real program ca
     # the limits on a lathe: numbers out of range, foreign digits, nesting
     "lathe/lead-309-digits", "lathe/coordinate-over-range", "lathe/fullwidth-digit", "lathe/arabic-indic-digit",
     "lathe/lead-below-resolution", "lathe/calls-deeper-than-20",
+    "lathe/g63-on-a-lathe", "lathe/nose-radius-plane", "lathe/g332-without-g331", "lathe/g331-with-m03",
+    "lathe/g331-without-pitch", "g331-tapping",
 }
 
 

@@ -120,10 +120,13 @@ def test_what_compensation_does_not_model_is_exit_2(text, line, what):
     assert e.value.line == line and what in e.value.message, str(e.value)
 
 
-def test_lathe_refuses_g41():
-    with pytest.raises(CutsimError) as e:
-        run("%P\nG41 G01 X10 F100\nM30\n", machine_kind="lathe")
-    assert "lathe" in e.value.message
+def test_lathe_g41_without_a_nose_radius():
+    """On a lathe G41/G42 is nose radius compensation (tests/interp/isg/test_isg_lathe_nose.py): a
+    tool the setup gives no nose radius is not offset, with one warning."""
+    prog = run("%P\nG18 G00 X20 Z5\nG41 G01 Z0 F100\nX30\nG40 Z-5\nM30\n", machine_kind="lathe")
+    assert [m.end for m in prog.moves] == [(20.0, 0.0, 5.0), (20.0, 0.0, 0.0), (30.0, 0.0, 0.0), (30.0, 0.0, -5.0)]
+    assert [msg for _, msg in prog.warnings] == [
+        "G41 with nose radius 0 (the setup gives none for the active tool, or D0): the path is not offset"]
 
 
 # -- R: circle radius ---------------------------------------------------------------------------------

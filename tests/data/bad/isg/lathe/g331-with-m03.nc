@@ -1,0 +1,5 @@
+; EXPECT 4:20 M03 cannot be programmed with G331/G332
+%t
+N10 G00 X0 Z5
+N20 G331 Z-10 K1.5 M03
+N30 M30
