@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from . import measure as M
+from . import threads as T
 
 KINDS = ("diameter", "thread", "ramp", "slot", "pocket", "depth", "volume", "design")
 
@@ -72,9 +73,49 @@ def check_diameter(spec: dict, result) -> dict:
                    {"z": spec["z"], "angles": spec["angles"]})
 
 
+GAUGED = ("major_diameter", "minor_diameter", "pitch_diameter")
+
+
+def limit_item(quantity: str, low, high, measured) -> dict:
+    """An item that passes when ``measured`` lies within [low, high] (either may be None: no
+    limit on that side); ``expected`` reads the limits as text, ``limits`` holds them."""
+    ok = measured is not None and math.isfinite(measured) and (low is None or measured >= low - 1e-12) \
+        and (high is None or measured <= high + 1e-12)
+    text = (f"{low:.3f} to {high:.3f}" if low is not None and high is not None
+            else f"min {low:.3f}" if low is not None else f"max {high:.3f}")
+    it = item(quantity, text, measured, None, passed=ok)
+    it["limits"] = [_r(low), _r(high)]
+    return it
+
+
+def _gauge_items(spec: dict, part) -> tuple[list[dict], dict]:
+    """Major, minor and pitch diameter items (expected values or the designation's limits)."""
+    lim = spec.get("limits")
+    wanted = [k for k in GAUGED if spec.get(k) is not None or lim is not None]
+    if not wanted:
+        return [], {}
+    inside = spec.get("side") == "inside"
+    g = T.gauge_part(part, spec["z"][0], spec["z"][1], spec["lead"] / spec["starts"], inside, spec["angles"],
+                     spec.get("wire_diameter"))
+    meas = {k: (g[k] or {}).get("median") for k in GAUGED}
+    meas["pitch_diameter_wires"] = g["pitch_diameter_wires"]
+    items = []
+    for k in wanted + (["pitch_diameter_wires"] if "pitch_diameter" in wanted else []):
+        base = "pitch_diameter" if k == "pitch_diameter_wires" else k
+        if lim is not None:
+            items.append(limit_item(k, *lim[base], meas[k]))
+        else:
+            items.append(item(k, spec[base], meas[k], spec["tolerance"]))
+    details = {f"{k}_range": _r([g[k]["min"], g[k]["max"]]) if g[k] else None for k in GAUGED}
+    details.update(wire_diameter=_r(g["wire"]), over_wires=_r(g["over_wires"]), wires=g["wires"])
+    if lim is not None:
+        details["designation"] = lim["designation"]
+    return items, details
+
+
 def check_thread(spec: dict, result) -> dict:
     zlo, zhi = spec["z"]
-    m = M.measure_thread(result.part, zlo, zhi, spec["angles"])
+    m = M.measure_thread(result.part, zlo, zhi, spec["angles"], inside=spec.get("side") == "inside")
     items = [item("lead", spec["lead"], m["lead"], spec["lead_tolerance"]),
              item("starts", spec["starts"], m["starts"], None, unit=""),
              item("hand", spec["hand"], m["hand"], None, unit="")]
@@ -82,6 +123,9 @@ def check_thread(spec: dict, result) -> dict:
         items.append(item("root_diameter", spec["root_diameter"], m["root_diameter"], spec["tolerance"]))
     details = {"z": [zlo, zhi], "roots": len(m["roots"]), "pitch": _r(m["pitch"]),
                "root_diameter_min": _r(m["root_diameter_min"]), "root_diameter_max": _r(m["root_diameter_max"])}
+    gi, gd = _gauge_items(spec, result.part)
+    items += gi
+    details.update(gd)
     if spec.get("phase") is not None:
         if m["lead"] and m["hand"] and m["roots"]:
             meas = M.thread_phases(m["roots"], m["lead"], m["hand"], spec["phase_z"])

@@ -13,7 +13,8 @@ from .reader import Locator, Reader
 CHECK_KEYS = {
     "diameter": {"z", "expected", "tolerance", "angles"},
     "thread": {"z", "lead", "starts", "hand", "root_diameter", "phase", "phase_z", "tolerance", "lead_tolerance",
-               "phase_tolerance", "angles"},
+               "phase_tolerance", "angles", "side", "major_diameter", "minor_diameter", "pitch_diameter",
+               "wire_diameter", "designation"},
     "ramp": {"z", "radius", "diameter", "tolerance", "step"},
     "slot": {"at", "direction", "width", "floor", "center", "z", "tolerance"},
     "pocket": {"at", "size", "floor", "center", "z", "tolerance"},
@@ -81,8 +82,15 @@ def _diameter(loc: Locator, c: Reader, i: int, spec: dict) -> None:
 
 def _thread(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     spec["z"] = c.pair("z")
-    spec["lead"] = c.get("lead", float, **_POS)
     spec["starts"] = c.get("starts", int, 1, check=lambda v: 1 <= v <= 16, why="must be 1 to 16")
+    _gauge(c, spec)
+    if spec["limits"] is not None:
+        spec["lead"] = c.get("lead", float, spec["limits"]["pitch"] * spec["starts"], **_POS)
+        if abs(spec["lead"] / spec["starts"] - spec["limits"]["pitch"]) > 1e-9:
+            raise c.fail("designation", f"the pitch of {spec['designation']} is not lead / starts = "
+                                        f"{spec['lead'] / spec['starts']:g} mm")
+    else:
+        spec["lead"] = c.get("lead", float, **_POS)
     spec["hand"] = c.get("hand", str, "right", check=lambda v: v in ("right", "left"), why="must be right or left")
     spec["root_diameter"] = c.get("root_diameter", float, None, **_POS)
     spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
@@ -101,6 +109,26 @@ def _thread(loc: Locator, c: Reader, i: int, spec: dict) -> None:
         spec["phase"] = None
         if "phase_z" in c.table:
             raise c.fail("phase_z", "is only used with phase")
+
+
+def _gauge(c: Reader, spec: dict) -> None:
+    """The thread gauge keys: side, major/minor/pitch diameters, wire_diameter, designation
+    (ISO 965-1 limits, cutsim.reports.iso965); the designation's position letter sets the side."""
+    from cutsim.reports.iso965 import DesignationError, limits
+
+    spec["designation"] = c.get("designation", str, None)
+    spec["limits"] = None
+    if spec["designation"] is not None:
+        try:
+            spec["limits"] = limits(spec["designation"])
+        except DesignationError as e:
+            raise c.fail("designation", str(e)) from None
+    side = "inside" if spec["limits"] and spec["limits"]["inside"] else "outside"
+    spec["side"] = c.get("side", str, side, check=lambda v: v in ("outside", "inside"), why="must be outside or inside")
+    if spec["limits"] is not None and spec["side"] != side:
+        raise c.fail("side", f"{spec['designation']} is an {side} thread")
+    for k in ("major_diameter", "minor_diameter", "pitch_diameter", "wire_diameter"):
+        spec[k] = c.get(k, float, None, **_POS)
 
 
 def _ramp(loc: Locator, c: Reader, i: int, spec: dict) -> None:
