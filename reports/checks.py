@@ -18,8 +18,9 @@ import numpy as np
 
 from . import measure as M
 from . import threads as T
+from . import turned
 
-KINDS = ("diameter", "thread", "ramp", "slot", "pocket", "depth", "volume", "design")
+KINDS = ("diameter", "thread", "ramp", "bore", "groove", "shoulder", "slot", "pocket", "depth", "volume", "design")
 
 
 def _r(v, nd: int = 6):
@@ -157,6 +158,40 @@ def check_ramp(spec: dict, result) -> dict:
                    {"worst_z": _r(at), "samples": len(z), "step": spec["step"]})
 
 
+def _feature_items(spec: dict, found: dict, keys: tuple[str, ...]) -> tuple[list[dict], dict]:
+    """Items comparing the median of each measured feature value with ``spec``'s, and the
+    range over the sections as details."""
+    items, details = [], {}
+    for k in keys:
+        if spec.get(k) is None:
+            continue
+        m = found.get(k)
+        items.append(item(k, spec[k], None if m is None else m["median"], spec["tolerance"]))
+        details[f"{k}_range"] = None if m is None else _r([m["min"], m["max"]])
+    return items, details
+
+
+def check_bore(spec: dict, result) -> dict:
+    found = turned.bore(result.part, spec["z"], spec["face"])
+    items, details = _feature_items(spec, found, ("diameter", "depth", "tip_depth"))
+    return _record(spec, items, {"z": spec["z"], "face": spec["face"], **details})
+
+
+def check_groove(spec: dict, result) -> dict:
+    found = turned.groove(result.part, spec["at"], spec["side"] == "inside", spec["reach"])
+    items, details = _feature_items(spec, found, ("diameter", "depth", "width", "center"))
+    return _record(spec, items, {"at": spec["at"], "side": spec["side"], **details})
+
+
+def check_shoulder(spec: dict, result) -> dict:
+    lo, hi = spec["range"]
+    found = turned.shoulder(result.part, spec["diameter"], lo, hi, spec["side"] == "inside", spec["expected"])
+    z = found["z"]
+    return _record(spec, [item("z", spec["expected"], None if z is None else z["median"], spec["tolerance"])],
+                   {"diameter": spec["diameter"], "range": [lo, hi], "z_range": None if z is None else
+                    _r([z["min"], z["max"]])})
+
+
 def _stock_top(result) -> float:
     return float(result.stock.bounding_box()[5])
 
@@ -228,7 +263,8 @@ def check_design(spec: dict, result, design=None) -> dict:
                                  "worst_location": _r(c["worst_location"])})
 
 
-EVALUATORS = {"diameter": check_diameter, "thread": check_thread, "ramp": check_ramp, "slot": check_slot,
+EVALUATORS = {"diameter": check_diameter, "thread": check_thread, "ramp": check_ramp, "bore": check_bore,
+              "groove": check_groove, "shoulder": check_shoulder, "slot": check_slot,
               "pocket": check_pocket, "depth": check_depth, "volume": check_volume, "design": check_design}
 
 

@@ -19,10 +19,13 @@ CHECK_KEYS = {
     "slot": {"at", "direction", "width", "floor", "center", "z", "tolerance"},
     "pocket": {"at", "size", "floor", "center", "z", "tolerance"},
     "depth": {"at", "z", "tolerance"},
+    "bore": {"z", "face", "diameter", "depth", "tip_depth", "tolerance"},
+    "groove": {"at", "side", "width", "depth", "diameter", "center", "reach", "tolerance"},
+    "shoulder": {"diameter", "z", "range", "side", "tolerance"},
     "volume": {"removed", "tolerance"},
     "design": {"path", "max_gouge", "max_excess", "max_deviation"},
 }
-LATHE_CHECKS = ("diameter", "thread", "ramp")
+LATHE_CHECKS = ("diameter", "thread", "ramp", "bore", "groove", "shoulder")
 MILL_CHECKS = ("slot", "pocket", "depth")
 _POS = dict(check=lambda v: v > 0, why="must be positive")
 _NONNEG = dict(check=lambda v: v >= 0, why="must not be negative")
@@ -145,6 +148,50 @@ def _ramp(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     spec["step"] = c.get("step", float, 0.1, **_POS)
 
 
+def _at_least_one(c: Reader, spec: dict, keys: tuple[str, ...]) -> None:
+    if all(spec[k] is None for k in keys):
+        raise c.fail(None, f"a {spec['kind']} check needs at least one of {', '.join(keys)}")
+
+
+def _bore(loc: Locator, c: Reader, i: int, spec: dict) -> None:
+    spec["face"] = c.get("face", float, 0.0)
+    spec["z"] = c.get("z", float, None)
+    spec["diameter"] = c.get("diameter", float, None, **_POS)
+    spec["depth"] = c.get("depth", float, None, **_POS)
+    spec["tip_depth"] = c.get("tip_depth", float, None, **_POS)
+    spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
+    _at_least_one(c, spec, ("diameter", "depth", "tip_depth"))
+    if spec["z"] is None:
+        if spec["depth"] is None:
+            raise c.fail("z", "is required without depth (the height where the diameter is measured)")
+        spec["z"] = spec["face"] - spec["depth"] / 2.0
+    elif spec["z"] >= spec["face"]:
+        raise c.fail("z", f"must lie below the face at {spec['face']:g}")
+
+
+def _side(c: Reader) -> str:
+    return c.get("side", str, "outside", check=lambda v: v in ("outside", "inside"), why="must be outside or inside")
+
+
+def _groove(loc: Locator, c: Reader, i: int, spec: dict) -> None:
+    spec["at"] = c.get("at", float)
+    spec["side"] = _side(c)
+    for k in ("width", "depth", "diameter"):
+        spec[k] = c.get(k, float, None, **_POS)
+    spec["center"] = c.get("center", float, None)
+    spec["reach"] = c.get("reach", float, 10.0, **_POS)
+    spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
+    _at_least_one(c, spec, ("width", "depth", "diameter", "center"))
+
+
+def _shoulder(loc: Locator, c: Reader, i: int, spec: dict) -> None:
+    spec["diameter"] = c.get("diameter", float, **_POS)
+    spec["expected"] = c.get("z", float)
+    spec["range"] = c.pair("range", (spec["expected"] - 5.0, spec["expected"] + 5.0))
+    spec["side"] = _side(c)
+    spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
+
+
 def _slot_or_pocket(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     kind = spec["kind"]
     spec["at"] = _xy(c, "at")
@@ -190,5 +237,6 @@ def _design(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     spec["path_line"] = loc.locate("check", "path", i)[0]
 
 
-_KINDS = {"diameter": _diameter, "thread": _thread, "ramp": _ramp, "slot": _slot_or_pocket,
+_KINDS = {"diameter": _diameter, "thread": _thread, "ramp": _ramp, "bore": _bore, "groove": _groove,
+          "shoulder": _shoulder, "slot": _slot_or_pocket,
           "pocket": _slot_or_pocket, "depth": _depth, "volume": _volume, "design": _design}
