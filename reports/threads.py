@@ -40,31 +40,37 @@ STATION_OFFSET = 0.01  # degrees past a station's seam where the diameters are m
 MIN_CLEARANCE = 2e-4  # degrees: a measuring plane at least this far from every vertex
 
 
-def _seams(part) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _seams(part, zlo: float, zhi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The seams of ``part``: clusters of its vertices' angles (modulo 180, off the axis) as
-    (first angle, last angle, vertex count), sorted, the circle cut in its widest gap."""
+    (first angle, last angle, count of the vertices between ``zlo`` and ``zhi``), sorted, the
+    circle cut in its widest gap. (Every vertex places a seam; only those over the thread count
+    towards telling a thread's station from a revolved solid's seam.)"""
     v = np.asarray(part.to_mesh().vert_properties, dtype=np.float64)[:, :3]
     off = np.hypot(v[:, 0], v[:, 1]) > M.SEAM_RADIUS * max(1.0, float(np.abs(v).max(initial=0.0)))
-    a = np.sort(np.degrees(np.arctan2(v[off, 1], v[off, 0])) % 180.0)
+    v = v[off]
+    a = np.degrees(np.arctan2(v[:, 1], v[:, 0])) % 180.0
+    order = np.argsort(a)
+    a, w = a[order], ((v[:, 2] >= zlo) & (v[:, 2] <= zhi))[order].astype(np.int64)
     if not len(a):
-        return a, a, a
+        return a, a, w
     gaps = np.diff(np.append(a, a[0] + 180.0))
     k = int(np.argmax(gaps))
     a = np.concatenate([a[k + 1:], a[:k + 1] + 180.0])  # the widest gap at the end
+    w = np.concatenate([w[k + 1:], w[:k + 1]])
     start = np.concatenate([[True], np.diff(a) > STATION_CLUSTER])
     first = np.flatnonzero(start)
     last = np.append(first[1:], len(a)) - 1
-    return a[first], a[last], np.diff(np.append(first, len(a)))
+    return a[first], a[last], np.add.reduceat(w, first)
 
 
-def gauge_angles(part, angles: int = 36) -> np.ndarray:
+def gauge_angles(part, angles: int = 36, zlo: float = -math.inf, zhi: float = math.inf) -> np.ndarray:
     """Measuring angles for the diameters: for each of ``angles`` equally spaced angles from C0,
-    the seam holding the most vertices within half a spacing of it (a thread sweep's station:
-    there the tool profile lies on the true helicoid, between stations its flanks are chords up
-    to the tolerance inside it) and the plane STATION_OFFSET beside it, on the side with the
+    the seam holding the most vertices between ``zlo`` and ``zhi`` within half a spacing of it
+    (over a thread, a screw sweep's station: there the tool profile lies on the true helicoid,
+    between stations its flanks are chords up to the tolerance inside it) and the plane STATION_OFFSET beside it, on the side with the
     wider gap (at most halfway to the next seam), so it holds no vertex. Where no seam qualifies,
     the angle clearest of seams (``measure.seam_free_angles``). Sorted, distinct, degrees."""
-    lo, hi, cnt = _seams(part)
+    lo, hi, cnt = _seams(part, zlo, zhi)
     step = 360.0 / angles
     nominal = np.arange(angles) * step
     if not len(lo):
@@ -197,7 +203,7 @@ def gauge_part(part, zlo: float, zhi: float, pitch: float, inside: bool, angles:
     """``gauge`` of the thread on ``part`` between ``zlo`` and ``zhi``, in the sections at
     ``gauge_angles``."""
     profs = [(float(phi),) + M.outer_profile(part, float(phi), zlo, zhi, step, inside)
-             for phi in gauge_angles(part, angles)]
+             for phi in gauge_angles(part, angles, zlo, zhi)]
     return gauge({"profiles": profs}, pitch, inside, wire)
 
 
