@@ -1,33 +1,18 @@
 """bore, groove and shoulder checks on a turned part whose dimensions come from its program:
-a bar of 30 turned to 25 up to a square shoulder at Z-30 (93 degree holder), grooved 3 wide to
+a bar of 40 turned to 25 up to a square shoulder at Z-30 (93 degree holder), grooved 3 wide to
 X20 at Z-12..-9 (hand R: the corner towards -Z programmed), drilled 10 mm (118 degree point) on
 the axis to Z-20. Each check passes, and fails when the program is made wrong."""
 import math
+from pathlib import Path
 
 import pytest
 
 import cutsim
 
-SETUP = """[machine]
-kind = "lathe"
-dialect = "cnc8x6"
-diameter_programming = true
-start = [50.0, 0.0, 20.0]
-
-[stock]
-shape = "cylinder"
-diameter = 30.0
-z = [-50.0, 0.0]
-
-[[tool]]
-number = 1
-kind = "turning"
-insert = "C"
-size = 12.7
-tip_radius = 0.4
-approach = 93.0
-hand = "R"
-
+EX = Path(__file__).resolve().parents[2] / "examples" / "cnc8x6-lathe"
+# shoulder-93's machine, bar of 40 and CNMG 120408 in a 93 degree holder, with a grooving insert
+# and a drill
+SETUP = (EX / "shoulder-93.toml").read_text().split("[[check]]")[0] + """
 [[tool]]
 number = 2
 kind = "grooving"
@@ -47,10 +32,10 @@ tolerance = 0.005
 """
 
 PROGRAM = """N10 G00 G95 T1 D1 S1200 M03
-G00 X32. Z2.
+G00 X44. Z2.
 X{x_turn}
 G01 Z{z_shoulder} F0.2
-X32.
+X41.
 G00 X50. Z20.
 T2 D2 S600
 G00 X28. Z-12.
