@@ -17,8 +17,10 @@ import math
 import numpy as np
 
 from . import measure as M
+from . import threads as T
+from . import turned
 
-KINDS = ("diameter", "thread", "ramp", "slot", "pocket", "depth", "volume", "design")
+KINDS = ("diameter", "thread", "ramp", "bore", "groove", "shoulder", "slot", "pocket", "depth", "volume", "design")
 
 
 def _r(v, nd: int = 6):
@@ -72,9 +74,49 @@ def check_diameter(spec: dict, result) -> dict:
                    {"z": spec["z"], "angles": spec["angles"]})
 
 
+GAUGED = ("major_diameter", "minor_diameter", "pitch_diameter")
+
+
+def limit_item(quantity: str, low, high, measured) -> dict:
+    """An item that passes when ``measured`` lies within [low, high] (either may be None: no
+    limit on that side); ``expected`` reads the limits as text, ``limits`` holds them."""
+    ok = measured is not None and math.isfinite(measured) and (low is None or measured >= low - 1e-12) \
+        and (high is None or measured <= high + 1e-12)
+    text = (f"{low:.3f} to {high:.3f}" if low is not None and high is not None
+            else f"min {low:.3f}" if low is not None else f"max {high:.3f}")
+    it = item(quantity, text, measured, None, passed=ok)
+    it["limits"] = [_r(low), _r(high)]
+    return it
+
+
+def _gauge_items(spec: dict, part) -> tuple[list[dict], dict]:
+    """Major, minor and pitch diameter items (expected values or the designation's limits)."""
+    lim = spec.get("limits")
+    wanted = [k for k in GAUGED if spec.get(k) is not None or lim is not None]
+    if not wanted:
+        return [], {}
+    inside = spec.get("side") == "inside"
+    g = T.gauge_part(part, spec["z"][0], spec["z"][1], spec["lead"] / spec["starts"], inside, spec["angles"],
+                     spec.get("wire_diameter"))
+    meas = {k: (g[k] or {}).get("median") for k in GAUGED}
+    meas["pitch_diameter_wires"] = g["pitch_diameter_wires"]
+    items = []
+    for k in wanted + (["pitch_diameter_wires"] if "pitch_diameter" in wanted else []):
+        base = "pitch_diameter" if k == "pitch_diameter_wires" else k
+        if lim is not None:
+            items.append(limit_item(k, *lim[base], meas[k]))
+        else:
+            items.append(item(k, spec[base], meas[k], spec["tolerance"]))
+    details = {f"{k}_range": _r([g[k]["min"], g[k]["max"]]) if g[k] else None for k in GAUGED}
+    details.update(wire_diameter=_r(g["wire"]), over_wires=_r(g["over_wires"]), wires=g["wires"])
+    if lim is not None:
+        details["designation"] = lim["designation"]
+    return items, details
+
+
 def check_thread(spec: dict, result) -> dict:
     zlo, zhi = spec["z"]
-    m = M.measure_thread(result.part, zlo, zhi, spec["angles"])
+    m = M.measure_thread(result.part, zlo, zhi, spec["angles"], inside=spec.get("side") == "inside")
     items = [item("lead", spec["lead"], m["lead"], spec["lead_tolerance"]),
              item("starts", spec["starts"], m["starts"], None, unit=""),
              item("hand", spec["hand"], m["hand"], None, unit="")]
@@ -82,6 +124,9 @@ def check_thread(spec: dict, result) -> dict:
         items.append(item("root_diameter", spec["root_diameter"], m["root_diameter"], spec["tolerance"]))
     details = {"z": [zlo, zhi], "roots": len(m["roots"]), "pitch": _r(m["pitch"]),
                "root_diameter_min": _r(m["root_diameter_min"]), "root_diameter_max": _r(m["root_diameter_max"])}
+    gi, gd = _gauge_items(spec, result.part)
+    items += gi
+    details.update(gd)
     if spec.get("phase") is not None:
         if m["lead"] and m["hand"] and m["roots"]:
             meas = M.thread_phases(m["roots"], m["lead"], m["hand"], spec["phase_z"])
@@ -111,6 +156,40 @@ def check_ramp(spec: dict, result) -> dict:
     return _record(spec, [it, item("root_radius_start", ra, float(r[0]), spec["tolerance"]),
                           item("root_radius_end", rb, float(r[-1]), spec["tolerance"])],
                    {"worst_z": _r(at), "samples": len(z), "step": spec["step"]})
+
+
+def _feature_items(spec: dict, found: dict, keys: tuple[str, ...]) -> tuple[list[dict], dict]:
+    """Items comparing the median of each measured feature value with ``spec``'s, and the
+    range over the sections as details."""
+    items, details = [], {}
+    for k in keys:
+        if spec.get(k) is None:
+            continue
+        m = found.get(k)
+        items.append(item(k, spec[k], None if m is None else m["median"], spec["tolerance"]))
+        details[f"{k}_range"] = None if m is None else _r([m["min"], m["max"]])
+    return items, details
+
+
+def check_bore(spec: dict, result) -> dict:
+    found = turned.bore(result.part, spec["z"], spec["face"])
+    items, details = _feature_items(spec, found, ("diameter", "depth", "tip_depth"))
+    return _record(spec, items, {"z": spec["z"], "face": spec["face"], **details})
+
+
+def check_groove(spec: dict, result) -> dict:
+    found = turned.groove(result.part, spec["at"], spec["side"] == "inside", spec["reach"])
+    items, details = _feature_items(spec, found, ("diameter", "depth", "width", "center"))
+    return _record(spec, items, {"at": spec["at"], "side": spec["side"], **details})
+
+
+def check_shoulder(spec: dict, result) -> dict:
+    lo, hi = spec["range"]
+    found = turned.shoulder(result.part, spec["diameter"], lo, hi, spec["side"] == "inside", spec["expected"])
+    z = found["z"]
+    return _record(spec, [item("z", spec["expected"], None if z is None else z["median"], spec["tolerance"])],
+                   {"diameter": spec["diameter"], "range": [lo, hi], "z_range": None if z is None else
+                    _r([z["min"], z["max"]])})
 
 
 def _stock_top(result) -> float:
@@ -184,7 +263,8 @@ def check_design(spec: dict, result, design=None) -> dict:
                                  "worst_location": _r(c["worst_location"])})
 
 
-EVALUATORS = {"diameter": check_diameter, "thread": check_thread, "ramp": check_ramp, "slot": check_slot,
+EVALUATORS = {"diameter": check_diameter, "thread": check_thread, "ramp": check_ramp, "bore": check_bore,
+              "groove": check_groove, "shoulder": check_shoulder, "slot": check_slot,
               "pocket": check_pocket, "depth": check_depth, "volume": check_volume, "design": check_design}
 
 

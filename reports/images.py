@@ -166,24 +166,27 @@ def _fit_flank(z, r, lo, hi):
 def thread_view(result, spec, index: int) -> View:
     """Lathe: 2.5 pitches of the ``thread`` check ``spec`` around the middle of its range at the
     section angle (C0 moved clear of seams), with measured root and crest diameters, pitch and
-    flank angles."""
+    flank angles. An inside thread (``side``) is read on the bore's wall: its grooves run outwards,
+    so the measuring works on u = -r (the groove's depth coordinate) and draws at r = s u."""
     from cutsim.reports import measure as M
 
     zlo, zhi = spec["z"]
-    m = M.measure_thread(result.part, zlo, zhi, spec.get("angles", 36))
+    inside = spec.get("side") == "inside"
+    s = -1.0 if inside else 1.0
+    m = M.measure_thread(result.part, zlo, zhi, spec.get("angles", 36), inside=inside)
     pitch = m["pitch"] or spec["lead"] / max(1, spec["starts"])
     zc = 0.5 * (zlo + zhi)
     za, zb = zc - 1.25 * pitch, zc + 1.25 * pitch
     phi = section_angle(result)
-    z, r = M.outer_profile(result.part, phi, za - pitch, zb + pitch, step=pitch / 400.0)
+    z, r = M.outer_profile(result.part, phi, za - pitch, zb + pitch, step=pitch / 400.0, inside=inside)
     ok = np.isfinite(r)
-    z, r = z[ok], r[ok]
+    z, r = z[ok], s * r[ok]  # r is the depth coordinate u from here; drawn at s u
     inwin = (z >= za) & (z <= zb)
     r_crest = float(r[inwin].max()) if np.any(inwin) else float(np.nanmax(r))
     roots = M.groove_roots(z, r)
     r_root_sec = float(roots[:, 1].min()) if len(roots) else float(r.min())
     h = max(r_crest - r_root_sec, 0.1 * pitch)
-    v0, v1 = r_root_sec - 0.55 * h, r_crest + 0.45 * h
+    v0, v1 = sorted((s * (r_root_sec - 0.55 * h), s * (r_crest + 0.45 * h)))
     p = _plotter()
     ch = _Chart(p, (za, zb, v0, v1), margins=(90, 90, 70, 85))
     win = ch.box
@@ -196,37 +199,37 @@ def thread_view(result, spec, index: int) -> View:
     notes = []
     # root and crest levels
     d_root = m["root_diameter"]
-    rr = d_root / 2 if d_root else r_root_sec
-    ch.lines([((u0, rr), (u1, rr))], color="#1f5fa8", width=1.5, dashed=True, dz=1.0)
-    ch.lines([((u0, r_crest), (u1, r_crest))], color="#2a8a3a", width=1.5, dashed=True, dz=1.0)
+    rr = s * d_root / 2 if d_root else r_root_sec
+    ch.lines([((u0, s * rr), (u1, s * rr))], color="#1f5fa8", width=1.5, dashed=True, dz=1.0)
+    ch.lines([((u0, s * r_crest), (u1, s * r_crest))], color="#2a8a3a", width=1.5, dashed=True, dz=1.0)
     root_txt = f"root \u00d8 {_num(d_root)}" if d_root else "root: not measured"
     if d_root and m["root_diameter_min"] is not None:
         root_txt += f"  ({_num(m['root_diameter_min'])} \u2026 {_num(m['root_diameter_max'])} over all angles)"
     if spec.get("root_diameter") is not None:
         root_txt += f"  check {_num(spec['root_diameter'])} \u00b1{spec['tolerance']:g}"
-    crest_txt = f"crest \u00d8 {_num(2 * r_crest)}"
-    ch.text(u0 + ch.px(8), rr - ch.px(6), root_txt, size=13, color="#1f5fa8", halign="left", valign="top",
-            bold=True)
-    ch.text(u0 + ch.px(8), r_crest + ch.px(6), crest_txt, size=13, color="#2a8a3a", halign="left",
-            valign="bottom", bold=True)
+    crest_txt = f"crest \u00d8 {_num(2 * abs(r_crest))}"
+    ch.text(u0 + ch.px(8), s * (rr - ch.px(6)), root_txt, size=13, color="#1f5fa8", halign="left",
+            valign="bottom" if inside else "top", bold=True)
+    ch.text(u0 + ch.px(8), s * (r_crest + ch.px(6)), crest_txt, size=13, color="#2a8a3a", halign="left",
+            valign="top" if inside else "bottom", bold=True)
     notes += [root_txt, crest_txt]
     # roots in the window, pitch between the two nearest the middle
     rts = roots[(roots[:, 0] >= u0) & (roots[:, 0] <= u1)] if len(roots) else roots
     for zr, rv in rts:
-        ch.marker(zr, rv, color="#1f5fa8")
+        ch.marker(zr, s * rv, color="#1f5fa8")
     if len(rts) >= 2:
         k = int(np.argmin(np.abs(rts[:, 0] - zc)))
         k2 = k + 1 if k + 1 < len(rts) else k - 1
         a_, b_ = sorted((float(rts[k, 0]), float(rts[k2, 0])))
         vy = r_root_sec - 0.3 * h
         t = ch.px(6)
-        ch.lines([((a_, vy), (b_, vy)), ((a_, vy - t), (a_, vy + t)), ((b_, vy - t), (b_, vy + t)),
-                  ((a_, vy + t), (a_, rts[k, 1])), ((b_, vy + t), (b_, rts[k2, 1]))], color="black", width=1.3,
-                 dz=1.2)
+        ch.lines([((a_, s * vy), (b_, s * vy)), ((a_, s * (vy - t)), (a_, s * (vy + t))),
+                  ((b_, s * (vy - t)), (b_, s * (vy + t))), ((a_, s * (vy + t)), (a_, s * rts[k, 1])),
+                  ((b_, s * (vy + t)), (b_, s * rts[k2, 1]))], color="black", width=1.3, dz=1.2)
         ptxt = f"P {_num(b_ - a_)} here, {_num(pitch)} median  (lead {_num(m['lead']) if m['lead'] else '?'})"
-        ch.text((a_ + b_) / 2, vy - ch.px(8), ptxt, size=13, valign="top", bold=True)
+        ch.text((a_ + b_) / 2, s * (vy - ch.px(8)), ptxt, size=13, valign="bottom" if inside else "top", bold=True)
         notes.append(ptxt)
-    ftxt = _draw_flanks(ch, z, r, rts, zc, r_crest, h)  # flank angles of the groove nearest the middle
+    ftxt = _draw_flanks(ch, z, r, rts, zc, r_crest, h, s)  # flank angles of the groove nearest the middle
     if ftxt:
         notes.append(ftxt)
     name = spec["name"]
@@ -239,9 +242,9 @@ def thread_view(result, spec, index: int) -> View:
 
 
 def _draw_flanks(ch, z: np.ndarray, r: np.ndarray, rts: np.ndarray, zc: float, r_crest: float,
-                 h: float) -> str | None:
-    """The flank angles of the groove nearest ``zc`` drawn on the tooth detail; their note, or None
-    when a flank was not measured."""
+                 h: float, s: float = 1.0) -> str | None:
+    """The flank angles of the groove nearest ``zc`` drawn on the tooth detail (``s`` -1 draws an
+    inside thread's section below the axis); their note, or None when a flank was not measured."""
     if not len(rts):
         return None
     k = int(np.argmin(np.abs(rts[:, 0] - zc)))
@@ -259,13 +262,14 @@ def _draw_flanks(ch, z: np.ndarray, r: np.ndarray, rts: np.ndarray, zc: float, r
         angs.append(ang)
         if fit is not None:
             a, b = fit
-            ch.lines([((a * rv + b, rv), (a * r_crest + b, r_crest))], color="#b03030", width=2.0, dz=1.3)
+            ch.lines([((a * rv + b, s * rv), (a * r_crest + b, s * r_crest))], color="#b03030", width=2.0,
+                     dz=1.3)
             rm = rv + 0.55 * depth
-            ch.text(a * rm + b + side * ch.px(10), rm, f"{ang:.1f}\u00b0", size=14, color="#b03030",
+            ch.text(a * rm + b + side * ch.px(10), s * rm, f"{ang:.1f}\u00b0", size=14, color="#b03030",
                     halign="left" if side > 0 else "right", bold=True)
     if all(a is not None for a in angs):
         ftxt = f"flanks {angs[0]:.1f}\u00b0 + {angs[1]:.1f}\u00b0 = {angs[0] + angs[1]:.1f}\u00b0 included"
-        ch.text(zr, r_crest + 0.28 * h, ftxt, size=13, color="#b03030", bold=True)
+        ch.text(zr, s * (r_crest + 0.28 * h), ftxt, size=13, color="#b03030", bold=True)
         return ftxt
     return None
 

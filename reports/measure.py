@@ -141,10 +141,19 @@ def outer_radius(polys: list[np.ndarray], z) -> np.ndarray:
     return out
 
 
-def outer_profile(part, phi: float, zlo: float, zhi: float, step: float = 0.01):
+def outer_profile(part, phi: float, zlo: float, zhi: float, step: float = 0.01, inside: bool = False):
     """(z, r) of the outer profile at angle ``phi`` between ``zlo`` and ``zhi``: sampled every
-    ``step`` and at every section vertex (so minima and maxima of the polyline are exact)."""
+    ``step`` and at every section vertex (so minima and maxima of the polyline are exact). With
+    ``inside`` the inner profile (the bore's wall: the smallest r of material at each z)."""
     polys = half_plane_section(part, phi)
+    if inside:  # the inner wall is the outer one of the section mirrored about the axis
+        z, r = outer_profile_of([p * (-1.0, 1.0) for p in polys], zlo, zhi, step)
+        return z, -r
+    return outer_profile_of(polys, zlo, zhi, step)
+
+
+def outer_profile_of(polys: list[np.ndarray], zlo: float, zhi: float, step: float):
+    """``outer_profile`` of the (r, z) section polygons ``polys``."""
     verts = np.concatenate(polys) if polys else np.zeros((0, 2))
     n = max(2, int(math.ceil((zhi - zlo) / step)) + 1)
     z = np.concatenate([np.linspace(zlo, zhi, n), verts[(verts[:, 1] > zlo) & (verts[:, 1] < zhi), 1]])
@@ -152,10 +161,14 @@ def outer_profile(part, phi: float, zlo: float, zhi: float, step: float = 0.01):
     return z, outer_radius(polys, z)
 
 
+FLAT_ROOT = 1e-7  # relative: points this close to a groove's lowest are on its (flat) root
+
+
 def groove_roots(z: np.ndarray, r: np.ndarray, min_depth: float = 0.02) -> np.ndarray:
-    """(z, r) of the deepest point of each groove of an outer profile: a groove is a run of the
-    profile below the level halfway between its highest and lowest point; runs that touch either
-    end of the profile (grooves cut off by the range) are left out."""
+    """(z, r) of the deepest point of each groove of an outer profile (the middle of a flat
+    root): a groove is a run of the profile below the level halfway between its highest and
+    lowest point; runs that touch either end of the profile (grooves cut off by the range) are
+    left out."""
     ok = np.isfinite(r)
     z, r = z[ok], r[ok]
     if len(r) < 3 or r.max() - r.min() < min_depth:
@@ -172,8 +185,10 @@ def groove_roots(z: np.ndarray, r: np.ndarray, min_depth: float = 0.02) -> np.nd
         while j + 1 < n and below[j + 1]:
             j += 1
         if i > 0 and j < n - 1:
-            k = i + int(np.argmin(r[i:j + 1]))
-            roots.append((z[k], r[k]))
+            run = r[i:j + 1]
+            low = run <= run.min() + FLAT_ROOT * max(1.0, abs(float(run.min())))
+            ks = i + np.flatnonzero(low)  # a flat root (a full-profile insert's tip): its middle
+            roots.append((0.5 * (z[ks[0]] + z[ks[-1]]), r[ks[0]]))
         i = j + 1
     return np.array(roots).reshape(-1, 2)
 
@@ -254,9 +269,11 @@ def thread_angles(part, angles: int = 36) -> np.ndarray:
     return seam_free_angles([part], nominal, min(1.0, 36.0 / angles))[0]
 
 
-def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float = 0.01) -> dict:
+def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float = 0.01, inside: bool = False) -> dict:
     """Lead, hand, number of starts, root diameter and the grooves' roots of a thread between
-    ``zlo`` and ``zhi``.
+    ``zlo`` and ``zhi``; with ``inside`` of an inside thread (the grooves run outwards from the
+    bore's wall: their roots are the largest radii of the inner profile). ``profiles`` lists the
+    (angle, z, r) profile of every section, for the measurements of cutsim.reports.threads.
 
     The grooves' roots are found in half-plane sections at ``angles`` angles (``thread_angles``:
     about equally spaced, none on a construction seam). One groove near the middle of the range is
@@ -266,13 +283,16 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     starts = lead / pitch rounded. The root diameter is twice the median root radius.
     """
     phis = thread_angles(part, angles)
-    per_angle = []
+    per_angle, profiles = [], []
+    sign = -1.0 if inside else 1.0
     for phi in phis:
-        z, r = outer_profile(part, float(phi), zlo, zhi, step)
-        per_angle.append(groove_roots(z, r))
+        z, r = outer_profile(part, float(phi), zlo, zhi, step, inside)
+        per_angle.append(groove_roots(z, sign * r) * (1.0, sign))
+        profiles.append((float(phi), z, r))
     roots = [(float(phi), float(zr), float(rr)) for phi, rs in zip(phis, per_angle) for zr, rr in rs]
     out = {"roots": roots, "angles": [float(p) for p in phis], "lead": None, "hand": None, "starts": None,
-           "pitch": None, "root_diameter": None, "root_diameter_min": None, "root_diameter_max": None}
+           "pitch": None, "root_diameter": None, "root_diameter_min": None, "root_diameter_max": None,
+           "profiles": profiles}
     if not roots:
         return out
     rr = np.array([r for _, _, r in roots])

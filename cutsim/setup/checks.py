@@ -13,15 +13,19 @@ from .reader import Locator, Reader
 CHECK_KEYS = {
     "diameter": {"z", "expected", "tolerance", "angles"},
     "thread": {"z", "lead", "starts", "hand", "root_diameter", "phase", "phase_z", "tolerance", "lead_tolerance",
-               "phase_tolerance", "angles"},
+               "phase_tolerance", "angles", "side", "major_diameter", "minor_diameter", "pitch_diameter",
+               "wire_diameter", "designation"},
     "ramp": {"z", "radius", "diameter", "tolerance", "step"},
     "slot": {"at", "direction", "width", "floor", "center", "z", "tolerance"},
     "pocket": {"at", "size", "floor", "center", "z", "tolerance"},
     "depth": {"at", "z", "tolerance"},
+    "bore": {"z", "face", "diameter", "depth", "tip_depth", "tolerance"},
+    "groove": {"at", "side", "width", "depth", "diameter", "center", "reach", "tolerance"},
+    "shoulder": {"diameter", "z", "range", "side", "tolerance"},
     "volume": {"removed", "tolerance"},
     "design": {"path", "max_gouge", "max_excess", "max_deviation"},
 }
-LATHE_CHECKS = ("diameter", "thread", "ramp")
+LATHE_CHECKS = ("diameter", "thread", "ramp", "bore", "groove", "shoulder")
 MILL_CHECKS = ("slot", "pocket", "depth")
 _POS = dict(check=lambda v: v > 0, why="must be positive")
 _NONNEG = dict(check=lambda v: v >= 0, why="must not be negative")
@@ -81,8 +85,15 @@ def _diameter(loc: Locator, c: Reader, i: int, spec: dict) -> None:
 
 def _thread(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     spec["z"] = c.pair("z")
-    spec["lead"] = c.get("lead", float, **_POS)
     spec["starts"] = c.get("starts", int, 1, check=lambda v: 1 <= v <= 16, why="must be 1 to 16")
+    _gauge(c, spec)
+    if spec["limits"] is not None:
+        spec["lead"] = c.get("lead", float, spec["limits"]["pitch"] * spec["starts"], **_POS)
+        if abs(spec["lead"] / spec["starts"] - spec["limits"]["pitch"]) > 1e-9:
+            raise c.fail("designation", f"the pitch of {spec['designation']} is not lead / starts = "
+                                        f"{spec['lead'] / spec['starts']:g} mm")
+    else:
+        spec["lead"] = c.get("lead", float, **_POS)
     spec["hand"] = c.get("hand", str, "right", check=lambda v: v in ("right", "left"), why="must be right or left")
     spec["root_diameter"] = c.get("root_diameter", float, None, **_POS)
     spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
@@ -103,6 +114,26 @@ def _thread(loc: Locator, c: Reader, i: int, spec: dict) -> None:
             raise c.fail("phase_z", "is only used with phase")
 
 
+def _gauge(c: Reader, spec: dict) -> None:
+    """The thread gauge keys: side, major/minor/pitch diameters, wire_diameter, designation
+    (ISO 965-1 limits, cutsim.reports.iso965); the designation's position letter sets the side."""
+    from cutsim.reports.iso965 import DesignationError, limits
+
+    spec["designation"] = c.get("designation", str, None)
+    spec["limits"] = None
+    if spec["designation"] is not None:
+        try:
+            spec["limits"] = limits(spec["designation"])
+        except DesignationError as e:
+            raise c.fail("designation", str(e)) from None
+    side = "inside" if spec["limits"] and spec["limits"]["inside"] else "outside"
+    spec["side"] = c.get("side", str, side, check=lambda v: v in ("outside", "inside"), why="must be outside or inside")
+    if spec["limits"] is not None and spec["side"] != side:
+        raise c.fail("side", f"{spec['designation']} is an {side} thread")
+    for k in ("major_diameter", "minor_diameter", "pitch_diameter", "wire_diameter"):
+        spec[k] = c.get(k, float, None, **_POS)
+
+
 def _ramp(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     spec["z"] = c.pair("z")
     has_r, has_d = "radius" in c.table, "diameter" in c.table
@@ -115,6 +146,50 @@ def _ramp(loc: Locator, c: Reader, i: int, spec: dict) -> None:
         spec["radius"] = (d[0] / 2, d[1] / 2)
     spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
     spec["step"] = c.get("step", float, 0.1, **_POS)
+
+
+def _at_least_one(c: Reader, spec: dict, keys: tuple[str, ...]) -> None:
+    if all(spec[k] is None for k in keys):
+        raise c.fail(None, f"a {spec['kind']} check needs at least one of {', '.join(keys)}")
+
+
+def _bore(loc: Locator, c: Reader, i: int, spec: dict) -> None:
+    spec["face"] = c.get("face", float, 0.0)
+    spec["z"] = c.get("z", float, None)
+    spec["diameter"] = c.get("diameter", float, None, **_POS)
+    spec["depth"] = c.get("depth", float, None, **_POS)
+    spec["tip_depth"] = c.get("tip_depth", float, None, **_POS)
+    spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
+    _at_least_one(c, spec, ("diameter", "depth", "tip_depth"))
+    if spec["z"] is None:
+        if spec["depth"] is None:
+            raise c.fail("z", "is required without depth (the height where the diameter is measured)")
+        spec["z"] = spec["face"] - spec["depth"] / 2.0
+    elif spec["z"] >= spec["face"]:
+        raise c.fail("z", f"must lie below the face at {spec['face']:g}")
+
+
+def _side(c: Reader) -> str:
+    return c.get("side", str, "outside", check=lambda v: v in ("outside", "inside"), why="must be outside or inside")
+
+
+def _groove(loc: Locator, c: Reader, i: int, spec: dict) -> None:
+    spec["at"] = c.get("at", float)
+    spec["side"] = _side(c)
+    for k in ("width", "depth", "diameter"):
+        spec[k] = c.get(k, float, None, **_POS)
+    spec["center"] = c.get("center", float, None)
+    spec["reach"] = c.get("reach", float, 10.0, **_POS)
+    spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
+    _at_least_one(c, spec, ("width", "depth", "diameter", "center"))
+
+
+def _shoulder(loc: Locator, c: Reader, i: int, spec: dict) -> None:
+    spec["diameter"] = c.get("diameter", float, **_POS)
+    spec["expected"] = c.get("z", float)
+    spec["range"] = c.pair("range", (spec["expected"] - 5.0, spec["expected"] + 5.0))
+    spec["side"] = _side(c)
+    spec["tolerance"] = c.get("tolerance", float, 0.02, **_NONNEG)
 
 
 def _slot_or_pocket(loc: Locator, c: Reader, i: int, spec: dict) -> None:
@@ -162,5 +237,6 @@ def _design(loc: Locator, c: Reader, i: int, spec: dict) -> None:
     spec["path_line"] = loc.locate("check", "path", i)[0]
 
 
-_KINDS = {"diameter": _diameter, "thread": _thread, "ramp": _ramp, "slot": _slot_or_pocket,
+_KINDS = {"diameter": _diameter, "thread": _thread, "ramp": _ramp, "bore": _bore, "groove": _groove,
+          "shoulder": _shoulder, "slot": _slot_or_pocket,
           "pocket": _slot_or_pocket, "depth": _depth, "volume": _volume, "design": _design}

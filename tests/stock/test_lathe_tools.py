@@ -360,13 +360,14 @@ def test_shoulder_example_fails_when_spoiled(tmp_path):
 
 def test_nut_example_fails_when_spoiled(tmp_path):
     """examples/cnc8x6-lathe/nut-m24x1.5 passes its checks (tests/app/test_examples.py) and fails
-    its volume with the last thread pass 0.1 mm short of the major diameter (the groove's flanks
-    0.05 mm shallower: about 12 mm^3 less)."""
+    its volume and its M24x1.5-6H thread with the last thread pass at X23.9 instead of X24.1 (the
+    groove 0.1 mm shallower, the shoulders no longer reaching the bore: about 95 mm^3 less, and the
+    major diameter under 24)."""
     from conftest import REPO_EXAMPLES
 
     base = REPO_EXAMPLES / "cnc8x6-lathe"
     program = (base / "nut-m24x1.5.nc").read_text()
-    spoiled = program.replace("N170 X24.", "N170 X23.9")
+    spoiled = program.replace("N170 X24.1", "N170 X23.9")
     assert spoiled != program
     res = cutsim.simulate("p.nc", str(base / "nut-m24x1.5.toml"), text=spoiled)
-    assert {c["name"] for c in res.report["checks"] if not c["passed"]} == {"removed"}
+    assert {c["name"] for c in res.report["checks"] if not c["passed"]} == {"removed", "M24x1.5-6H"}
