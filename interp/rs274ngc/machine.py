@@ -58,7 +58,9 @@ class Ngc(Interpreter):
         return self.scale / 2.0 if (i == 0 and self.lathe_diameter) else self.scale
 
     def program_value(self, i: int) -> float:
-        return (self.base()[i] - self.shift(i)) / self.unit(i)
+        """The position in program units (#5420-#5422, #<_x>...): X a radius in G7 too, as
+        LinuxCNC 2.9 reads it (G7 halves X words, not the position it reports)."""
+        return (self.base()[i] - self.shift(i)) / self.scale
 
     def goal(self, st: Step, letters=("X", "Y", "Z"), machine: bool = False) -> tuple[tuple, dict]:
         """The end point (mm, machine frame) of the block's axis words under G90/G91; with
