@@ -16,11 +16,11 @@ rs274's canonical calls are normalised to cutsim's records (machine frame, mm, t
 - straight moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch) are left out on both sides,
   and one shorter than the tolerance is skipped where it does not match; feeds are compared where rs274 has one
   (an inverse-time F is its rate: cutsim's feed is that times the move's length).
-rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 units.
+rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 units. Each run has
+its own HOME: rs274 2.9 shares its tool table between runs through $HOME/.tool.mmap.
 """
 from __future__ import annotations
 
-import fcntl
 import math
 import os
 import re
@@ -98,11 +98,10 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
     with tempfile.TemporaryDirectory() as tmp:
         args = [rs274_path() or "rs274", "-g", *inch_files(tmp, tool_table, parameter_file), os.path.abspath(program)]
         try:
-            # one rs274 at a time: two at once on this machine lost one's output now and then
-            with open(os.path.join(tempfile.gettempdir(), "cutsim-rs274.lock"), "w") as lock:
-                fcntl.flock(lock, fcntl.LOCK_EX)
-                proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                                      timeout=timeout)
+            # rs274 keeps its tool table in $HOME/.tool.mmap: two runs sharing a HOME read each other's
+            # tables (a tool "not found", output lost, a bus error), so each run gets its own HOME
+            proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                                  timeout=timeout, env=dict(os.environ, HOME=tmp))
         except subprocess.TimeoutExpired:
             return Outcome([], f"rs274 did not finish within {timeout:g} s (a program that does not end)")
     tools = files.tool_table(tool_table) if tool_table else {}
