@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.lexer import COORD_LIMIT, Word
 from cutsim.interp.modal import PLANE_AXES, InterpConfig
 
-from . import cycles, offsets
+from . import cycles, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
@@ -266,6 +266,8 @@ class Ngc(Interpreter):
             self.arc_block(st, m == 2)
         elif m == 33:
             self.thread(st)
+        elif m == 76:
+            threading.g76(self, st)
         elif m == 33.1:
             self.rigid_tap(st)
         self.check_left(st)
@@ -291,7 +293,7 @@ class Ngc(Interpreter):
         if self.spindle_dir == 0:
             raise self.error(st.block.line, k.col, "spindle not turning in G33")
         end, _ = self.goal(st)
-        self.synced(self.src(st), end, k.value * self.scale, "Z", 0.0)
+        threading.sync_to(self, self.src(st), end, k.value * self.scale, 0.0)
 
     def rigid_tap(self, st: Step) -> None:
         k = st.words.pop("K", None)

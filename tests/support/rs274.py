@@ -11,6 +11,8 @@ rs274's canonical calls are normalised to cutsim's records (machine frame, mm, t
 - this build's machine units are inches: the tool table and parameter file handed to it are the
   setup's (mm) divided by 25.4;
 - in G7 its X is already a radius (cutsim's records are radii too);
+- a synchronised move's lead is along its path in rs274 (START_SPEED_FEED_SYNC), along its lead axis in
+  cutsim: cutsim's is scaled by the path length over the axis travel;
 - an ARC_FEED of n turns is n arcs (whole turns first, the axis normal to the plane moving in
   proportion to the angle), as cutsim records it; RIGID_TAP is the synchronised move in and out;
 - straight moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch) are left out on both sides,
@@ -237,7 +239,10 @@ def cutsim_moves(program: str, tool_table: str | None = None, parameter_file: st
             moves.append(Move("ARC", r.start, r.end, text, (r.center[a], r.center[b]), r.clockwise, r.plane,
                               r.feed, r.per_rev))
         elif isinstance(r, SyncedFeed):
-            moves.append(Move("SYNC", r.start, r.tool_end, text, lead=r.lead))
+            # rs274's lead is along the path (LinuxCNC syncs the path length), cutsim's along its axis
+            travel = abs(r.tool_end["XYZ".index(r.lead_axis)] - r.start["XYZ".index(r.lead_axis)]) if r.lead_axis else 0.0
+            lead = r.lead * math.dist(r.start, r.tool_end) / travel if travel > 0.0 else r.lead
+            moves.append(Move("SYNC", r.start, r.tool_end, text, lead=lead))
     return Outcome(moves, None)
 
 
