@@ -98,6 +98,5 @@ M_CODES: dict[int, Code] = {
 }
 REFUSED_M: dict[int, str] = {
     19: "spindle orientation", 70: "saving the modal state", 71: "invalidating the saved modal state",
-    72: "restoring the modal state", 73: "auto-restoring the modal state", 98: "subprogram call",
-    99: "subprogram return",
+    72: "restoring the modal state", 73: "auto-restoring the modal state",
 }

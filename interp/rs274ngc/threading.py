@@ -29,8 +29,9 @@ from .values import _L, _PI
 def sync_to(m, src, end, path_lead: float, angle: float) -> float:
     """A spindle-synchronised move to ``end`` advancing ``path_lead`` mm along its path per spindle
     revolution (LinuxCNC syncs the path length), from spindle angle ``angle`` (degrees past the index).
-    Recorded along the axis (X or Z) that travels more, with the lead scaled to it. Returns the
-    spindle angle at its end, where a following synchronised move goes on without waiting."""
+    Recorded along the axis (X or Z) that travels more, with the lead scaled to it; a move to where
+    the tool is records nothing. Returns the spindle angle at its end, where a following
+    synchronised move goes on without waiting."""
     start = m.pos
     length = math.dist(start, end)
     if length == 0.0:

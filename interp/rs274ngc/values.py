@@ -53,6 +53,11 @@ class Parameters:
             self.numbered[i] = args[i - 1] if i <= len(args) else 0.0
         self.frames.append({})
 
+    def push_shared(self) -> None:
+        """A call level whose #1-#30 are the caller's (M98): only the named locals are its own."""
+        self.saved.append({})
+        self.frames.append({})
+
     def pop(self) -> None:
         self.numbered.update(self.saved.pop())
         self.frames.pop()

@@ -5,7 +5,8 @@ circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance
 offsets (G10 L2/L20, G54-G59.3, G92 and its resets), G28/G30, G53, tool changes with tool length
 offsets, canned cycles with G98/G99 and L, G33/G33.1, G76 (never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
-parameters and expressions with every operator and function, and O-word subroutines and loops.
+parameters and expressions with every operator and function, O-word subroutines and loops, and
+a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
 Arcs are built to end on their circle (to 4 decimals); everything else is left to chance, so
 both interpreters may refuse a program (division by zero, a peck depth of 0 ...): then both must.
 """
@@ -289,6 +290,7 @@ def program(rng: random.Random, statements: int = 25) -> str:
         subs = ["o<shape> sub", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
                 "o<shape> endsub [#1 * 2]"]
         g.out[1:1] = subs
+    numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
     for _ in range(statements):
         g.statement()
         if subs and rng.random() < 0.1:
@@ -296,5 +298,13 @@ def program(rng: random.Random, statements: int = 25) -> str:
             g.plane = "G17"
             g.emit(f"o<shape> call [{num(rng, -8, 8)}] [{num(rng, 1, 6)}]")
             g.emit("#3 = #<_value>")
+        if numbered is not None and rng.random() < 0.1:
+            g.emit(f"M98 P{numbered}" + (f" L{rng.randint(0, 3)}" if rng.random() < 0.5 else ""))
     g.emit("M2")
+    if numbered is not None:  # after the end, as Fanuc-style programs keep them; #1-#5 are shared
+        g.emit(f"O{numbered}")
+        g.emit("#<k> = [#1 * 0.5]")
+        g.emit(f"G91 G1 X#<k> Y{num(rng, -5, 5)}")
+        g.emit("#2 = [#2 + 0.5]")
+        g.emit("M99")
     return "\n".join(g.out) + "\n"

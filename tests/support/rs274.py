@@ -15,7 +15,8 @@ rs274's canonical calls are normalised to cutsim's records (machine frame, mm, t
   cutsim: cutsim's is scaled by the path length over the axis travel;
 - an ARC_FEED of n turns is n arcs (whole turns first, the axis normal to the plane moving in
   proportion to the angle), as cutsim records it; RIGID_TAP is the synchronised move in and out;
-- straight moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch) are left out on both sides,
+- straight and synchronised moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch; cutsim
+  records no G33 to where the tool is) are left out on both sides,
   and one shorter than the tolerance is skipped where it does not match; feeds are compared where rs274 has one
   (an inverse-time F is its rate: cutsim's feed is that times the move's length).
 rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 units. Each run has
@@ -210,7 +211,7 @@ class _State:
 
     def add(self, move: Move) -> None:
         self.pos = move.end
-        if move.kind in ("RAPID", "FEED") and move.length < ZERO_MOVE:
+        if move.kind in ("RAPID", "FEED", "SYNC") and move.length < ZERO_MOVE:
             return
         self.moves.append(move)
 
@@ -227,7 +228,7 @@ def cutsim_moves(program: str, tool_table: str | None = None, parameter_file: st
         return Outcome([], str(e))
     moves = []
     for r in prog.records:
-        if isinstance(r, (Rapid, Feed)) and math.dist(r.start, r.end) < ZERO_MOVE:
+        if isinstance(r, (Rapid, Feed, SyncedFeed)) and math.dist(r.start, r.end) < ZERO_MOVE:
             continue
         text = describe(r)
         if isinstance(r, Rapid):

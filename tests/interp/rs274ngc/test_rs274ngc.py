@@ -193,3 +193,31 @@ def test_position_parameters_read_x_as_a_radius_in_g7():
     # #<_x> is 10, and G0 X#<_x> goes to radius 5)
     m = moves("G21 G18\nG0 X10\nG7\nG0 X#<_x>\nG0 X[#5420 * 4]\nM2\n", kind="lathe")
     assert [r.end[0] for r in m] == [10.0, 5.0, 10.0]
+
+
+def test_numbered_subprograms_by_m98_and_m99():
+    # O100 (after the end, as Fanuc-style programs keep them) runs L2 times; it calls O200 once per
+    # run; #1 is the caller's (set to 3 inside, seen after), #<a> is local to each call
+    text = ("G21 F100\n#1 = 7\n#<a> = 2\nM98 P100 L2\nG90 G0 X#1 Y#<a>\nM98 P100 L0\nM30\n"
+            "O100\n#<a> = 9\nG91 G1 X1\nM98 P200\n#1 = 3\nM99\nO200\nG91 G1 Y1\nM99\n")
+    ends = [m.end[:2] for m in moves(text)]
+    assert ends == [(1, 0), (1, 1), (2, 1), (2, 2), (3, 2)]
+
+
+def test_m99_in_the_main_program_ends_it_and_an_o_line_in_sequence_runs_on():
+    # as rs274 2.9 runs them: "O100" reached in sequence is passed, its M99 is then the program end
+    text = "G21 F100\nO100\nG91 G1 X1\nM99\nG1 Y5\nM2\n"
+    assert [m.end[:2] for m in moves(text)] == [(1, 0)]
+
+
+@pytest.mark.parametrize("text, message", [
+    ("G21\nM98\nM2\n", "needs the subprogram number P"),
+    ("G21\nM98 P5\nM2\nO6\nM99\n", "O5 is not in this program"),
+    ("G21\nM98 P5 L-1\nM2\nO5\nM99\n", "whole number"),
+    ("G21\nG0 X1 M98 P5\nM2\nO5\nM99\n", "stands alone"),
+    ("G21\nM98 P5\nM2\nO5\nO5\nM99\n", "defined twice"),
+    ("G21\no<s> call\nM2\no<s> sub\nM99\no<s> endsub\n", "inside an o-word subroutine"),
+])
+def test_m98_m99_refusals(text, message):
+    with pytest.raises(CutsimError, match=message):
+        moves(text)
