@@ -2,11 +2,15 @@
 (docs/dialects/rs274ngc.md, "G76"); test_rs274ngc_oracle.py compares it with rs274 move by move."""
 from __future__ import annotations
 
+import json
 import math
 import random
+from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
+from cutsim.cli import main
 from cutsim.interp import interpret
 from cutsim.interp.canon import Feed, Rapid, SyncedFeed
 from cutsim.interp.errors import CutsimError
@@ -134,3 +138,28 @@ def test_random_blocks_reach_the_full_depth_and_never_cut_deeper(seed):
 def test_refused_blocks(block, message):
     with pytest.raises(CutsimError, match=message):
         moves(START + block + "\nM2\n")
+
+
+EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "rs274ngc" / "g76-tapers"
+
+
+@pytest.mark.parametrize("spoil, failing", [
+    # E2 L0: no tapers (the thread runs at full depth to both ends), and no radial synchronised move
+    # before it: the groove lies 1.5 * 0.605649 = 0.908 mm (218 degrees) off
+    ("E2 L3", {"entry taper", "exit taper", "M20x1.5 by G76"}),
+    # Q0: every pass starts at Z-4, the groove and the entry taper 0.52 mm off (the exit ends at Z-30 still)
+    ("Q29.5", {"M20x1.5 by G76", "entry taper"}),
+])
+def test_the_example_checks_fail_on_a_spoiled_block(tmp_path, spoil, failing):
+    # the example's own checks pass (tests/app/test_examples.py); here the block is spoiled and the
+    # checks that measure what was spoiled must fail
+    text = (EXAMPLE.with_suffix(".nc")).read_text()
+    text = text.replace(spoil, {"E2 L3": "E2 L0", "Q29.5": "Q0"}[spoil])
+    prog = tmp_path / "g76-tapers.nc"
+    prog.write_text(text)
+    setup = tmp_path / "g76-tapers.toml"
+    setup.write_text(EXAMPLE.with_suffix(".toml").read_text().replace('"tools-thread.tbl"', f'"{EXAMPLE.parent / "tools-thread.tbl"}"'))
+    res = CliRunner().invoke(main, ["simulate", str(prog), "--setup", str(setup), "--out", str(tmp_path / "out"), "-q"])
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    failed = {c["name"] for c in report["checks"] if not c["passed"]}
+    assert failed == failing, res.output
