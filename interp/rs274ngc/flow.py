@@ -72,25 +72,25 @@ def structure(unit: Unit) -> None:
     def fail(line: Line, message: str):
         return CutsimError(unit.name, line.lineno, line.oword[3], message)
 
+    def define(line: Line, table: dict, label: str, idx: int, what: str) -> None:
+        """A subroutine (o... sub) or numbered subprogram (O...): at the top level, once."""
+        if stack:
+            raise fail(line, f"{what} cannot begin inside another block")
+        if label in table:
+            raise fail(line, f"{what} is defined twice")
+        table[label] = idx
+
     for idx, line in enumerate(unit.lines):
         if line is None or line.oword is None:
             continue
         label, kw, _, _ = line.oword
         if kw == "program":
-            if stack:
-                raise fail(line, f"O{label}: a numbered subprogram cannot begin inside another block")
-            if label in unit.programs:
-                raise fail(line, f"subprogram O{label} is defined twice")
-            unit.programs[label] = idx
+            define(line, unit.programs, label, idx, f"subprogram O{label}")
         elif kw == "while" and stack and stack[-1][0] == "do" and stack[-1][1] == label:
             unit.ends[stack.pop()[2]] = idx
         elif kw in ("sub", "if", "while", "do", "repeat"):
             if kw == "sub":
-                if stack:
-                    raise fail(line, f"o{label} sub: a subroutine cannot be defined inside another block")
-                if label in unit.subs:
-                    raise fail(line, f"subroutine o{label} is defined twice")
-                unit.subs[label] = idx
+                define(line, unit.subs, label, idx, f"subroutine o{label}")
             stack.append((kw, label, idx))
         elif kw in ("endsub", "endif", "endwhile", "endrepeat"):
             opening = {"endsub": "sub", "endif": "if", "endwhile": "while", "endrepeat": "repeat"}[kw]
