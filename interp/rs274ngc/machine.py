@@ -223,12 +223,13 @@ class Ngc(Interpreter):
 
     # -- motion ------------------------------------------------------------------------------------
     def feed_for(self, st: Step, length: float) -> float:
-        """The feed (mm/min or mm/rev) of a cutting move ``length`` mm long; refused without F."""
+        """The feed (mm/min or mm/rev) of a cutting move ``length`` mm long; refused without F. In G93
+        F over the move's time: length x F, and at least 0.1 program units per minute as in LinuxCNC."""
         if self.feed_mode == 93:
             if self.feed_units is None or self.feed_units == 0.0:
                 raise self.error(st.block.line, 1, "inverse time feed (G93): every feed move needs its own F")
             f, self.feed_units = self.feed_units, None
-            return length * f
+            return max(0.1 * self.scale, length * f)  # LinuxCNC: at least 0.1 program units per minute
         if self.feed_units is None or self.feed_units == 0.0:
             raise self.error(st.block.line, 1, "cannot feed with a zero feed rate (program F)")
         return self.feed_units * self.feed_scale

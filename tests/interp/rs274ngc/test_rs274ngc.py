@@ -221,3 +221,13 @@ def test_m99_in_the_main_program_ends_it_and_an_o_line_in_sequence_runs_on():
 def test_m98_m99_refusals(text, message):
     with pytest.raises(CutsimError, match=message):
         moves(text)
+
+
+@pytest.mark.parametrize("units, move, f, feed", [
+    ("G21", "X10", 3.0, 30.0),  # 10 mm in 1/3 min
+    ("G21", "X0.034", 2.55, 0.1),  # 0.0867 mm/min: LinuxCNC's floor of 0.1 units per minute
+    ("G20", "X0.001", 2.0, 2.54),  # 0.002 in/min: the floor, 0.1 in/min
+])
+def test_inverse_time_feed_is_length_times_f_at_least_a_tenth_unit_per_minute(units, move, f, feed):
+    m = moves(f"{units}\nG93 G1 {move} F{f}\nM2\n")
+    assert m[-1].feed == pytest.approx(feed)
