@@ -20,7 +20,9 @@ from .values import Parameters
 
 INCH = 25.4
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
-ARC_ABS_TOL, ARC_REL_TOL = 0.0254, 0.001  # LinuxCNC 2.9 accepts a centre arc whose radii differ less
+# LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
+# units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
+ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
 
 
 class Ngc(Interpreter):
@@ -350,7 +352,8 @@ class Ngc(Interpreter):
         r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
         r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
         err = abs(r1 - r0)
-        if err > ARC_ABS_TOL and err > ARC_REL_TOL * max(r0, r1):
+        tol = ARC_ABS_TOL_MM if self.scale == 1.0 else ARC_ABS_TOL_INCH * INCH
+        if err > tol and err > ARC_REL_TOL * max(r0, r1):
             raise self.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
 
     def radius_centre(self, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:

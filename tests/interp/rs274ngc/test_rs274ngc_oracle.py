@@ -110,7 +110,7 @@ def _differential(seed: int, count: int, tools: str, tmp_path: Path) -> None:
         path = tmp_path / f"case{i}.ngc"
         path.write_text(program(random.Random(seed * 1_000_003 + i)))
         verdict = compare(str(path), str(tbl))
-        if not verdict.startswith("same"):
+        if not verdict.startswith(("same", "documented difference")):
             bad.append((i, verdict))
     assert not bad, f"seed {seed}: {len(bad)} of {count} diverge, first {bad[0]}"
 
@@ -228,3 +228,15 @@ def test_rs274_cuts_a_g76_of_pitch_0_cutsim_refuses_it(rs274, tmp_path):
     assert "pitch P must be more than 0" in cutsim_moves(str(path)).error
     theirs = run_rs274(str(path))
     assert theirs.error is None and len(theirs.moves) > 10 and all(m.lead == 0 for m in theirs.moves if m.kind == "SYNC")
+
+
+def test_rs274_cuts_an_arc_off_its_circle_as_a_spiral_cutsim_refuses_it(rs274, tmp_path):
+    # radius 10 at the start, 10.026 at the end: LinuxCNC 2.9 accepts up to 0.02 * sqrt(2) mm (or 0.1 %)
+    # and cuts a spiral; cutsim's arcs are circles (max(0.005 mm, 0.01 %)): a documented limit the
+    # comparison reports as such, and 0.03 mm is refused by both
+    # (in G20: 0.002 * sqrt(2) in)
+    for units, delta, verdict in (("G21", 0.026, "documented difference"), ("G21", 0.03, "same (both refuse)"),
+                                  ("G20", 0.0026, "documented difference"), ("G20", 0.003, "same (both refuse)")):
+        path = tmp_path / f"spiral{units}{delta}.ngc"
+        path.write_text(f"{units} G17 F100\nG0 X1 Y0\nG2 X0 Y-{1 + delta} I-1 J0\nM2\n")
+        assert compare(str(path)).startswith(verdict), (units, delta)
