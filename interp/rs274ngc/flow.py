@@ -1,6 +1,7 @@
 """The run loop: O-word control flow (sub/call/return, if/elseif/else, while, do/while, repeat,
-break/continue) over a program parsed once, and files called by name (``o<name> call`` finds
-``name.ngc`` beside the program or on ``[machine] subprogram_path``).
+break/continue) over a program parsed once, files called by name (``o<name> call`` finds
+``name.ngc`` beside the program or on ``[machine] subprogram_path``) and numbered subprograms
+(``O100`` alone on a line ... ``M99``, called by ``M98 P100 [L repeats]``).
 
 Each program file is a ``Unit``: its parsed lines and, found before it runs, where every O-word
 block ends, so a jump never scans. A call pushes a ``Frame`` (the parameters #1-#30 and named
@@ -32,6 +33,7 @@ class Unit:
     heads: dict = field(default_factory=dict)  # index of a closing line -> index of its opening line
     branches: dict = field(default_factory=dict)  # index of "if" -> [indices of elseif/else lines]
     owner: dict = field(default_factory=dict)  # index of elseif/else/break/continue/return -> opening index
+    programs: dict = field(default_factory=dict)  # number -> index of its "O<number>" line (M98)
     percent_end: int | None = None  # index of a closing '%' line
 
 
@@ -42,6 +44,7 @@ class Frame:
     call_line: int
     calls: tuple
     repeats: dict = field(default_factory=dict)  # index of a running "repeat" -> turns left
+    m98: list | None = None  # an M98 call: [index of its O line, runs left (L)]
 
 
 def load_unit(name: str, text: str) -> Unit:
@@ -69,19 +72,25 @@ def structure(unit: Unit) -> None:
     def fail(line: Line, message: str):
         return CutsimError(unit.name, line.lineno, line.oword[3], message)
 
+    def define(line: Line, table: dict, label: str, idx: int, what: str) -> None:
+        """A subroutine (o... sub) or numbered subprogram (O...): at the top level, once."""
+        if stack:
+            raise fail(line, f"{what} cannot begin inside another block")
+        if label in table:
+            raise fail(line, f"{what} is defined twice")
+        table[label] = idx
+
     for idx, line in enumerate(unit.lines):
         if line is None or line.oword is None:
             continue
         label, kw, _, _ = line.oword
-        if kw == "while" and stack and stack[-1][0] == "do" and stack[-1][1] == label:
+        if kw == "program":
+            define(line, unit.programs, label, idx, f"subprogram O{label}")
+        elif kw == "while" and stack and stack[-1][0] == "do" and stack[-1][1] == label:
             unit.ends[stack.pop()[2]] = idx
         elif kw in ("sub", "if", "while", "do", "repeat"):
             if kw == "sub":
-                if stack:
-                    raise fail(line, f"o{label} sub: a subroutine cannot be defined inside another block")
-                if label in unit.subs:
-                    raise fail(line, f"subroutine o{label} is defined twice")
-                unit.subs[label] = idx
+                define(line, unit.subs, label, idx, f"subroutine o{label}")
             stack.append((kw, label, idx))
         elif kw in ("endsub", "endif", "endwhile", "endrepeat"):
             opening = {"endsub": "sub", "endif": "if", "endwhile": "while", "endrepeat": "repeat"}[kw]
@@ -141,12 +150,18 @@ class Runner:
             if line.oword is not None:
                 unit, pc = self.oword(unit, pc, line)
                 continue
-            if self.block(unit, line):
+            done = self.block(unit, line)
+            if done is True:
                 return
+            if done:  # M98 / M99
+                unit, pc = self.subprogram(unit, pc, line, done)
+                if pc < 0:
+                    return
+                continue
             pc += 1
 
-    def block(self, unit: Unit, line: Line) -> bool:
-        """Evaluate and execute one line; True at the program end."""
+    def block(self, unit: Unit, line: Line):
+        """Evaluate and execute one line; True at the program end, an M98/M99 word to run."""
         words, seen = [], {}
         for ref, _, col in line.assigns:  # a name being set exists (0) while the line is read, as in LinuxCNC
             if ref[0] == "name" and self.m.params.lookup(ref[1]) is None:
@@ -162,6 +177,13 @@ class Runner:
             self.ev.set(ref, v, line.lineno, col)
         if not words:
             return False
+        call = next((w for w in words if w.letter == "M" and w.value in (98.0, 99.0)), None)
+        if call is not None:
+            other = next((w for w in words if w is not call and w.letter not in ("PL" if call.value == 98 else "")), None)
+            if other is not None:
+                raise CutsimError(unit.name, line.lineno, other.col,
+                                  f"M{call.raw} stands alone in its block (M98 with P and L only)")
+            return call, {w.letter: w for w in words}
         b = Block(line=line.lineno, col=1, words=words)
         frame = self.frames[-1]
         st = self.m.execute(b, Src(unit.name, line.lineno, 1, "", frame.calls))
@@ -172,6 +194,8 @@ class Runner:
         frame = self.frames[-1]
         if kw == "sub":
             return unit, unit.ends[pc] + 1
+        if kw == "program":  # reached in sequence: its lines run on (as rs274 reads them)
+            return unit, pc + 1
         if kw in ("endsub", "return"):
             if len(self.frames) == 1:
                 raise CutsimError(unit.name, line.lineno, col, f"o{label} {kw} outside a subroutine call")
@@ -214,6 +238,43 @@ class Runner:
         if loop_kw == "while":
             return unit, loop
         return unit, unit.ends[loop]  # do: its closing while; repeat: its endrepeat
+
+    def subprogram(self, unit: Unit, pc: int, line: Line, found) -> tuple[Unit, int]:
+        """M98 P<n> [L<k>]: run subprogram O<n> (of this file, else the main one) k times, its named
+        parameters local, #1-#30 shared with the caller; M99: its end (in the main program: the
+        program end, as rs274 takes it). Returns where to go on (pc -1: the program ended)."""
+        call, words = found
+        frame = self.frames[-1]
+        if call.value == 99:
+            if frame.m98 is None:
+                if len(self.frames) > 1:
+                    raise CutsimError(unit.name, line.lineno, call.col, "M99 inside an o-word subroutine call")
+                self.m.execute(Block(line=line.lineno, col=1, words=[Word("M", 2.0, "2", call.col)]),
+                               Src(unit.name, line.lineno, 1, "", frame.calls))
+                return unit, -1
+            frame.m98[1] -= 1
+            self.m.params.pop()
+            if frame.m98[1] > 0:
+                self.m.params.push_shared()
+                return unit, frame.m98[0] + 1
+            self.frames.pop()
+            return self.frames[-1].unit, frame.return_pc
+        if "P" not in words:
+            raise CutsimError(unit.name, line.lineno, call.col, "M98 needs the subprogram number P")
+        number = self.m.whole(line.lineno, words["P"], "subprogram number")
+        runs = self.m.whole(line.lineno, words["L"], "repeat count") if "L" in words else 1
+        target = next((u for u in (unit, self.frames[0].unit) if str(number) in u.programs), None)
+        if target is None:
+            raise CutsimError(unit.name, line.lineno, words["P"].col, f"subprogram O{number} is not in this program")
+        if runs == 0:
+            return unit, pc + 1
+        if len(self.frames) > MAX_CALL_DEPTH:
+            raise CutsimError(unit.name, line.lineno, call.col, f"subroutine calls nested more than {MAX_CALL_DEPTH} deep")
+        start = target.programs[str(number)]
+        self.frames.append(Frame(target, pc + 1, line.lineno, frame.calls + ((unit.name, line.lineno),),
+                                 m98=[start, runs]))
+        self.m.params.push_shared()
+        return target, start + 1
 
     def one(self, line: Line, args: list):
         if len(args) != 1:

@@ -14,13 +14,15 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.lexer import COORD_LIMIT, Word
 from cutsim.interp.modal import PLANE_AXES, InterpConfig
 
-from . import cycles, offsets
+from . import cycles, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
 INCH = 25.4
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
-ARC_ABS_TOL, ARC_REL_TOL = 0.0254, 0.001  # LinuxCNC 2.9 accepts a centre arc whose radii differ less
+# LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
+# units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
+ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
 
 
 class Ngc(Interpreter):
@@ -58,7 +60,9 @@ class Ngc(Interpreter):
         return self.scale / 2.0 if (i == 0 and self.lathe_diameter) else self.scale
 
     def program_value(self, i: int) -> float:
-        return (self.base()[i] - self.shift(i)) / self.unit(i)
+        """The position in program units (#5420-#5422, #<_x>...): X a radius in G7 too, as
+        LinuxCNC 2.9 reads it (G7 halves X words, not the position it reports)."""
+        return (self.base()[i] - self.shift(i)) / self.scale
 
     def goal(self, st: Step, letters=("X", "Y", "Z"), machine: bool = False) -> tuple[tuple, dict]:
         """The end point (mm, machine frame) of the block's axis words under G90/G91; with
@@ -221,12 +225,13 @@ class Ngc(Interpreter):
 
     # -- motion ------------------------------------------------------------------------------------
     def feed_for(self, st: Step, length: float) -> float:
-        """The feed (mm/min or mm/rev) of a cutting move ``length`` mm long; refused without F."""
+        """The feed (mm/min or mm/rev) of a cutting move ``length`` mm long; refused without F. In G93
+        F over the move's time: length x F, and at least 0.1 program units per minute as in LinuxCNC."""
         if self.feed_mode == 93:
             if self.feed_units is None or self.feed_units == 0.0:
                 raise self.error(st.block.line, 1, "inverse time feed (G93): every feed move needs its own F")
             f, self.feed_units = self.feed_units, None
-            return length * f
+            return max(0.1 * self.scale, length * f)  # LinuxCNC: at least 0.1 program units per minute
         if self.feed_units is None or self.feed_units == 0.0:
             raise self.error(st.block.line, 1, "cannot feed with a zero feed rate (program F)")
         return self.feed_units * self.feed_scale
@@ -264,6 +269,8 @@ class Ngc(Interpreter):
             self.arc_block(st, m == 2)
         elif m == 33:
             self.thread(st)
+        elif m == 76:
+            threading.g76(self, st)
         elif m == 33.1:
             self.rigid_tap(st)
         self.check_left(st)
@@ -289,7 +296,7 @@ class Ngc(Interpreter):
         if self.spindle_dir == 0:
             raise self.error(st.block.line, k.col, "spindle not turning in G33")
         end, _ = self.goal(st)
-        self.synced(self.src(st), end, k.value * self.scale, "Z", 0.0)
+        threading.sync_to(self, self.src(st), end, k.value * self.scale, 0.0)
 
     def rigid_tap(self, st: Step) -> None:
         k = st.words.pop("K", None)
@@ -345,7 +352,8 @@ class Ngc(Interpreter):
         r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
         r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
         err = abs(r1 - r0)
-        if err > ARC_ABS_TOL and err > ARC_REL_TOL * max(r0, r1):
+        tol = ARC_ABS_TOL_MM if self.scale == 1.0 else ARC_ABS_TOL_INCH * INCH
+        if err > tol and err > ARC_REL_TOL * max(r0, r1):
             raise self.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
 
     def radius_centre(self, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:

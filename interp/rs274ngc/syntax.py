@@ -253,6 +253,8 @@ def oword(r: Reader) -> tuple:
             raise r.error("O must be followed by a number or <name>", start)
         label = str(int(m.group()))
         r.i = m.end()
+        if r.i == len(r.text):  # "O100" alone: a numbered subprogram (M98 P100 calls it, M99 returns)
+            return (label, "program", [], r.cols[start])
     for kw in sorted(OWORD_KEYWORDS, key=len, reverse=True):
         if r.text.startswith(kw, r.i):
             r.i += len(kw)

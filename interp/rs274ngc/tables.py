@@ -17,6 +17,7 @@ G_CODES: dict[float, Code] = {
     33: Code(Group.MOTION, "XYZK", "spindle-synchronised motion"),
     33.1: Code(Group.MOTION, "XYZK", "rigid tapping"),
     73: Code(Group.MOTION, "XYZRQL", "drilling cycle with chip breaking"),
+    76: Code(Group.MOTION, "XYZPIJKRQHEL", "threading cycle"),
     80: Code(Group.MOTION, "", "cancel canned cycle"),
     81: Code(Group.MOTION, "XYZRL", "drilling cycle"),
     82: Code(Group.MOTION, "XYZRLP", "drilling cycle with dwell"),
@@ -75,7 +76,7 @@ REFUSED: dict[float, str] = {
     52: "local coordinate offset", 70: "lathe finishing cycle", 71: "lathe roughing cycle",
     71.1: "lathe roughing cycle", 71.2: "lathe roughing cycle", 72: "lathe facing cycle",
     72.1: "lathe facing cycle", 72.2: "lathe facing cycle", 74: "left-hand tapping cycle",
-    76: "threading cycle", 84: "right-hand tapping cycle", 87: "back boring cycle",
+    84: "right-hand tapping cycle", 87: "back boring cycle",
     88: "boring cycle with manual retract", 96: "constant surface speed",
 }
 M_CODES: dict[int, Code] = {
@@ -97,6 +98,5 @@ M_CODES: dict[int, Code] = {
 }
 REFUSED_M: dict[int, str] = {
     19: "spindle orientation", 70: "saving the modal state", 71: "invalidating the saved modal state",
-    72: "restoring the modal state", 73: "auto-restoring the modal state", 98: "subprogram call",
-    99: "subprogram return",
+    72: "restoring the modal state", 73: "auto-restoring the modal state",
 }

@@ -15,11 +15,21 @@ from cutsim.interp.errors import CutsimError
 
 MAX_NUMBERED = 5602
 TOLERANCE_EQUAL = 0.0001
-# LinuxCNC computes the trigonometric functions in x87 long double and stores the double: the same
-# here, so cos[90] is -2.5e-20 (not 6.1e-17) and a comparison with it goes the same way.
+# LinuxCNC's arithmetic step by step, so results agree to the last bit (a MOD of a huge power turns a
+# last-bit difference into any value): SIN/COS/TAN of (x * pi) / 180 in x87 long double (cos[90] is
+# -2.5e-20, not 6.1e-17); ATAN/ASIN/ACOS in double, the angle times 180 in double, divided by pi in
+# long double; each result stored as a double.
 _L = np.longdouble
 _PI = _L("3.14159265358979323846264338327950288")
-_DEG = _PI / _L(180)
+_180 = _L(180)
+
+
+def _degrees(radians: float) -> float:
+    return float(_L(radians * 180.0) / _PI)
+
+
+def _trig(f, degrees: float) -> float:
+    return float(f((_L(degrees) * _PI) / _180))
 # Parameters the machine computes on every read (current position, tool, modes): never stored.
 READ_ONLY = set(range(5400, 5411)) | set(range(5420, 5429)) | {5220, 5399}
 
@@ -41,6 +51,11 @@ class Parameters:
         self.saved.append({i: self.numbered.get(i, 0.0) for i in range(1, 31)})
         for i in range(1, 31):
             self.numbered[i] = args[i - 1] if i <= len(args) else 0.0
+        self.frames.append({})
+
+    def push_shared(self) -> None:
+        """A call level whose #1-#30 are the caller's (M98): only the named locals are its own."""
+        self.saved.append({})
         self.frames.append({})
 
     def pop(self) -> None:
@@ -134,7 +149,7 @@ class Evaluator:
             return self.function(node[1], self.value(node[2], line, col), line, node[3])
         if kind == "atan":
             y, x = self.value(node[1], line, col), self.value(node[2], line, col)
-            return float(np.arctan2(_L(y), _L(x)) / _DEG)
+            return _degrees(math.atan2(y, x))
         if kind == "exists":
             return 1.0 if self.p.lookup(node[1]) is not None else 0.0
         raise AssertionError(node)  # pragma: no cover - the parser makes no other node
@@ -190,13 +205,9 @@ class Evaluator:
         if name in ("acos", "asin"):
             if not -1.0 <= x <= 1.0:
                 raise self.error(line, col, f"{name.upper()} argument {x:g} out of range (-1 to 1)")
-            return float((np.arccos(_L(x)) if name == "acos" else np.arcsin(_L(x))) / _DEG)
-        if name == "cos":
-            return float(np.cos(_L(x) * _DEG))
-        if name == "sin":
-            return float(np.sin(_L(x) * _DEG))
-        if name == "tan":
-            return float(np.tan(_L(x) * _DEG))
+            return _degrees(math.acos(x) if name == "acos" else math.asin(x))
+        if name in ("cos", "sin", "tan"):
+            return _trig({"cos": np.cos, "sin": np.sin, "tan": np.tan}[name], x)
         if name == "exp":
             try:
                 return math.exp(x)
@@ -207,7 +218,9 @@ class Evaluator:
         if name == "fup":
             return float(math.ceil(x))
         if name == "round":
-            return float(int(x + (-0.5 if x < 0.0 else 0.5)))
+            # LinuxCNC rounds through a 32-bit int: out of its range (or NaN) x86 gives INT_MIN
+            r = x + (-0.5 if x < 0.0 else 0.5)
+            return float(int(r)) if -2147483649.0 < r < 2147483648.0 else -2147483648.0
         if name == "ln":
             if x <= 0.0:
                 raise self.error(line, col, f"LN of zero or a negative number ({x:g})")

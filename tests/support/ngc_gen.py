@@ -3,8 +3,10 @@
 ``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
 circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
 offsets (G10 L2/L20, G54-G59.3, G92 and its resets), G28/G30, G53, tool changes with tool length
-offsets, canned cycles with G98/G99 and L, G33/G33.1, inverse-time and per-revolution feeds,
-parameters and expressions with every operator and function, and O-word subroutines and loops.
+offsets, canned cycles with G98/G99 and L, G33/G33.1, G76 (never with G7 in
+its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
+parameters and expressions with every operator and function, O-word subroutines and loops, and
+a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
 Arcs are built to end on their circle (to 4 decimals); everything else is left to chance, so
 both interpreters may refuse a program (division by zero, a peck depth of 0 ...): then both must.
 """
@@ -182,11 +184,35 @@ class Gen:
             self.emit(f"G4 P{num(rng, 0, 2, 2)}")
         elif choice == 5:
             self.emit(f"S{rng.randint(100, 3000)} M{rng.choice([3, 4])}")
-            self.emit(f"G33 {self.axes('XZ', 10)} K{num(rng, 0.5, 3, 2)}" if rng.random() < 0.6
-                      else f"G33.1 Z{num(rng, -20, 0)} K{num(rng, 0.5, 2, 2)}")
+            r = rng.random()
+            if r < 0.4:
+                self.emit(f"G33 {self.axes('XZ', 10)} K{num(rng, 0.5, 3, 2)}")
+            elif r < 0.6:
+                self.emit(f"G33.1 Z{num(rng, -20, 0)} K{num(rng, 0.5, 2, 2)}")
+            else:
+                self.threading()
             self.emit("G1 F300")
         else:
             self.emit(rng.choice(["G7", "G8", "G61", "G64", "G64 P0.01", "M7", "M8", "M9", "M5", "M0", "M1"]))
+
+    def threading(self) -> None:
+        """A G76 block: the pitch, end, crest, depths and the optional words in their ranges (J at
+        least a tenth of K and R at most 1.5, so at most 31 passes)."""
+        rng = self.rng
+        k = rng.uniform(0.2, 1.6)
+        words = [f"P{num(rng, 0.5, 3)}", f"Z{num(rng, -25, 25)}", f"I{rng.choice(['', '-'])}{num(rng, 0.2, 2)}",
+                 f"J{k * rng.uniform(0.1, 0.6):.4f}", f"K{k:.4f}"]
+        if rng.random() < 0.3:
+            words.append(f"X{num(rng, -10, 10)}")
+        for letter, value in (("R", num(rng, 1, 1.5, 2)), ("Q", num(rng, -5, 30, 1)), ("H", str(rng.randint(0, 2))),
+                              ("E", num(rng, 0, 3, 2)), ("L", str(rng.randint(0, 3)))):
+            if rng.random() < 0.5:
+                words.append(f"{letter}{value}")
+        rng.shuffle(words)
+        mode = rng.choice(["", "G18 ", "G91 ", "G90 "])
+        if mode == "G18 ":
+            self.plane = "G18"
+        self.emit(mode + "G76 " + " ".join(words))
 
     def params(self) -> None:
         self.emit(f"#{self.rng.randint(1, 5)} = {expr(self.rng)}")
@@ -264,6 +290,7 @@ def program(rng: random.Random, statements: int = 25) -> str:
         subs = ["o<shape> sub", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
                 "o<shape> endsub [#1 * 2]"]
         g.out[1:1] = subs
+    numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
     for _ in range(statements):
         g.statement()
         if subs and rng.random() < 0.1:
@@ -271,5 +298,13 @@ def program(rng: random.Random, statements: int = 25) -> str:
             g.plane = "G17"
             g.emit(f"o<shape> call [{num(rng, -8, 8)}] [{num(rng, 1, 6)}]")
             g.emit("#3 = #<_value>")
+        if numbered is not None and rng.random() < 0.1:
+            g.emit(f"M98 P{numbered}" + (f" L{rng.randint(0, 3)}" if rng.random() < 0.5 else ""))
     g.emit("M2")
+    if numbered is not None:  # after the end, as Fanuc-style programs keep them; #1-#5 are shared
+        g.emit(f"O{numbered}")
+        g.emit("#<k> = [#1 * 0.5]")
+        g.emit(f"G91 G1 X#<k> Y{num(rng, -5, 5)}")
+        g.emit("#2 = [#2 + 0.5]")
+        g.emit("M99")
     return "\n".join(g.out) + "\n"

@@ -11,15 +11,19 @@ rs274's canonical calls are normalised to cutsim's records (machine frame, mm, t
 - this build's machine units are inches: the tool table and parameter file handed to it are the
   setup's (mm) divided by 25.4;
 - in G7 its X is already a radius (cutsim's records are radii too);
+- a synchronised move's lead is along its path in rs274 (START_SPEED_FEED_SYNC), along its lead axis in
+  cutsim: cutsim's is scaled by the path length over the axis travel;
 - an ARC_FEED of n turns is n arcs (whole turns first, the axis normal to the plane moving in
   proportion to the angle), as cutsim records it; RIGID_TAP is the synchronised move in and out;
-- straight moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch) are left out on both sides; feeds are compared where rs274 has one
+- straight and synchronised moves shorter than 0.003 mm (rs274 prints 4 decimals of an inch; cutsim
+  records no G33 to where the tool is) are left out on both sides,
+  and one shorter than the tolerance is skipped where it does not match; feeds are compared where rs274 has one
   (an inverse-time F is its rate: cutsim's feed is that times the move's length).
-rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 units.
+rs274 prints 4 decimals in the units in effect: positions agree within 0.0006 units. Each run has
+its own HOME: rs274 2.9 shares its tool table between runs through $HOME/.tool.mmap.
 """
 from __future__ import annotations
 
-import fcntl
 import math
 import os
 import re
@@ -37,6 +41,9 @@ from cutsim.interp.rs274ngc import files
 INCH = 25.4
 CALL = re.compile(r"^\s*(\d+) N\S*\s+([A-Z0-9_]+)\((.*)\)\s*$")
 PLANES = {"CANON_PLANE_XY": ("XY", 0, 1, 2), "CANON_PLANE_XZ": ("ZX", 2, 0, 1), "CANON_PLANE_YZ": ("YZ", 1, 2, 0)}
+# the shared arc check's refusal of an arc whose end is off its circle by more than max(0.005 mm, 0.01 %),
+# which LinuxCNC cuts as a spiral up to 0.028 mm (0.072 mm in G20) or 0.1 %: a documented limit
+SPIRAL = "arc end point is not on the circle"
 ZERO_MOVE = 0.003  # mm: a straight move shorter than rs274's printing resolution (4 decimals of an inch) is none
 LENGTH_PARAMS = {5161, 5162, 5163, 5181, 5182, 5183, 5211, 5212, 5213,
                  *(5221 + 20 * n + i for n in range(9) for i in range(3))}
@@ -97,11 +104,10 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
     with tempfile.TemporaryDirectory() as tmp:
         args = [rs274_path() or "rs274", "-g", *inch_files(tmp, tool_table, parameter_file), os.path.abspath(program)]
         try:
-            # one rs274 at a time: two at once on this machine lost one's output now and then
-            with open(os.path.join(tempfile.gettempdir(), "cutsim-rs274.lock"), "w") as lock:
-                fcntl.flock(lock, fcntl.LOCK_EX)
-                proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                                      timeout=timeout)
+            # rs274 keeps its tool table in $HOME/.tool.mmap: two runs sharing a HOME read each other's
+            # tables (a tool "not found", output lost, a bus error), so each run gets its own HOME
+            proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                                  timeout=timeout, env=dict(os.environ, HOME=tmp))
         except subprocess.TimeoutExpired:
             return Outcome([], f"rs274 did not finish within {timeout:g} s (a program that does not end)")
     tools = files.tool_table(tool_table) if tool_table else {}
@@ -208,7 +214,7 @@ class _State:
 
     def add(self, move: Move) -> None:
         self.pos = move.end
-        if move.kind in ("RAPID", "FEED") and move.length < ZERO_MOVE:
+        if move.kind in ("RAPID", "FEED", "SYNC") and move.length < ZERO_MOVE:
             return
         self.moves.append(move)
 
@@ -225,7 +231,7 @@ def cutsim_moves(program: str, tool_table: str | None = None, parameter_file: st
         return Outcome([], str(e))
     moves = []
     for r in prog.records:
-        if isinstance(r, (Rapid, Feed)) and math.dist(r.start, r.end) < ZERO_MOVE:
+        if isinstance(r, (Rapid, Feed, SyncedFeed)) and math.dist(r.start, r.end) < ZERO_MOVE:
             continue
         text = describe(r)
         if isinstance(r, Rapid):
@@ -237,7 +243,10 @@ def cutsim_moves(program: str, tool_table: str | None = None, parameter_file: st
             moves.append(Move("ARC", r.start, r.end, text, (r.center[a], r.center[b]), r.clockwise, r.plane,
                               r.feed, r.per_rev))
         elif isinstance(r, SyncedFeed):
-            moves.append(Move("SYNC", r.start, r.tool_end, text, lead=r.lead))
+            # rs274's lead is along the path (LinuxCNC syncs the path length), cutsim's along its axis
+            travel = abs(r.tool_end["XYZ".index(r.lead_axis)] - r.start["XYZ".index(r.lead_axis)]) if r.lead_axis else 0.0
+            lead = r.lead * math.dist(r.start, r.tool_end) / travel if travel > 0.0 else r.lead
+            moves.append(Move("SYNC", r.start, r.tool_end, text, lead=lead))
     return Outcome(moves, None)
 
 
@@ -281,21 +290,40 @@ def _path(m: Move) -> float:
 
 def compare(program: str, tool_table: str | None = None, parameter_file: str | None = None,
             kind: str = "mill", tol: float = 0.0006 * INCH) -> str:
-    """"same", "same (both refuse: ...)" or the first divergence with both lines."""
+    """"same", "same (both refuse: ...)", "documented difference: ..." (a difference docs/dialects/rs274ngc.md
+    lists) or the first divergence with both lines."""
     ours = cutsim_moves(program, tool_table, parameter_file, kind)
     theirs = run_rs274(program, tool_table, parameter_file)
     if ours.error and theirs.error:
         return f"same (both refuse)\n  cutsim: {ours.error}\n  rs274:  {theirs.error}"
+    if ours.error and not theirs.error and SPIRAL in ours.error:
+        return (f"documented difference: an arc LinuxCNC cuts as a spiral, cutsim refuses (docs/dialects/rs274ngc.md, "
+                f"Limits)\n  cutsim: {ours.error}\n  rs274:  {len(theirs.moves)} moves")
     if ours.error or theirs.error:
         return (f"divergence: only {'cutsim' if ours.error else 'rs274'} refuses the program\n"
                 f"  cutsim: {ours.error or f'{len(ours.moves)} moves'}\n  rs274:  {theirs.error or f'{len(theirs.moves)} moves'}")
-    for i, (a, b) in enumerate(zip(ours.moves, theirs.moves)):
-        why = differ(a, b, tol)
-        if why:
-            return f"divergence at move {i + 1} ({why})\n  cutsim: {a.text}\n  rs274:  {b.text}"
-    if len(ours.moves) != len(theirs.moves):
-        extra = ours.moves[len(theirs.moves):] or theirs.moves[len(ours.moves):]
-        who = "cutsim" if len(ours.moves) > len(theirs.moves) else "rs274"
-        return (f"divergence: {who} has {abs(len(ours.moves) - len(theirs.moves))} more moves "
-                f"({len(ours.moves)} vs {len(theirs.moves)}), the first: {extra[0].text}")
+    a, b = ours.moves, theirs.moves
+    i = j = 0
+    while i < len(a) and j < len(b):
+        why = differ(a[i], b[j], tol)
+        if why is None:
+            i, j = i + 1, j + 1
+        elif _invisible(a[i], tol):
+            i += 1
+        elif _invisible(b[j], tol):
+            j += 1
+        else:
+            return f"divergence at move {i + 1} ({why})\n  cutsim: {a[i].text}\n  rs274:  {b[j].text}"
+    rest_a = [m for m in a[i:] if not _invisible(m, tol)]
+    rest_b = [m for m in b[j:] if not _invisible(m, tol)]
+    if rest_a or rest_b:
+        who = "cutsim" if rest_a else "rs274"
+        return f"divergence: {who} has {len(rest_a or rest_b)} more moves, the first: {(rest_a or rest_b)[0].text}"
     return "same"
+
+
+def _invisible(m: Move, tol: float) -> bool:
+    """A straight move shorter than the comparison's tolerance, which one side may drop and the other
+    keep (a 0.003 mm move is 0.0030000001 on one side, 3.9107 - 3.9077 printed on the other): skipped
+    where it does not match, since the next move's end is compared all the same."""
+    return m.kind in ("RAPID", "FEED") and m.length < tol

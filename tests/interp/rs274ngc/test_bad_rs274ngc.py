@@ -16,10 +16,10 @@ BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "rs274ngc"
 SETUP = BAD / "setup.toml"
 PROGRAMS = sorted(BAD.glob("*.ngc"))
 RULES = {
-    "cutter-comp", "g76-refused", "divide-by-zero", "sqrt-negative", "named-undefined", "no-program-end",
+    "cutter-comp", "g76-k-not-above-j", "divide-by-zero", "sqrt-negative", "named-undefined", "no-program-end",
     "zero-feed", "axis-a", "arc-radius-mismatch", "two-x-words", "if-not-closed", "endwhile-alone",
     "break-outside-loop", "sub-missing", "cycle-without-r", "cycle-bottom-above-r", "g33-no-spindle",
-    "tool-not-in-table", "polar", "probing", "m98", "unknown-g", "comment-not-closed", "axes-under-g80",
+    "tool-not-in-table", "polar", "probing", "m98-no-subprogram", "m98-with-motion", "unknown-g", "comment-not-closed", "axes-under-g80",
     "r-arc-too-small",
 }
 

@@ -35,6 +35,15 @@ def x_of(expr: str) -> float:
     ("tan[45]", 1.0), ("sqrt[16]", 4.0), ("exp[ln[5]]", 5.0), ("abs[-3]", 3.0),
     ("[1 eq 1.00001]", 1.0), ("[1 ne 1.001]", 1.0), ("[3 and 0.5]", 1.0), ("[0 or 0]", 0.0), ("[0 xor 3]", 1.0),
     ("[1 lt 2 + 1]", 1.0), ("[1 lt 2 and 0]", 0.0), ("[2 ge 2]", 1.0), ("[2 gt 2]", 0.0), ("[2 le 1]", 0.0),
+    # ROUND goes through a 32-bit int: out of its range x86 gives INT_MIN (rs274: round[tan[-90]])
+    ("[round[tan[-90]] eq -2147483648]", 1.0), ("[round[3000000000] eq -2147483648]", 1.0),
+    ("[round[-2147483648.6] eq -2147483648]", 1.0), ("[round[2147483647.2] eq 2147483647]", 1.0),
+    # to the last bit as rs274 prints them (x 1e16 turns one unit in the last place into 71 or more):
+    # ATAN and ACOS in double, times 180 in double, over pi in long double; COS in long double
+    ("[[atan[7.17]/[2] - 74.41408572700749] * 10000000000000000]", 0.0),
+    ("[[acos[0.8] - 36.86989764584401] * 10000000000000000]", 0.0),
+    ("[[4 ** atan[7.17]/[2]] mod 20]", 4.0),  # a 6e44 power: the last bit decides the remainder
+    ("[cos[90] * 100000000000000000000]", -2.508278806334166),
 ])
 def test_expressions(expr, value):
     assert x_of(expr) == pytest.approx(value, abs=1e-9)
@@ -177,3 +186,48 @@ def test_g43_1_sets_only_the_axes_it_names(tmp_path):
     # the machine does not move, the next moves land 2 higher in Z and still on X
     m = moves("G21\nT1 M6\nG43 H1\nG0 X10 Z0\nG43.1 Z2\nG0 X20 Z0\nM2\n", tool_table=str(tbl))
     assert [r.end for r in m][-2:] == [(10, 0, 0), (20, 0, 2)]
+
+
+def test_position_parameters_read_x_as_a_radius_in_g7():
+    # G7 halves X words, not the position #<_x> and #5420 report (rs274 2.9: X10 in G8, then in G7
+    # #<_x> is 10, and G0 X#<_x> goes to radius 5)
+    m = moves("G21 G18\nG0 X10\nG7\nG0 X#<_x>\nG0 X[#5420 * 4]\nM2\n", kind="lathe")
+    assert [r.end[0] for r in m] == [10.0, 5.0, 10.0]
+
+
+def test_numbered_subprograms_by_m98_and_m99():
+    # O100 (after the end, as Fanuc-style programs keep them) runs L2 times; it calls O200 once per
+    # run; #1 is the caller's (set to 3 inside, seen after), #<a> is local to each call
+    text = ("G21 F100\n#1 = 7\n#<a> = 2\nM98 P100 L2\nG90 G0 X#1 Y#<a>\nM98 P100 L0\nM30\n"
+            "O100\n#<a> = 9\nG91 G1 X1\nM98 P200\n#1 = 3\nM99\nO200\nG91 G1 Y1\nM99\n")
+    ends = [m.end[:2] for m in moves(text)]
+    assert ends == [(1, 0), (1, 1), (2, 1), (2, 2), (3, 2)]
+
+
+def test_m99_in_the_main_program_ends_it_and_an_o_line_in_sequence_runs_on():
+    # as rs274 2.9 runs them: "O100" reached in sequence is passed, its M99 is then the program end
+    text = "G21 F100\nO100\nG91 G1 X1\nM99\nG1 Y5\nM2\n"
+    assert [m.end[:2] for m in moves(text)] == [(1, 0)]
+
+
+@pytest.mark.parametrize("text, message", [
+    ("G21\nM98\nM2\n", "needs the subprogram number P"),
+    ("G21\nM98 P5\nM2\nO6\nM99\n", "O5 is not in this program"),
+    ("G21\nM98 P5 L-1\nM2\nO5\nM99\n", "whole number"),
+    ("G21\nG0 X1 M98 P5\nM2\nO5\nM99\n", "stands alone"),
+    ("G21\nM98 P5\nM2\nO5\nO5\nM99\n", "defined twice"),
+    ("G21\no<s> call\nM2\no<s> sub\nM99\no<s> endsub\n", "inside an o-word subroutine"),
+])
+def test_m98_m99_refusals(text, message):
+    with pytest.raises(CutsimError, match=message):
+        moves(text)
+
+
+@pytest.mark.parametrize("units, move, f, feed", [
+    ("G21", "X10", 3.0, 30.0),  # 10 mm in 1/3 min
+    ("G21", "X0.034", 2.55, 0.1),  # 0.0867 mm/min: LinuxCNC's floor of 0.1 units per minute
+    ("G20", "X0.001", 2.0, 2.54),  # 0.002 in/min: the floor, 0.1 in/min
+])
+def test_inverse_time_feed_is_length_times_f_at_least_a_tenth_unit_per_minute(units, move, f, feed):
+    m = moves(f"{units}\nG93 G1 {move} F{f}\nM2\n")
+    assert m[-1].feed == pytest.approx(feed)

@@ -11,6 +11,7 @@ move: end points, arc centres, directions and planes, feeds, synchronised moves 
 """
 from __future__ import annotations
 
+import math
 import random
 import tomllib
 from pathlib import Path
@@ -110,7 +111,7 @@ def _differential(seed: int, count: int, tools: str, tmp_path: Path) -> None:
         path = tmp_path / f"case{i}.ngc"
         path.write_text(program(random.Random(seed * 1_000_003 + i)))
         verdict = compare(str(path), str(tbl))
-        if not verdict.startswith("same"):
+        if not verdict.startswith(("same", "documented difference")):
             bad.append((i, verdict))
     assert not bad, f"seed {seed}: {len(bad)} of {count} diverge, first {bad[0]}"
 
@@ -176,3 +177,67 @@ def test_rs274_m6_after_an_offset_change_reads_a_stale_position(rs274, tmp_path,
     theirs = run_rs274(str(path), zero_tools).moves[-1].end
     assert ours == (1.0, 0.0, 10.0)  # an offset change does not move the machine
     assert theirs[2] == pytest.approx(15.0)  # rs274 re-reads its program position without the offset
+
+
+def test_trigonometry_matches_rs274_to_the_last_bit(rs274, tmp_path):
+    # rs274 subtracts cutsim's value (written exactly) from its own and moves only where the
+    # difference, times 1e30, is not 0: none may move. (The old all-long-double ATAN/ACOS/ASIN differed
+    # in the last bit for 112 of these 600.)
+    import numpy as np
+
+    from cutsim.interp.rs274ngc.values import _degrees, _trig
+
+    rng = random.Random(5)
+    lines = ["G21"]
+    for i in range(600):
+        f = rng.choice(["cos", "sin", "tan", "atan", "asin", "acos"])
+        if f in ("cos", "sin", "tan"):
+            x = round(rng.uniform(-720, 720), rng.randint(0, 6))
+            e, v = f"{f}[{x!r}]", _trig({"cos": np.cos, "sin": np.sin, "tan": np.tan}[f], x)
+        elif f == "atan":
+            y, x = round(rng.uniform(-9, 9), 3), round(rng.uniform(-9, 9), 3)
+            e, v = f"atan[{y!r}]/[{x!r}]", _degrees(math.atan2(y, x))
+        else:
+            x = round(rng.uniform(-1, 1), rng.randint(1, 6))
+            e, v = f"{f}[{x!r}]", _degrees(math.acos(x) if f == "acos" else math.asin(x))
+        mant, exp = math.frexp(v)  # v exactly, as G-code writes no exponents: an integer times 2 ** n
+        lines += [f"#1 = [[{e} - [{int(mant * 2 ** 53)} * [2 ** {exp - 53}]]] * [10 ** 30]]", f"o{i} if [#1 ne 0]",
+                  f"G0 X{i + 1}", f"o{i} endif"]
+    path = tmp_path / "trig.ngc"
+    path.write_text("\n".join(lines) + "\nM2\n")
+    theirs = run_rs274(str(path))
+    assert theirs.error is None and theirs.moves == []
+    assert cutsim_moves(str(path)).moves == []
+
+
+def test_rs274_halves_g76_ijk_twice_when_g7_is_in_its_block(rs274, tmp_path):
+    # G7 then G76 I-2 J0.4 K1.8: crest 1, first depth 1.2, full 1.9 (radii): first retract at
+    # 12 + 1.9 - 1.2 = 12.7. With G7 in the G76 block itself rs274 halves I, J, K once more
+    # (12 + 0.95 - 0.6 = 12.35); cutsim reads the block as with G7 before it
+    ends = {}
+    for name, text in (("before", "G7\nG76"), ("in", "G7 G76")):
+        path = tmp_path / f"{name}.ngc"
+        path.write_text(f"G21 G18 G90\nS300 M3\nG0 X12 Z5\n{text} P1.5 Z-20 I-2 J0.4 K1.8\nM2\n")
+        ends[name] = (cutsim_moves(str(path)).moves[1].end[0], run_rs274(str(path)).moves[1].end[0])
+    assert ends["before"] == pytest.approx((12.7, 12.7))
+    assert ends["in"] == pytest.approx((12.7, 12.35))
+
+
+def test_rs274_cuts_a_g76_of_pitch_0_cutsim_refuses_it(rs274, tmp_path):
+    path = tmp_path / "p0.ngc"
+    path.write_text("G21 G18 G90\nS300 M3\nG0 X12 Z5\nG76 P0 Z-20 I-1 J0.2 K1\nM2\n")
+    assert "pitch P must be more than 0" in cutsim_moves(str(path)).error
+    theirs = run_rs274(str(path))
+    assert theirs.error is None and len(theirs.moves) > 10 and all(m.lead == 0 for m in theirs.moves if m.kind == "SYNC")
+
+
+def test_rs274_cuts_an_arc_off_its_circle_as_a_spiral_cutsim_refuses_it(rs274, tmp_path):
+    # radius 10 at the start, 10.026 at the end: LinuxCNC 2.9 accepts up to 0.02 * sqrt(2) mm (or 0.1 %)
+    # and cuts a spiral; cutsim's arcs are circles (max(0.005 mm, 0.01 %)): a documented limit the
+    # comparison reports as such, and 0.03 mm is refused by both
+    # (in G20: 0.002 * sqrt(2) in)
+    for units, delta, verdict in (("G21", 0.026, "documented difference"), ("G21", 0.03, "same (both refuse)"),
+                                  ("G20", 0.0026, "documented difference"), ("G20", 0.003, "same (both refuse)")):
+        path = tmp_path / f"spiral{units}{delta}.ngc"
+        path.write_text(f"{units} G17 F100\nG0 X1 Y0\nG2 X0 Y-{1 + delta} I-1 J0\nM2\n")
+        assert compare(str(path)).startswith(verdict), (units, delta)
