@@ -418,3 +418,26 @@ def plan_cycle98(v: dict, max_moves: int | None = None) -> ThreadPlan:
                                                  f"segment {i}: a thread chain goes on in one direction")
     _budget(inf, 5, max_moves, "CYCLE98")
     return _plan(segs, inf)
+
+
+# ---------------------------------------------------------------------------------------------
+# G34 / G35
+def varying_lead(start_lead: float, change: float, travel: float, increasing: bool) -> tuple[float, float]:
+    """G34 (``increasing``) / G35: the lead grows or shrinks by ``change`` (F, mm/rev²) every
+    revolution from ``start_lead`` (K or I). Over ``travel`` mm the end lead Ke satisfies
+    Ke² = Ka² ± 2·F·travel (the lead is linear in the revolutions n: K(n) = Ka ± F·n, so the travel
+    is Ka·n ± F·n²/2); returns (Ke, the revolutions turned, |Ke - Ka| / F, or travel / Ka when F is
+    0). A G35 whose lead would reach zero before the end is refused, naming F."""
+    if start_lead <= 0:
+        raise ThreadParamError("K", f"the starting lead must be greater than 0 (got {start_lead:g})")
+    if change < 0:
+        raise ThreadParamError("F", f"F, the change of lead per revolution, is written without a sign (got {change:g})")
+    if change == 0:
+        return start_lead, travel / start_lead
+    sq = start_lead * start_lead + (2.0 if increasing else -2.0) * change * travel
+    if sq <= EPS:
+        reach = start_lead * start_lead / (2.0 * change)
+        raise ThreadParamError("F", f"G35 with F {change:g} brings the lead {start_lead:g} to zero after {reach:.4g} mm, "
+                                    f"before the end of the {travel:g} mm thread")
+    end = math.sqrt(sq)
+    return end, abs(end - start_lead) / change

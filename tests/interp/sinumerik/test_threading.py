@@ -305,3 +305,21 @@ def test_plan_invariants(seed):
         # G0 in and out run along X only, between the lift level and the cut
         assert p.approach.z == pytest.approx(p.infeed.z) and p.retract.z == pytest.approx(p.path[-1].end.z)
         assert (p.approach.x - p.infeed.x) * side < 0
+
+
+# ---------------------------------------------------------------------------------------------
+# G34 / G35
+def test_varying_lead():
+    from cutsim.interp.sinumerik.threading import varying_lead
+
+    # K 2, F 0.1 over 10 mm: Ke^2 = 4 + 2 * 0.1 * 10 = 6; revolutions (Ke - Ka) / F
+    end, turns = varying_lead(2.0, 0.1, 10.0, True)
+    assert end == pytest.approx(math.sqrt(6.0)) and turns == pytest.approx((math.sqrt(6.0) - 2.0) / 0.1)
+    # the travel over those revolutions, summed from K(n) = 2 + 0.1 n: 2 n + 0.05 n^2 = 10
+    assert 2.0 * turns + 0.05 * turns * turns == pytest.approx(10.0)
+    end, turns = varying_lead(2.0, 0.1, 10.0, False)  # Ke^2 = 4 - 2 = 2
+    assert end == pytest.approx(math.sqrt(2.0)) and 2.0 * turns - 0.05 * turns * turns == pytest.approx(10.0)
+    assert varying_lead(1.5, 0.0, 30.0, True) == (1.5, 20.0)
+    with pytest.raises(ThreadParamError) as e:
+        varying_lead(2.0, 0.1, 25.0, False)  # the lead reaches 0 after 4 / 0.2 = 20 mm
+    assert e.value.param == "F" and "20 mm" in str(e.value)
