@@ -127,6 +127,23 @@ class ThreadPlan:
         return out
 
 
+def program_moves(plan: ThreadPlan, diameter: bool, y: float = 0.0) -> list[tuple]:
+    """``plan.moves()`` in program values for the interpreter: ("G0", (x, y, z)) for a rapid and
+    ("G33", (x, y, z), lead, lead_axis, start_angle) for a thread block, X a diameter under DIAMON
+    (``diameter``) and a radius under DIAMOF; ``y`` is where the Y axis stands (it does not move).
+    The arguments are those of ModalMachine.rapid and ModalMachine.synced."""
+    def at(p: Point):
+        return (p.x if diameter else p.radius, y, p.z)
+
+    out: list[tuple] = []
+    for kind, item in plan.moves():
+        if kind == "G0":
+            out.append(("G0", at(item)))
+        else:
+            out.append(("G33", at(item.end), item.lead, item.lead_axis, item.start_angle))
+    return out
+
+
 # ---------------------------------------------------------------------------------------------
 # parameter checks
 def _get(v: dict, name: str) -> float:

@@ -323,3 +323,87 @@ def test_varying_lead():
     with pytest.raises(ThreadParamError) as e:
         varying_lead(2.0, 0.1, 25.0, False)  # the lead reaches 0 after 4 / 0.2 = 20 mm
     assert e.value.param == "F" and "20 mm" in str(e.value)
+
+
+def test_program_moves_in_diameter_and_radius():
+    from cutsim.interp.sinumerik.threading import program_moves
+
+    plan = plan_cycle97(c97(NRC=1, FAL=0.0, APP=2.0))
+    dia = program_moves(plan, True, y=0.0)
+    rad = program_moves(plan, False, y=0.0)
+    assert dia[0] == ("G0", (32.0, 0.0, 2.0)) and rad[0] == ("G0", (16.0, 0.0, 2.0))  # home: 30 + 2 * 1 mm
+    g33 = [m for m in dia if m[0] == "G33"]
+    # run-in end, thread end; X at the root 30 - 2 * 1.2 on the diameter, 13.8 on the radius
+    assert g33[0] == ("G33", (27.6, 0.0, 0.0), 2.0, "Z", 0.0)
+    assert g33[1][1] == pytest.approx((27.6, 0.0, -30.0)) and g33[1][4] == pytest.approx(0.0)  # 2 mm = 1 turn
+    assert [m for m in rad if m[0] == "G33"][1][1] == pytest.approx((13.8, 0.0, -30.0))
+    assert len(dia) == len(plan.moves())
+
+
+# ---------------------------------------------------------------------------------------------
+# the planned passes cut the thread they describe (records through the kinematics and the stock)
+SETUP = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = true
+start = [40.0, 0.0, 10.0]
+
+[stock]
+shape = "revolve"
+profile = [[0, 0], [15, 0], [15, -40], [0, -40]]
+
+[[tool]]
+number = 1
+kind = "thread"
+angle = 60.0
+tip_radius = 0.0
+
+[simulation]
+tolerance = 0.01
+"""
+
+
+def _cut(tmp_path, plan):
+    """The plan's moves as records (the calls the interpreter will make) cut from a 30 mm bar."""
+    import cutsim
+    from cutsim.interp.canon import Src
+    from cutsim.interp.core.modal import InterpConfig, ModalMachine
+    from cutsim.kinematics import plan as make_plan
+    from cutsim.stock import build_stock, remove
+
+    (tmp_path / "setup.toml").write_text(SETUP)
+    setup = cutsim.load_setup(str(tmp_path / "setup.toml"))
+    m = ModalMachine("cycle97", InterpConfig("sinumerik", "lathe", True, (40.0, 0.0, 10.0)))
+    src = Src("cycle97", 1)
+    m.tool(src, 1, 1)
+    m.spindle(src, 1, 300.0)
+    for mv in program_moves_of(plan):
+        if mv[0] == "G0":
+            m.rapid(src, mv[1])
+        else:
+            m.synced(src, *mv[1:])
+    stock = build_stock(setup.stock, setup.tolerance, setup.path, max_triangles=setup.max_triangles,
+                        where=setup.stock_where)
+    pl = make_plan(m.program, setup.machine, setup.tools, setup.tolerance)
+    part = remove(stock, setup.stock, pl.paths, setup.tolerance, None, max_triangles=setup.max_triangles).part
+    return cutsim.Result(setup, m.program, pl, stock, part)
+
+
+def program_moves_of(plan):
+    from cutsim.interp.sinumerik.threading import program_moves
+
+    return program_moves(plan, True)
+
+
+@pytest.mark.parametrize("iang", [0.0, 29.0, -29.0])
+def test_two_start_cycle97_cuts_its_thread(tmp_path, iang):
+    from cutsim.testing import assert_thread
+
+    # lead PIT 4 in 2 starts (grooves 2 apart), depth 1.227: root 30 - 2 * 1.227 = 27.546; every
+    # cut's G33 starts at SPL + APP = Z4 where start k waits for NSP + k * 180 = 30, 210 degrees.
+    # Flank infeed (IANG 29, one flank or alternating) keeps the finishing cut on that helix.
+    v = dict(PIT=4.0, SPL=0.0, FPL=-24.0, DM1=30.0, DM2=30.0, APP=4.0, ROP=2.0, TDEP=1.227, FAL=0.05,
+             IANG=iang, NSP=30.0, NRC=5, NID=1, VARI=3, NUMT=2)
+    result = _cut(tmp_path, plan_cycle97(v))
+    assert_thread(result, (-18.0, -4.0), 4.0, starts=2, root_diameter=27.546, phase=[30.0, 210.0], phase_z=4.0)
