@@ -343,24 +343,10 @@ def test_program_moves_in_diameter_and_radius():
 # ---------------------------------------------------------------------------------------------
 # the planned passes cut the thread they describe (records through the kinematics and the stock)
 SETUP = """
-[machine]
-kind = "lathe"
-dialect = "sinumerik"
-diameter_programming = true
-start = [40.0, 0.0, 10.0]
-
-[stock]
-shape = "revolve"
-profile = [[0, 0], [15, 0], [15, -40], [0, -40]]
-
-[[tool]]
-number = 1
-kind = "thread"
-angle = 60.0
-tip_radius = 0.0
-
-[simulation]
-tolerance = 0.01
+machine = { kind = "lathe", dialect = "sinumerik", diameter_programming = true, start = [40.0, 0.0, 10.0] }
+stock = { shape = "revolve", profile = [[0, 0], [15, 0], [15, -40], [0, -40]] }  # a 30 mm bar, 40 long
+tool = [{ number = 1, kind = "thread", angle = 60.0, tip_radius = 0.0 }]
+simulation = { tolerance = 0.01 }
 """
 
 
