@@ -231,30 +231,6 @@ def test_known_exceptions_still_occur():
     assert set(KNOWN) <= seen, f"no longer occurring, delete from KNOWN: {sorted(set(KNOWN) - seen)}"
 
 
-# interp/lexer.py, modal.py and compensation.py are interp/core's modules under their former paths
-# (the same module objects). Only these packages still import them there; the set only shrinks,
-# and an alias goes when nothing imports it.
-ALIASES = {"cutsim.interp.lexer": "cutsim.interp.core.lexer", "cutsim.interp.modal": "cutsim.interp.core.modal",
-           "cutsim.interp.compensation": "cutsim.interp.core.compensation"}
-ALIAS_USERS = {"cutsim.interp.rs274ngc", "cutsim.interp.sinumerik"}
-
-
-def _package(module: str) -> str:
-    return max((p for p in RANKS if module == p or module.startswith(p + ".")), key=len)
-
-
-def test_the_former_core_paths_are_imported_only_by_the_listed_packages():
-    inner, _ = edges(modules(package_dirs()))
-    users = {_package(e.src) for e in inner if e.dst in ALIASES and e.src not in ALIASES}
-    assert users == ALIAS_USERS, f"import {sorted(ALIASES.values())} instead; left: {sorted(users)}"
-    for alias, real in ALIASES.items():
-        assert importlib.import_module(alias) is importlib.import_module(real)
-    stale = [f"{p.relative_to(ROOT)}" for d in ("tests", "bench") for p in sorted((ROOT / d).rglob("*.py"))
-             if any(f"{a} import" in p.read_text(encoding="utf-8") or f"import {a}" in p.read_text(encoding="utf-8")
-                    for a in ALIASES)]
-    assert stale == [], f"tests and benchmarks import the real paths ({sorted(ALIASES.values())})"
-
-
 def test_the_graph_sees_the_packages_edges():
     """The walker finds real edges of every kind: relative, absolute, from-a-package and lazy."""
     inner, _ = edges(modules(package_dirs()))

@@ -9,7 +9,7 @@ simulated, what is refused and where the simulator assumes.
 from __future__ import annotations
 
 from cutsim.interp.canon import Program
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 
 from . import files
 from .flow import Runner, load_unit

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from cutsim.interp.canon import Src
 from cutsim.interp.core import MOTION, Step
-from cutsim.interp.modal import PLANE_AXES
+from cutsim.interp.core.modal import PLANE_AXES
 
 from .tables import CYCLES
 

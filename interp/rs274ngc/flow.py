@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from cutsim.interp.canon import Src
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.lexer import Block, Word, iter_lines
+from cutsim.interp.core.lexer import Block, Word, iter_lines
 
 from .syntax import Line, parse_line
 

@@ -11,8 +11,8 @@ import math
 
 from cutsim.interp.canon import Src
 from cutsim.interp.core import MOTION, Group, Interpreter, Step
-from cutsim.interp.lexer import COORD_LIMIT, Word
-from cutsim.interp.modal import PLANE_AXES, InterpConfig
+from cutsim.interp.core.lexer import COORD_LIMIT, Word
+from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
 from . import cycles, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M

@@ -6,7 +6,7 @@ active one in #5220; G92 at #5211-#5213 (#5210 = 1 while applied); G28 at #5161-
 from __future__ import annotations
 
 from cutsim.interp.core import Group, Step
-from cutsim.interp.lexer import Word
+from cutsim.interp.core.lexer import Word
 
 SYSTEMS = {54: 1, 55: 2, 56: 3, 57: 4, 58: 5, 59: 6, 59.1: 7, 59.2: 8, 59.3: 9}
 

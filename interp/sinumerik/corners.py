@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 
 from ..canon import Arc, Feed, Rapid, Src
 from ..errors import CutsimError
-from ..modal import PLANE_AXES
+from ..core.modal import PLANE_AXES
 from .syntax import COORD_LIMIT, FEED_LIMIT, range_message
 
 EPS = 1e-9

@@ -30,7 +30,7 @@ from ..core import arc_centre, CENTRE_WORDS, Group, Interpreter, Step
 from ..core.geometry import FullCircle, radius_centre, RadiusTooSmall
 from ..core.compensation import compensate_records
 from ..errors import CutsimError
-from ..modal import InterpConfig, PLANE_AXES
+from ..core.modal import InterpConfig, PLANE_AXES
 from . import corners as corner, drilling as drill, fast as sinumerik_fast, machine
 from .codes import G_CODES, M_CODES, takes
 from .calls import Calls

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 
 from .. import canon
 from ..errors import CutsimError
-from ..modal import PLANE_AXES, InterpConfig
+from ..core.modal import PLANE_AXES, InterpConfig
 from ..core.frames import Affine, cofactor, IDENTITY, mat_mul, Mat, ZERO
 from .frames import _diag, _rot
 from ..core import CENTRE_WORDS, Group

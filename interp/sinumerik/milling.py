@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from ..canon import Src
-from ..compensation import _cross, _dot, _norm, _sub, Elem, length
+from ..core.compensation import _cross, _dot, _norm, _sub, Elem, length
 from .contour import cycle72
 from .cycle import budget, Cycle, DRILLING, EPS, FACE_STEP, INNER_LOOP, n_levels, NUM_LIMIT, reverse, SIDE_STEP
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 
 from ..errors import CutsimError
-from ..lexer import split_lines
+from ..core.lexer import split_lines
 from .expressions import ExprScanner
 from .lowering import lower
 from .syntax import (AC_IC_RE, ADDRESSES, Arg, Assign, Call, Case, Command, Decl, Def, Expr, EXPR_ADDRESSES, EXT_RE,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from ..modal import PLANE_AXES
+from ..core.modal import PLANE_AXES
 from . import axes, corners as corner
 from .syntax import (Assign, BinOp, Def, EXPR_ADDRESSES, FuncCall, Index, Line, Neg, Not, Num, R_LIMIT, R_NAME, RIndex, Stmt,
     Str, STRING_FUNCS, Var)

@@ -16,7 +16,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cutsim.interp import canon, cnc8x6, lexer
+from cutsim.interp import canon, cnc8x6
+from cutsim.interp.core import lexer
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.core.modal import InterpConfig
 

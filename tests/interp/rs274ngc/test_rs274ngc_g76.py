@@ -14,7 +14,7 @@ from cutsim.cli import main
 from cutsim.interp import interpret
 from cutsim.interp.canon import Feed, Rapid, SyncedFeed
 from cutsim.interp.errors import CutsimError
-from cutsim.interp.modal import InterpConfig
+from cutsim.interp.core.modal import InterpConfig
 
 START = "G21 G18 G90\nS300 M3\nG0 X12 Z5\n"
 
