@@ -122,7 +122,7 @@ class Words:
             if group not in LANGUAGE_GROUPS:
                 continue
             if group in seen and seen[group] != code:
-                name = str(group) if group is Group.MOTION else group.value  # as the message names them
+                name = group.value
                 raise self.error(line, col, f"G{code} conflicts with G{seen[group]} in the same block (both {name})")
             seen[group] = code
 

@@ -10,7 +10,6 @@ import itertools
 import pytest
 
 from cutsim.interp import CutsimError, InterpConfig, interpret
-from cutsim.interp.core import Group
 from cutsim.interp.sinumerik.codes import G_CODES, LANGUAGE_GROUPS, M_CODES
 
 CFG = InterpConfig("sinumerik", "mill", False, (0.0, 0.0, 50.0), tool_radii={1: 3.0}, m_functions=frozenset({77}))
@@ -52,7 +51,7 @@ PAIRS = [(a, b) for g in sorted(LANGUAGE_GROUPS, key=lambda g: g.value) for a, b
 @pytest.mark.parametrize("a,b", PAIRS)
 def test_two_codes_of_one_language_group_conflict(a, b):
     group = G_CODES[a].group
-    name = str(group) if group is Group.MOTION else group.value
+    name = group.value  # "motion", "plane", ...: the group as a user reads it
     assert outcome(f"G{a} G{b} X1\nM30\n") == \
         f"p.mpf:1:{len(str(a)) + 3}: error: G{b} conflicts with G{a} in the same block (both {name})"
 
