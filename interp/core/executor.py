@@ -1,5 +1,5 @@
-"""The shared block executor of the word-address dialects (CNC8x6, ISG; the guard on executed
-blocks is modal.ModalMachine.count_block).
+"""The shared block executor every dialect runs on (CNC8x6, ISG, Sinumerik, RS274NGC; the guard on
+executed blocks is modal.ModalMachine.count_block).
 
 A dialect is a table of its G and M codes, ``{code: Code(modal group, words, meaning)}`` (compare
 CAMotics' ``Codes.cpp`` rows), plus the few hooks where it truly differs. ``Interpreter.execute``
