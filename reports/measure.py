@@ -68,13 +68,15 @@ def vertex_angles(solids) -> np.ndarray:
 
     out = [np.zeros(0)]
     for s in solids:
-        v = solid_arrays(s)[0]
-        if not len(v):
-            continue
-        x, y = v[:, 0], v[:, 1]
-        off = np.hypot(x, y) > SEAM_RADIUS * max(1.0, float(np.abs(v[:, :3]).max()))
-        out.append(np.degrees(np.arctan2(y[off], x[off])) % 180.0)
+        v = off_axis(solid_arrays(s)[0])
+        out.append(np.degrees(np.arctan2(v[:, 1], v[:, 0])) % 180.0)
     return np.unique(np.concatenate(out))
+
+
+def off_axis(v: np.ndarray) -> np.ndarray:
+    """The vertices ``v`` (n, 3) that lie off the spindle axis (farther than SEAM_RADIUS of the
+    solid's size): only they have an angle."""
+    return v[np.hypot(v[:, 0], v[:, 1]) > SEAM_RADIUS * max(1.0, float(np.abs(v).max(initial=0.0)))]
 
 
 def seam_free_angles(solids, phis, window: float = 1.0) -> tuple[np.ndarray, np.ndarray]:

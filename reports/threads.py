@@ -45,9 +45,9 @@ def _seams(part, zlo: float, zhi: float) -> tuple[np.ndarray, np.ndarray, np.nda
     (first angle, last angle, count of the vertices between ``zlo`` and ``zhi``), sorted, the
     circle cut in its widest gap. (Every vertex places a seam; only those over the thread count
     towards telling a thread's station from a revolved solid's seam.)"""
-    v = np.asarray(part.to_mesh().vert_properties, dtype=np.float64)[:, :3]
-    off = np.hypot(v[:, 0], v[:, 1]) > M.SEAM_RADIUS * max(1.0, float(np.abs(v).max(initial=0.0)))
-    v = v[off]
+    from cutsim.stock.arrays import solid_arrays
+
+    v = M.off_axis(solid_arrays(part)[0])
     a = np.degrees(np.arctan2(v[:, 1], v[:, 0])) % 180.0
     order = np.argsort(a)
     a, w = a[order], ((v[:, 2] >= zlo) & (v[:, 2] <= zhi))[order].astype(np.int64)

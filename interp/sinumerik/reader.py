@@ -55,16 +55,10 @@ class _Scanner(ExprScanner):
             return self.extended(col, ext, ln)
         if up == "H" and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.=":
             return self.h_word(col, ln)
-        if up in ISO_ADDRESSES and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212":
-            # R2.5, Q3 of an ISO drilling cycle (G81 R2 Z-10): R<n>=.. is an R parameter (above), R<n>
-            # alone has no other meaning; the interpreter refuses them outside a cycle
-            self.i += 1
-            v = self.number_word()
-            if v is None:
-                raise self.err(col, f"malformed number after {up}")
-            ln.stmts.append(Word(col, up, Num(v)))
-            return True
-        if up in ADDRESSES and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212":
+        # an address with its number; R2.5, Q3 of an ISO drilling cycle (G81 R2 Z-10) too: R<n>=.. is
+        # an R parameter (above), R<n> alone has no other meaning (refused outside a cycle)
+        numbered = self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.\u2212"
+        if numbered and (up in ADDRESSES or up in ISO_ADDRESSES):
             self.i += 1
             v = self.number_word()
             if v is None:
