@@ -33,6 +33,7 @@ EXTERIOR = {
 }
 INSERT_SHAPES = tuple(EXTERIOR) + ("R",)  # R: round
 BAR_REACH_FACTOR = 0.7  # a boring bar's default reach: axis to tool point, x its diameter (catalogue bars 0.65-0.75)
+CREST_OVERLAP = 1.0  # x the tolerance: how far a full-profile insert's shoulders reach beyond +-P/2
 DEFAULT_APPROACH = 93.0  # degrees, or the largest the insert allows (180 - its corner angle)
 
 
@@ -132,12 +133,21 @@ def full_thread_depths(tool: ToolSpec) -> tuple[float, float, float]:
 
 def full_thread_profile(tool: ToolSpec, tol: float) -> np.ndarray:
     """A full-profile ISO metric thread insert (``full_thread_depths``), pointing to -u, centred:
-    60 degree flanks up to the crest level, then shoulders out to +-P/2 (each pass cuts half of
-    the crest on either side; the next turn the other half) and sides up to ``height``."""
+    60 degree flanks up to the crest level, then shoulders out to +-(P/2 + ``tol``) (each pass
+    cuts half of the crest on either side; the next turn the other half) and sides up to
+    ``height``.
+
+    The shoulders overlap the next turn's by ``tol`` on either side (``CREST_OVERLAP``): cut
+    exactly P wide, neighbouring turns would only touch along a helical surface that each sweep
+    facets with its own diagonals (stock/sweeps.py), the two facetings bowing apart for one hand
+    and leaving a sliver of uncut stock up to the blank's diameter on the crest (every left-hand
+    thread did, M03 feeding +Z or M04 feeding -Z). Overlapping, the turns are one profile folded
+    onto a turn (stock/threads.py) and the crest is cut whole; the overlap changes only the
+    crest's axial ends of the thread, within the tolerance."""
     half, ta, uc = full_thread_depths(tool)
     t30 = math.tan(math.radians(30.0))
     wc = (uc + ta) * t30  # half-width at the crest level
-    p2 = tool.pitch / 2.0
+    p2 = tool.pitch / 2.0 + CREST_OVERLAP * tol
     if tool.tip_radius > 0:
         tip = _arc((tool.tip_radius, 0.0), tool.tip_radius, 120.0, 240.0, tol)
     else:

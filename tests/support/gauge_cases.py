@@ -8,8 +8,8 @@ alone (H = sqrt(3)/2 P, last pass at X):
   mm inwards, is P/2 wide at D2 = X - 3 sqrt(3) P / 8;
 - outside: the flat tip (P/4) forms the root, d1 = X; the shoulders 5H/8 further out cut the crest,
   d = X + 5 sqrt(3) P / 8 (the bar is 0.1 over it); the groove is P/2 wide at d2 = X + sqrt(3) P / 4.
-The crest is checked on right-hand threads only: cut under M04, the full-profile insert's shoulders
-leave the crest uncut (a left-hand nut bored 0.1 below D1 reads its bore), a stock sweep issue.
+The crest is checked on both hands (the full-profile insert's shoulders overlap the next turn's,
+stock/inserts.py: a left-hand thread's crest once kept a sliver of the blank).
 """
 from __future__ import annotations
 
@@ -101,8 +101,6 @@ tolerance = 0.005
                    hand=self.hand, major_diameter=major, pitch_diameter=pitch_d, minor_diameter=minor,
                    tolerance=0.004, phase_z=self.z_start,
                    phase=[(sign * (self.offset + k * 360.0 / self.starts)) % 360.0 for k in range(self.starts)])
-        if self.hand == "left":  # the crest the shoulders cut: not recut under M04 yet (a stock sweep issue)
-            del out["minor_diameter" if self.side == "inside" else "major_diameter"]
         return out
 
     def wrong_items(self, variant: str) -> set[str]:
