@@ -178,3 +178,72 @@ def test_shank_ranges_are_errors_at_the_key(tmp_path, extra, key):
     with pytest.raises(CutsimError) as e:
         _run(tmp_path, _plunge(1.0), 'kind = "grooving"\n' + extra)
     assert f"{key}: " in e.value.message, e.value
+
+
+# -- over the documented range: where the body begins, and the verdicts either side of it ----------
+# Every edge of an ISO insert touches its inscribed circle (radius d/2), so an edge between corners
+# of interior angles a and b is (d/2) (cot(a/2) + cot(b/2)) long; the main edge runs from the nose
+# (corner angle eps) to the next corner (NEXT).
+NEXT = {"C": 100.0, "D": 125.0, "V": 145.0, "T": 60.0, "S": 90.0, "W": 160.0}
+EPS = {"C": 80.0, "D": 55.0, "V": 35.0, "T": 60.0, "S": 90.0, "W": 80.0}
+
+
+def _cot(deg: float) -> float:
+    return 1.0 / math.tan(math.radians(deg))
+
+
+def _edge_end(shape: str, size: float, rn: float, kappa: float) -> tuple[float, float]:
+    """E (hand R, from the control point) by hand: S = C - rn / sin(eps/2) (cos b, sin b), b = kappa
+    - 90 + eps/2, C = (rn, rn); E = S + l (cos(kappa - 90), sin(kappa - 90))."""
+    eps = EPS[shape]
+    b = math.radians(kappa - 90.0 + eps / 2.0)
+    k = rn / math.sin(math.radians(eps / 2.0))
+    s = (rn - k * math.cos(b), rn - k * math.sin(b))
+    edge = size / 2.0 * (_cot(eps / 2.0) + _cot(NEXT[shape] / 2.0))
+    a = math.radians(kappa - 90.0)
+    return s[0] + edge * math.cos(a), s[1] + edge * math.sin(a)
+
+
+def _random_inserts(n: int, seed: int):
+    import random
+
+    rnd = random.Random(seed)
+    for _ in range(n):
+        shape = rnd.choice(sorted(EPS))
+        size = rnd.choice([6.35, 9.525, 12.7, 15.875])
+        rn = rnd.choice([0.0, 0.2, 0.4, 0.8, 1.2])
+        kappa = rnd.uniform(90.0, 180.0 - EPS[shape])
+        yield shape, size, rn, round(kappa, 2)
+
+
+@pytest.mark.parametrize("shape, size, rn, kappa", list(_random_inserts(40, 20261126)))
+def test_the_body_begins_where_the_main_edge_ends(shape, size, rn, kappa):
+    from cutsim.base.specs import ToolSpec
+    from cutsim.stock.inserts import holder_start
+
+    tool = ToolSpec(1, "turning", insert=shape, size=size, tip_radius=rn, approach=kappa, shank=25.0)
+    assert holder_start(tool) == pytest.approx(_edge_end(shape, size, rn, kappa), abs=1e-9)
+
+
+@pytest.mark.parametrize("shape, size, rn, kappa, hand, side", [
+    ("D", 15.875, 0.8, 93.0, "R", "outside"),
+    ("T", 9.525, 0.4, 91.0, "L", "outside"),
+    ("V", 9.525, 0.2, 107.5, "R", "face"),
+    ("S", 12.7, 1.2, 90.0, "L", "face"),
+])
+def test_plunges_either_side_of_the_body(tmp_path, shape, size, rn, kappa, hand, side):
+    """0.2 short of the depth where the body begins: no warning; 0.3 beyond it: a warning at the
+    plunge (an outside plunge at Z-30 into a Ø80 bar, a face plunge at X40 into its end face)."""
+    depth = _edge_end(shape, size, rn, kappa)[0]
+    tool = (f'kind = "turning"\ninsert = "{shape}"\nsize = {size}\ntip_radius = {rn}\napproach = {kappa}\n'
+            f'hand = "{hand}"\nside = "{side}"')
+    if side == "outside":
+        prog = "N10 G00 G95 T1 S800 M03\nN20 G00 X84. Z-30.\nN30 G01 X{:.4f} F0.1\nN40 G00 X84.\nN50 X100. Z20.\n"
+        moves = [80.0 - 2.0 * (depth + d) for d in (-0.2, 0.3)]
+    else:
+        prog = "N10 G00 G95 T1 S800 M03\nN20 G00 X40. Z2.\nN30 G01 Z{:.4f} F0.05\nN40 G00 Z2.\nN50 X100. Z20.\n"
+        moves = [-(depth + d) for d in (-0.2, 0.3)]
+    short = _run(tmp_path, prog.format(moves[0]), tool, diameter=80.0)
+    assert short.warnings == []
+    deep = _holder(_run(tmp_path, prog.format(moves[1]), tool, diameter=80.0))
+    assert [line for line, _ in deep] == [3], deep
