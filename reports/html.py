@@ -179,6 +179,8 @@ def _lathe_geometry(t) -> str:
         out = f"included angle {t.angle:g}\u00b0, nose radius {t.tip_radius:g} mm{where}"
     if t.shank:
         out += f"; holder shank {t.shank:g} \u00d7 {t.shank:g} mm"
+        if t.kind == "thread" and t.hand != "R":  # the insert is neutral: its hand is the holder's
+            out += f", hand {t.hand}"
     if t.bar_diameter:
         from cutsim.stock.inserts import bar_reach
 

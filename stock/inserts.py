@@ -236,18 +236,18 @@ def holder_start(tool: ToolSpec) -> tuple[float, float]:
 def holder_section(tool: ToolSpec, reach: float) -> np.ndarray | None:
     """The holder's body of an outside or face tool in the workpiece's X-Z plane, relative to the
     tool point: a square shank ``shank`` wide from ``holder_start`` back to ``reach`` from the tool
-    point (radially; a face tool's axially), towards +Z from its side (hand R, and every thread
-    tool), towards -Z (hand L) or centred on the tool point (hand N). Revolved about the spindle
-    axis this is what the body meets of a part turning past it (the shank's face towards the part
-    lies at the tool point's height). None when the body begins beyond ``reach``."""
+    point (radially; a face tool's axially), towards +Z from its side (hand R), towards -Z (hand L)
+    or centred on the tool point (hand N; a thread tool's hand places only its holder). Revolved
+    about the spindle axis this is what the body meets of a part turning past it (the shank's face
+    towards the part lies at the tool point's height). None when the body begins beyond ``reach``."""
     u0, v0 = holder_start(tool)
     if reach <= u0:
         return None
     b = tool.shank
-    if tool.hand == "N" and tool.kind != "thread":
+    if tool.hand == "N":
         v0 = -b / 2.0
     poly = np.array([[u0, v0], [reach, v0], [reach, v0 + b], [u0, v0 + b]])
-    if tool.hand == "L" and tool.kind != "thread":
+    if tool.hand == "L":
         poly[:, 1] = -poly[:, 1]
     return poly[:, ::-1].copy() if tool.side == "face" else poly
 

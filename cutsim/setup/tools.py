@@ -10,7 +10,7 @@ from .reader import Locator, Reader
 
 TOOL_KEYS = {
     "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch", "bar_diameter", "bar_reach",
-               "shank"},
+               "shank", "hand"},
     "turning": {"angle", "tip_radius", "height", "thickness", "side", "insert", "size", "approach", "hand",
                 "bar_diameter", "bar_reach", "shank"},
     "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand", "bar_diameter", "bar_reach",
@@ -85,8 +85,7 @@ def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
         kw["side"] = t.get("side", str, "outside")
         kw["bar_diameter"] = t.get("bar_diameter", float, 0.0)
         kw["bar_reach"] = t.get("bar_reach", float, 0.0)
-        if kind != "thread":
-            kw["hand"] = t.get("hand", str, "R")
+        kw["hand"] = t.get("hand", str, "R")  # a thread insert is neutral: its hand places its holder only
         # an outside or face tool's holder (0: none); an inside tool's body is its boring bar
         from cutsim.stock.inserts import default_shank
 

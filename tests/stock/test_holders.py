@@ -247,3 +247,39 @@ def test_plunges_either_side_of_the_body(tmp_path, shape, size, rn, kappa, hand,
     assert short.warnings == []
     deep = _holder(_run(tmp_path, prog.format(moves[1]), tool, diameter=80.0))
     assert [line for line, _ in deep] == [3], deep
+
+
+COLLAR = """\
+[machine]
+kind = "lathe"
+dialect = "cnc8x6"
+diameter_programming = true
+start = [50.0, 0.0, 20.0]
+
+[stock]
+shape = "revolve"
+profile = [[0, 0], [20, 0], [20, -10], [15, -10], [15, -60], [0, -60]]
+
+[[tool]]
+number = 1
+kind = "thread"
+form = "full"
+pitch = 2.0
+height = 4.0
+{hand}
+"""
+
+
+@pytest.mark.parametrize("hand, warns", [("", True), ('hand = "L"', False)])
+def test_a_thread_cut_towards_a_collar_needs_a_left_hand_holder(tmp_path, hand, warns):
+    """A Ø30 shaft with a Ø40 collar at Z-10..0; an M30x2 full-profile insert (height 4) cuts one
+    pass at X27.712 from Z-40 towards the collar, to Z-12. Its holder begins 4 above the tip
+    (r 17.856 < 20) and is 20 wide: hand R (the default) holds it towards +Z from the insert's side
+    at -P/2, Z-13..7 at the end of the pass, over the collar: a warning at the G33 (line 4); hand L
+    holds it towards -Z, Z-31..-11, clear of the collar."""
+    prog, setup = tmp_path / "p.nc", tmp_path / "s.toml"
+    prog.write_text("N10 G00 G95 T1 S800 M03\nN20 G00 X32. Z-40.\nN30 X27.712\nN40 G33 Z-12. I0. F2.\n"
+                    "N50 G00 X32.\nN60 X50. Z20.\nN70 M05\n")
+    setup.write_text(COLLAR.format(hand=hand))
+    got = _holder(cutsim.simulate(str(prog), str(setup)))
+    assert [line for line, _ in got] == ([4] if warns else []), got
