@@ -72,6 +72,7 @@ SPECS = {
 }
 CYCLES = set(SPECS)
 DRILLING: set[str] = set()  # the drilling cycles and patterns (drilling.register fills it)
+TURNING: set[str] = set()  # the turning cycles, run in G18 on a lathe (turning.register fills it)
 
 
 class Cycle:
@@ -85,8 +86,10 @@ class Cycle:
             raise m.error(self.line, args[len(spec)][1], f"{name} takes at most {len(spec)} parameters, not {len(args)}")
         self.v: dict[str, object] = {}
         self.given: set[str] = set()
+        self.cols: dict[str, int] = {}  # parameter -> the column of its argument (the call's when empty)
         for k, p in enumerate(spec):
             val, col = args[k] if k < len(args) else (None, self.col)
+            self.cols[p.name] = col
             if val is None:
                 if p.default is None:
                     raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) is required")
