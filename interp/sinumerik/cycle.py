@@ -72,7 +72,7 @@ SPECS = {
 }
 CYCLES = set(SPECS)
 DRILLING: set[str] = set()  # the drilling cycles and patterns (drilling.register fills it)
-TURNING: set[str] = set()  # the turning cycles, run in G18 on a lathe (turning.register fills it)
+TURNING: set[str] = set()  # the turning cycles, run in G18 on a lathe (turncycles.register fills it)
 
 
 class Cycle:

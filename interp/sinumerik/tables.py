@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import re
 
-from . import drilling as drill, turning
+from . import drilling as drill, turncycles
 from .syntax import KEYWORDS as LANG_KEYWORDS, MACHINE_COMMANDS
 from .cycle import _spec, ANGLES, CYCLES, DRILLING, SPECS, TURNING
 from .milling import RUNNERS
@@ -37,8 +37,8 @@ SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"
 
 # the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
 drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec, DRILLING)
-# the turning cycles (CYCLE93, 94, 96, 97, 98) too, run in G18 on a lathe (turning.register)
-turning.register(SPECS, RUNNERS, CYCLES, _spec, TURNING)
+# the turning cycles (CYCLE93, 94, 96, 97, 98) too, run in G18 on a lathe (turncycles.register)
+turncycles.register(SPECS, RUNNERS, CYCLES, _spec, TURNING)
 
 # keywords that are never a subprogram file, even with a file of that name beside the program
 NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",

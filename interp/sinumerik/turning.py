@@ -1,113 +1,199 @@
-"""The Sinumerik turning cycles in the interpreter: CYCLE97 and CYCLE98 (threads, planned by
-``threading``), CYCLE93 (grooving), CYCLE94 (undercut DIN 509) and CYCLE96 (thread undercut DIN 76),
-planned by ``grooving``. Each runs in G18 on a lathe (milling.run_cycle checks the plane) and
-expands into plain records through the ModalMachine methods -- G0 ``rapid``, G1 ``linear``, G2/G3
-``arc``, G33 ``synced`` with the start angle of each chained block -- every record carrying the
-cycle block's Src.
-
-The planners return plain data in the cycles' own terms (X a diameter, as the cycles' diameter
-parameters are); here X becomes a radius under DIAMOF. A planner's ``ThreadParamError`` /
-``GrooveParamError`` names the parameter; the error is raised at that argument's column as
-``CYCLE97: <message>``. What the manual leaves open is in docs/dialects/sinumerik-turning.md.
+"""Sinumerik spindle-synchronised moves on a lathe (docs/dialects/sinumerik-turning.md): G33 threads
+(longitudinal with K, face with I, taper with the lead on the longer travel), SF, chained blocks,
+G34/G35 with a lead changing by F per revolution, G331/G332 rigid tapping and G63 floating tapping
+along Z. Entry: ``motion`` from Sinumerik.move, with the block's words already in machine values
+(interp/sinumerik/machine.py: frames, units, diameters), X a radius.
 """
 from __future__ import annotations
 
-from . import grooving
-from .cycle import Cycle
-from .threading import CYCLE97_NAMES, CYCLE98_NAMES, plan_cycle97, plan_cycle98, program_moves, ThreadParamError
+from .. import canon
+from .lathe import SYNCED, TAPS, THREADS
+from .threading import ThreadParamError, varying_lead
 
-# parameter lists (the Cycles manual's names, in order; Cycle fills the empty ones with 0 or "")
-NAMES = {
-    "CYCLE93": "SPD SPL WIDG DIAG STA1 ANG1 ANG2 RCO1 RCO2 RCI1 RCI2 FAL1 FAL2 IDEP DTB VARI _VRT _DN",
-    "CYCLE94": "SPD SPL FORM _VARI _VRT",
-    "CYCLE96": "DIATH SPL FORM _VARI _VRT",
-    "CYCLE97": " ".join(CYCLE97_NAMES),
-    "CYCLE98": " ".join(CYCLE98_NAMES),
-}
-REQUIRED = {"CYCLE93": "SPD SPL WIDG DIAG", "CYCLE94": "SPD SPL FORM", "CYCLE96": "DIATH SPL FORM"}
-STRINGS = {"CYCLE94": "FORM", "CYCLE96": "FORM"}
+EPS = 1e-9
 
 
-def _fail(cy: Cycle, e: ValueError):
-    """A planner's refusal at the column of the parameter it names."""
-    col = cy.cols.get(getattr(e, "param", ""), cy.col)
-    return cy.m.error(cy.line, col, f"{cy.label}: {e}")
+def active(m) -> bool:
+    """Whether the block's move is one of this module's."""
+    return m.motion in SYNCED or m.machine.lathe.g63
 
 
-def _y(cy: Cycle) -> float:
-    return cy.m.pos[1]
+def motion(m, src, words: dict, targets: dict[int, float], cols: dict[int, int]) -> None:
+    lt = m.machine.lathe
+    if lt.g63:
+        return floating_tap(m, src, words, targets, cols)
+    if m.motion in TAPS:
+        return rigid_tap(m, src, words, targets, cols)
+    return thread(m, src, words, targets, cols)
 
 
-def _thread(cy: Cycle, plan_fn, names) -> None:
-    v = {n: cy[n] for n in names}
-    try:
-        plan = plan_fn(v, cy.m.cfg.max_blocks)
-    except ThreadParamError as e:
-        raise _fail(cy, e) from None
-    m = cy.m
-    for mv in program_moves(plan, m.diameter, _y(cy)):
-        if mv[0] == "G0":
-            if tuple(m.pos) != mv[1]:
-                m.rapid(cy.src, mv[1])
-        else:
-            m.synced(cy.src, mv[1], mv[2], mv[3], mv[4])
+def _end(m, targets: dict[int, float]) -> tuple[float, float, float]:
+    end = list(m.pos)
+    for i, v in targets.items():
+        end[i] = v
+    return (end[0], end[1], end[2])
 
 
-def cycle97(cy: Cycle) -> None:
-    """Thread cutting: every pass of every start (threading.plan_cycle97)."""
-    _thread(cy, plan_cycle97, CYCLE97_NAMES)
+def _axis_scale(m, src, i: int, what: str) -> float:
+    """How the active frame scales axis ``i`` (X 0, Z 2), which must map onto itself."""
+    lin = m.machine.linear_part()
+    off = [abs(lin[i][k]) + abs(lin[k][i]) for k in range(3) if k != i]
+    if any(v > 1e-12 for v in off):
+        raise m.error(src.line, 1, f"{what} under a rotated frame (ROT/AROT) is not modelled: the lead axis would "
+                      "leave the turning axes")
+    return abs(lin[i][i])
 
 
-def cycle98(cy: Cycle) -> None:
-    """Chained thread of three segments (threading.plan_cycle98)."""
-    _thread(cy, plan_cycle98, CYCLE98_NAMES)
+def emit(m, src, end, lead: float, axis: str, angle: float, change: float = 0.0) -> float:
+    """One SyncedFeed record from the current position; returns the spindle angle at its end."""
+    start = m.start_point()
+    rec = canon.SyncedFeed(src, start, end, False, lead, axis, angle % 360.0, None, None, change)
+    m.emit(rec)
+    m.moved(end)
+    i = "XYZ".index(axis)
+    travel = abs(end[i] - start[i])
+    if change:
+        ke = (lead * lead + 2.0 * change * travel) ** 0.5
+        revs = (ke - lead) / change
+    else:
+        revs = travel / lead
+    return (angle + 360.0 * revs) % 360.0
 
 
-def _groove(cy: Cycle, plan_fn) -> None:
-    """A grooving planner's moves: ("G0" | "G1", (x, z)) and ("ARC", (x, z), (cx, cz), clockwise),
-    x a diameter; the feed in force cuts them."""
-    m = cy.m
-    tool = grooving.ToolEdge.of(m)
-    try:
-        moves = plan_fn(cy.v, tool, m.cfg.max_blocks)
-    except grooving.GrooveParamError as e:
-        raise _fail(cy, e) from None
-    k = 1.0 if m.diameter else 0.5
-    y = _y(cy)
-    for mv in moves:
-        x, z = mv[1]
-        p = (x * k, y, z)
-        if mv[0] == "G0":
-            if tuple(m.pos) != p:
-                m.rapid(cy.src, p)
-        elif mv[0] == "G1":
-            if tuple(m.pos) != p:
-                m.linear(cy.src, p)
-        else:
-            c = mv[2]
-            m.arc(cy.src, p, (c[0] * k, y, c[1]), mv[3])
-    m.feed = cy.saved_feed
+def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int]) -> None:
+    """G33/G34/G35 X.. Z.. K../I.. (F.. the lead change of G34/G35)."""
+    line, code, lt = src.line, m.motion, m.machine.lathe
+    leads = [(a, words.pop(a)) for a in ("I", "J", "K") if a in words]
+    if "CR" in words:
+        raise m.error(line, words["CR"].col, f"address CR has no meaning in a G{code} block")
+    for a, w in leads:
+        if a == "J":
+            raise m.error(line, w.col, f"a lathe has no Y axis: the lead of G{code} is programmed on K (along Z) or "
+                          "I (along X)")
+    if len(leads) > 1:
+        raise m.error(line, leads[1][1].col, f"two leads (I and K) in one G{code} block: program the lead on the axis "
+                      "with the longer travel")
+    change_word = words.pop("F", None) if code in (34, 35) else None
+    if change_word is not None:
+        lt.change = change_word.value * m.machine.unit()
+    if not targets:
+        if leads:
+            raise m.error(line, leads[0][1].col, f"the lead {leads[0][0]} of G{code} without an end point (X or Z) "
+                          "cuts nothing")
+        return
+    end = _end(m, targets)
+    first = min(cols.values())
+    if not leads:
+        raise m.error(line, first, f"G{code} needs its lead in the block: K (mm per revolution along Z) or I (along X)")
+    a, w = leads[0]
+    axis = "Z" if a == "K" else "X"
+    if w.value <= 0:
+        raise m.error(line, w.col, f"the lead {a} of G{code} must be greater than 0 (it is written without a sign; "
+                      "the spindle's M3/M4 gives the hand)")
+    dx, dz = abs(end[0] - m.pos[0]), abs(end[2] - m.pos[2])
+    if axis == "Z" and dx > dz + EPS:
+        raise m.error(line, w.col, f"G{code} taper steeper than 45 degrees (X travel {dx:g} > Z travel {dz:g} mm): "
+                      "its lead is programmed on I, the axis with the longer travel")
+    if axis == "X" and dz > dx + EPS:
+        raise m.error(line, w.col, f"G{code} taper flatter than 45 degrees (Z travel {dz:g} > X travel {dx:g} mm): "
+                      "its lead is programmed on K, the axis with the longer travel")
+    if (dz if axis == "Z" else dx) <= EPS:
+        raise m.error(line, w.col, f"G{code} does not move along {axis}, the axis of its lead {a}")
+    lead = w.value * _axis_scale(m, src, 2 if axis == "Z" else 0, f"G{code}")
+    change = 0.0
+    if code in (34, 35):
+        if lt.change is None:
+            raise m.error(line, w.col, f"G{code} needs F, the change of lead per revolution (mm/rev²)")
+        try:
+            varying_lead(lead, lt.change, dz if axis == "Z" else dx, code == 34)
+        except ThreadParamError as e:
+            col = change_word.col if (e.param == "F" and change_word is not None) else w.col
+            raise m.error(line, col, f"G{code}: {e}") from None
+        change = lt.change if code == 34 else -lt.change
+    chain = lt.chain
+    angle = chain[1] if chain is not None and m.start_point() is chain[0] else lt.sf
+    end_angle = emit(m, src, end, lead, axis, angle, change)
+    lt.chain = (m.start_point(), end_angle)
 
 
-def cycle93(cy: Cycle) -> None:
-    _groove(cy, grooving.plan_cycle93)
+def _stays_on_axis(m, src, code: str, targets: dict[int, float], cols: dict[int, int]) -> None:
+    for i in (0, 1):
+        if i in targets and abs(targets[i] - m.pos[i]) > EPS:
+            raise m.error(src.line, cols[i], f"{code} taps along Z: {'XY'[i]} must stay where it is")
 
 
-def cycle94(cy: Cycle) -> None:
-    _groove(cy, grooving.plan_cycle94)
+def rigid_tap(m, src, words: dict, targets: dict[int, float], cols: dict[int, int]) -> None:
+    """G331 Z.. K..: the spindle follows the tap, K > 0 a right-hand thread (turning as under M3),
+    K < 0 a left-hand one; G332 Z.. backs it out on the same helix with the spindle reversed and
+    leaves the spindle standing (in position control)."""
+    line, code, lt = src.line, m.motion, m.machine.lathe
+    for a in ("I", "J", "CR"):
+        if a in words:
+            raise m.error(line, words[a].col, f"the pitch of G{code} is programmed on K (tapping along Z), not on {a}")
+    k = words.pop("K", None)
+    if k is not None and k.value == 0:
+        raise m.error(line, k.col, f"the pitch K of G{code} must not be 0")
+    if not targets:
+        if k is not None:
+            raise m.error(line, k.col, f"the pitch K of G{code} without an end point Z taps nothing")
+        return
+    _stays_on_axis(m, src, f"G{code}", targets, cols)
+    end = _end(m, targets)
+    t = lt.tapped
+    here = t is not None and m.start_point() is t[0]
+    if code == 332:
+        if not here:
+            raise m.error(line, min(cols.values()), "G332 backs the tap out from where a G331 stopped: program it "
+                          "right after the G331, from its end point")
+        if k is not None and abs(abs(k.value) * m.machine.unit() - t[1]) > EPS:
+            raise m.error(line, k.col, f"G332 with the pitch K{k.value:g}: it must be the G331's")
+        tap_move(m, src, end, t[1], -t[2], (-t[3]) % 360.0)
+        m.spindle_dir = 0
+        m.emit(canon.Spindle(src, 0, m.speed))
+        return
+    if k is None:
+        raise m.error(line, min(cols.values()), "G331 needs its pitch on K, signed (K2 a right-hand thread, K-2 a "
+                      "left-hand one)")
+    pitch = abs(k.value) * _axis_scale(m, src, 2, "G331")
+    direction = 1 if k.value > 0 else -1
+    keep = here and t[1] == pitch and t[2] == direction
+    tap_move(m, src, end, pitch, direction, t[3] if keep else 0.0)
 
 
-def cycle96(cy: Cycle) -> None:
-    _groove(cy, grooving.plan_cycle96)
+def tap_move(m, src, end, pitch: float, direction: int, angle: float) -> None:
+    if abs(end[2] - m.pos[2]) <= EPS:
+        raise m.error(src.line, 1, "a tapping block must move along Z")
+    m.spindle_dir = direction
+    m.emit(canon.Spindle(src, direction, m.speed))
+    end_angle = emit(m, src, end, pitch, "Z", angle)
+    m.machine.lathe.tapped = (m.start_point(), pitch, direction, end_angle)
 
 
-RUNNERS = {"CYCLE93": cycle93, "CYCLE94": cycle94, "CYCLE96": cycle96, "CYCLE97": cycle97, "CYCLE98": cycle98}
-
-
-def register(specs: dict, runners: dict, cycles: set, spec, turning: set) -> None:
-    """Add the turning cycles to the cycles' tables (``spec`` is cycle._spec)."""
-    for name, names in NAMES.items():
-        specs[name] = spec(names, REQUIRED.get(name, ""), STRINGS.get(name, ""))
-    runners.update(RUNNERS)
-    cycles.update(NAMES)
-    turning.update(NAMES)
+def floating_tap(m, src, words: dict, targets: dict[int, float], cols: dict[int, int]) -> None:
+    """G63 Z.. F..: tapping with a compensating chuck, a straight move along Z at the feed; the tap's
+    lead is the feed per revolution (F under G95, F/S under G94). The chuck lets the tap follow its
+    thread, so a G63 that reverses the spindle from where the last one stopped backs out on its
+    helix; a first G63 meets the workpiece at the spindle's zero mark (cutsim assumes)."""
+    line, lt = src.line, m.machine.lathe
+    lt.g63 = False
+    for a in ("I", "J", "K", "CR"):
+        if a in words:
+            raise m.error(line, words[a].col, f"address {a} has no meaning in a G63 block (the lead is the feed)")
+    if not targets:
+        return
+    _stays_on_axis(m, src, "G63", targets, cols)
+    end = _end(m, targets)
+    if m.spindle_dir == 0:
+        raise m.error(line, min(cols.values()), "G63 taps with the spindle turning: program M3 or M4 first")
+    if m.feed is None or m.feed <= 0:
+        raise m.error(line, min(cols.values()), "G63 needs its feed F (the tap's lead per revolution under G95)")
+    if m.per_rev:
+        lead = m.feed
+    else:
+        if m.speed <= 0:
+            raise m.error(line, min(cols.values()), "G63 under G94 needs the spindle speed S (the lead is F / S)")
+        lead = m.feed / m.speed
+    t = lt.tapped
+    keep = t is not None and m.start_point() is t[0] and abs(t[1] - lead) <= EPS and t[2] == -m.spindle_dir
+    end_angle = emit(m, src, end, lead, "Z", (-t[3]) % 360.0 if keep else 0.0)
+    lt.tapped = (m.start_point(), lead, m.spindle_dir, end_angle)

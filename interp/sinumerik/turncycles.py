@@ -1,0 +1,113 @@
+"""The Sinumerik turning cycles in the interpreter: CYCLE97 and CYCLE98 (threads, planned by
+``threading``), CYCLE93 (grooving), CYCLE94 (undercut DIN 509) and CYCLE96 (thread undercut DIN 76),
+planned by ``grooving``. Each runs in G18 on a lathe (milling.run_cycle checks the plane) and
+expands into plain records through the ModalMachine methods -- G0 ``rapid``, G1 ``linear``, G2/G3
+``arc``, G33 ``synced`` with the start angle of each chained block -- every record carrying the
+cycle block's Src.
+
+The planners return plain data in the cycles' own terms (X a diameter, as the cycles' diameter
+parameters are); here X becomes a radius under DIAMOF. A planner's ``ThreadParamError`` /
+``GrooveParamError`` names the parameter; the error is raised at that argument's column as
+``CYCLE97: <message>``. What the manual leaves open is in docs/dialects/sinumerik-turning.md.
+"""
+from __future__ import annotations
+
+from . import grooving
+from .cycle import Cycle
+from .threading import CYCLE97_NAMES, CYCLE98_NAMES, plan_cycle97, plan_cycle98, program_moves, ThreadParamError
+
+# parameter lists (the Cycles manual's names, in order; Cycle fills the empty ones with 0 or "")
+NAMES = {
+    "CYCLE93": "SPD SPL WIDG DIAG STA1 ANG1 ANG2 RCO1 RCO2 RCI1 RCI2 FAL1 FAL2 IDEP DTB VARI _VRT _DN",
+    "CYCLE94": "SPD SPL FORM _VARI _VRT",
+    "CYCLE96": "DIATH SPL FORM _VARI _VRT",
+    "CYCLE97": " ".join(CYCLE97_NAMES),
+    "CYCLE98": " ".join(CYCLE98_NAMES),
+}
+REQUIRED = {"CYCLE93": "SPD SPL WIDG DIAG", "CYCLE94": "SPD SPL FORM", "CYCLE96": "DIATH SPL FORM"}
+STRINGS = {"CYCLE94": "FORM", "CYCLE96": "FORM"}
+
+
+def _fail(cy: Cycle, e: ValueError):
+    """A planner's refusal at the column of the parameter it names."""
+    col = cy.cols.get(getattr(e, "param", ""), cy.col)
+    return cy.m.error(cy.line, col, f"{cy.label}: {e}")
+
+
+def _y(cy: Cycle) -> float:
+    return cy.m.pos[1]
+
+
+def _thread(cy: Cycle, plan_fn, names) -> None:
+    v = {n: cy[n] for n in names}
+    try:
+        plan = plan_fn(v, cy.m.cfg.max_blocks)
+    except ThreadParamError as e:
+        raise _fail(cy, e) from None
+    m = cy.m
+    for mv in program_moves(plan, m.diameter, _y(cy)):
+        if mv[0] == "G0":
+            if tuple(m.pos) != mv[1]:
+                m.rapid(cy.src, mv[1])
+        else:
+            m.synced(cy.src, mv[1], mv[2], mv[3], mv[4])
+
+
+def cycle97(cy: Cycle) -> None:
+    """Thread cutting: every pass of every start (threading.plan_cycle97)."""
+    _thread(cy, plan_cycle97, CYCLE97_NAMES)
+
+
+def cycle98(cy: Cycle) -> None:
+    """Chained thread of three segments (threading.plan_cycle98)."""
+    _thread(cy, plan_cycle98, CYCLE98_NAMES)
+
+
+def _groove(cy: Cycle, plan_fn) -> None:
+    """A grooving planner's moves: ("G0" | "G1", (x, z)) and ("ARC", (x, z), (cx, cz), clockwise),
+    x a diameter; the feed in force cuts them."""
+    m = cy.m
+    tool = grooving.ToolEdge.of(m)
+    try:
+        moves = plan_fn(cy.v, tool, m.cfg.max_blocks)
+    except grooving.GrooveParamError as e:
+        raise _fail(cy, e) from None
+    k = 1.0 if m.diameter else 0.5
+    y = _y(cy)
+    for mv in moves:
+        x, z = mv[1]
+        p = (x * k, y, z)
+        if mv[0] == "G0":
+            if tuple(m.pos) != p:
+                m.rapid(cy.src, p)
+        elif mv[0] == "G1":
+            if tuple(m.pos) != p:
+                m.linear(cy.src, p)
+        else:
+            c = mv[2]
+            m.arc(cy.src, p, (c[0] * k, y, c[1]), mv[3])
+    m.feed = cy.saved_feed
+
+
+def cycle93(cy: Cycle) -> None:
+    _groove(cy, grooving.plan_cycle93)
+
+
+def cycle94(cy: Cycle) -> None:
+    _groove(cy, grooving.plan_cycle94)
+
+
+def cycle96(cy: Cycle) -> None:
+    _groove(cy, grooving.plan_cycle96)
+
+
+RUNNERS = {"CYCLE93": cycle93, "CYCLE94": cycle94, "CYCLE96": cycle96, "CYCLE97": cycle97, "CYCLE98": cycle98}
+
+
+def register(specs: dict, runners: dict, cycles: set, spec, turning: set) -> None:
+    """Add the turning cycles to the cycles' tables (``spec`` is cycle._spec)."""
+    for name, names in NAMES.items():
+        specs[name] = spec(names, REQUIRED.get(name, ""), STRINGS.get(name, ""))
+    runners.update(RUNNERS)
+    cycles.update(NAMES)
+    turning.update(NAMES)
