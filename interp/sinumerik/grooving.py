@@ -67,7 +67,7 @@ class ToolEdge:
         t = getattr(m, "tool_no", None)
         width = m.cfg.tool_widths.get(t, 0.0) if t is not None else 0.0
         edge = m.cfg.tool_noses.get(t, (0.0, 0))[1] if t is not None else 0
-        x = m.pos[0] if m.diameter else 2.0 * m.pos[0]
+        x = 2.0 * m.pos[0]  # the lathe mode keeps X as a radius
         return cls(width, edge, (x, m.pos[2]))
 
     @property

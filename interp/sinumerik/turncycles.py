@@ -6,7 +6,8 @@ expands into plain records through the ModalMachine methods -- G0 ``rapid``, G1 
 cycle block's Src.
 
 The planners return plain data in the cycles' own terms (X a diameter, as the cycles' diameter
-parameters are); here X becomes a radius under DIAMOF. A planner's ``ThreadParamError`` /
+parameters are, whatever DIAMON/DIAMOF say); here X becomes the radius the lathe mode keeps its
+position in (interp/sinumerik/lathe.py). A planner's ``ThreadParamError`` /
 ``GrooveParamError`` names the parameter; the error is raised at that argument's column as
 ``CYCLE97: <message>``. What the manual leaves open is in docs/dialects/sinumerik-turning.md.
 """
@@ -45,7 +46,7 @@ def _thread(cy: Cycle, plan_fn, names) -> None:
     except ThreadParamError as e:
         raise _fail(cy, e) from None
     m = cy.m
-    for mv in program_moves(plan, m.diameter, _y(cy)):
+    for mv in program_moves(plan, False, _y(cy)):  # X a radius (the lathe mode keeps it so)
         if mv[0] == "G0":
             if tuple(m.pos) != mv[1]:
                 m.rapid(cy.src, mv[1])
@@ -72,7 +73,7 @@ def _groove(cy: Cycle, plan_fn) -> None:
         moves = plan_fn(cy.v, tool, m.cfg.max_blocks)
     except grooving.GrooveParamError as e:
         raise _fail(cy, e) from None
-    k = 1.0 if m.diameter else 0.5
+    k = 0.5  # the planner's diameters -> the radius the lathe mode keeps X as
     y = _y(cy)
     for mv in moves:
         x, z = mv[1]

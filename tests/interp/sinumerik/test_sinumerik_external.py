@@ -202,7 +202,7 @@ def test_a_refused_siemens_cycle_stays_refused():
     make it cut nothing; the message says the list does not apply."""
     e = error_of(HEAD + "CYCLE95(\"KONT\", 2)\nM30\n", ["CYCLE95"])
     assert (e.line, e.col) == (3, 1)
-    assert "CYCLE95 is a Siemens keyword the simulator does not support" in e.message
+    assert "CYCLE95 (stock removal along a contour, a turning cycle) is not simulated yet" in e.message
     assert "[machine] external_subprograms does not apply" in e.message
     assert "does not apply" not in error_of(HEAD + "CYCLE95(\"KONT\", 2)\nM30\n").message
 

@@ -1,0 +1,270 @@
+"""The Sinumerik turning cycles in the interpreter (interp/sinumerik/turncycles.py): CYCLE97 and
+CYCLE98 as G0 and chained G33 records at the call's line, CYCLE93 grooving, CYCLE94 / CYCLE96
+undercuts and the drilling cycles along Z on a lathe. Every number is derived here by hand from the
+rule it checks (docs/dialects/sinumerik-turning.md); the solids are measured after the cut.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import cutsim
+from cutsim.interp.canon import Arc, Feed, Rapid, SyncedFeed
+import numpy as np
+
+from cutsim.reports.measure import measure_thread, plane_section, radii_at
+
+from support.bad import assert_stops_at_its_line
+
+BAR = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = {dia}
+start = [{sx}, 0.0, 10.0]
+[stock]
+shape = "revolve"
+profile = {profile}
+[[tool]]
+number = 1
+kind = "thread"
+angle = 60.0
+tip_radius = 0.0
+side = "{side}"
+[[tool]]
+number = 2
+kind = "grooving"
+width = 3.0
+corner_radius = 0.0
+side = "{side}"
+[[tool]]
+number = 3
+kind = "turning"
+angle = 35.0
+tip_radius = 0.0
+[[tool]]
+number = 4
+kind = "drill"
+diameter = 8.0
+point_angle = 118.0
+length = 60.0
+[simulation]
+tolerance = {tol}
+"""
+OUTSIDE = "[[0, 0], [15, 0], [15, -30], [0, -30]]"  # a bar of 30, 30 long
+NUT = "[[8.188, 0], [20, 0], [20, -30], [8.188, -30]]"  # a nut: the bore 16.376 (M18x1.5's D1)
+
+
+def run(tmp_path: Path, text: str, *, dia: bool = True, inside: bool = False, tol: float = 0.02, checks=False,
+        profile: str | None = None):
+    setup = tmp_path / "setup.toml"
+    setup.write_text(BAR.format(dia="true" if dia else "false", sx=(60.0 if dia else 30.0),
+                                profile=profile or (NUT if inside else OUTSIDE),
+                                side="inside" if inside else "outside", tol=tol))
+    return cutsim.simulate("turn.mpf", str(setup), text=text, checks=checks)
+
+
+def moves_of(tmp_path: Path, text: str, **kw):
+    """Only the interpreter: the records (cutsim.simulate would cut too)."""
+    from cutsim import interp_config, load_setup
+    from cutsim.interp import interpret
+
+    setup = tmp_path / "setup.toml"
+    inside = kw.pop("inside", False)
+    dia = kw.pop("dia", True)
+    setup.write_text(BAR.format(dia="true" if dia else "false", sx=60.0 if dia else 30.0, profile=OUTSIDE,
+                                side="inside" if inside else "outside", tol=0.02))
+    s = load_setup(str(setup))
+    return interpret("turn.mpf", text, interp_config(s, s.machine.start)).records
+
+
+# ---------------------------------------------------------------------------------------------
+# CYCLE97 records
+def c97(pit=2.0, spl=0.0, fpl=-20.0, dm=30.0, app=2.0, rop=2.0, tdep=1.2, fal=0.0, iang=0.0, nsp=0.0, nrc=2,
+        nid=0, vari=1, numt=1, vrt=1.0):
+    return f"CYCLE97({pit:g}, , {spl:g}, {fpl:g}, {dm:g}, {dm:g}, {app:g}, {rop:g}, {tdep:g}, {fal:g}, {iang:g}, " \
+           f"{nsp:g}, {nrc}, {nid}, {vari}, {numt}, {vrt:g})"
+
+
+def program(call: str, tool: int = 1, pre: str = "") -> str:
+    return f"N10 T{tool} D1 M6\nN20 G18 G95 S300 M3 F0.1\nN30 G0 X40 Z5\n{pre}N40 {call}\nN50 G0 X60\nN60 M30\n"
+
+
+def test_cycle97_records_at_the_call_line(tmp_path):
+    # M30x2 two-start (PIT 4 the lead of each start), 3 cuts a start (NRC 2 + FAL 0.05), SF 30 / 210
+    call = c97(pit=4.0, app=4.0, rop=2.0, tdep=1.227, fal=0.05, nsp=30.0, nrc=2, vari=1, numt=2)
+    recs = moves_of(tmp_path, program(call))
+    cyc = [r for r in recs if r.src.line == 4]
+    synced = [r for r in cyc if isinstance(r, SyncedFeed)]
+    assert len(synced) == 2 * 3 * 3  # starts x cuts x (run-in, thread, run-out)
+    assert all(r.lead == 4.0 and r.lead_axis == "Z" and not r.diameter for r in synced)
+    firsts = synced[0::3]
+    # every cut's first G33 starts at SPL + APP = Z4 with SF = NSP + k * 360 / NUMT
+    assert [r.start[2] for r in firsts] == pytest.approx([4.0] * 6)
+    assert [r.start_angle for r in firsts] == pytest.approx([30.0] * 3 + [210.0] * 3)
+    # chained: the thread block starts after 4 mm = 1 turn (angle unchanged), the run-out after 24 mm more
+    assert [r.start_angle for r in synced[1:3]] == pytest.approx([30.0, (30.0 + 360.0 * 24.0 / 4.0) % 360.0])
+    # depths (VARI 1, constant infeed): (1.227 - 0.05) * i / 2, then 1.227: radius 15 - depth
+    assert [r.start[0] for r in firsts[:3]] == pytest.approx([15 - 0.5885, 15 - 1.177, 15 - 1.227])
+    assert synced[2].end[2] == pytest.approx(-22.0)  # FPL - ROP
+    # G0 only otherwise, lift 1 mm over the thread (radius 16), back to the home point (16, Z4)
+    assert all(isinstance(r, (Rapid, SyncedFeed)) for r in cyc)
+    assert cyc[-1].end == pytest.approx((16.0, 0.0, 4.0))
+
+
+@pytest.mark.parametrize("dia", [True, False])
+def test_cycle97_diameters_whatever_diamon_says(tmp_path, dia):
+    # DM1 is a diameter under DIAMON and DIAMOF alike ([CYC] "General"): the root is radius 15 - 1.2
+    recs = moves_of(tmp_path, program(c97(nrc=1), pre="" if dia else "N35 DIAMOF\n"), dia=dia)
+    (thread,) = [r for r in recs if isinstance(r, SyncedFeed) and r.start[2] == 0.0]
+    assert thread.start[0] == pytest.approx(13.8) and thread.end == pytest.approx((13.8, 0.0, -20.0))
+
+
+@pytest.mark.parametrize("vari,inside,root", [
+    (1, False, [15 - 0.6, 15 - 1.2]),  # constant infeed: 1.2 * i / 2
+    (2, True, [8.188 + 0.406, 8.188 + 0.812]),  # inside: the tap hole 16.376 + depth
+    (3, False, [15 - 1.2 * math.sqrt(0.5), 15 - 1.2]),  # constant cross-section: 1.2 * sqrt(i / 2)
+    (4, True, [8.188 + 0.812 * math.sqrt(0.5), 8.188 + 0.812]),
+])
+def test_every_vari_infeeds_and_cuts_its_thread(tmp_path, vari, inside, root):
+    """The G0 infeed of each cut at the hand-derived radius, then the solid: lead, starts and the
+    root (outside 30 - 2 x 1.2 = 27.6; inside M18x1.5: 16.376 + 2 x 0.812 = 18.0)."""
+    dm, tdep, pit = (16.376, 0.812, 1.5) if inside else (30.0, 1.2, 2.0)
+    call = c97(pit=pit, dm=dm, tdep=tdep, nrc=2, fpl=-28.0, rop=4.0, app=2.0, vari=vari, numt=2 if vari > 2 else 1,
+               nsp=40.0)
+    res = run(tmp_path, program(call), inside=inside)
+    firsts = [r for r in res.program.records if isinstance(r, SyncedFeed) and r.start[2] == pytest.approx(2.0)]
+    assert [r.start[0] for r in firsts[:2]] == pytest.approx(root)
+    got = measure_thread(res.part, -22.0, -6.0, inside=inside)
+    starts = 2 if vari > 2 else 1
+    assert got["lead"] == pytest.approx(pit, abs=0.005) and got["hand"] == "right"
+    assert got["starts"] == starts
+    want = 2 * (dm / 2 + tdep) if inside else dm - 2 * tdep
+    # the sweep follows chords of the helices on the axis side (docs/setup.md): the root up to the
+    # tolerance (0.02 on the radius) nearer the axis, deeper outside and shallower inside
+    assert want - 2 * 0.02 - 0.005 <= got["root_diameter"] <= want + 0.005
+
+
+def test_cycle98_chain_records(tmp_path):
+    # three segments: Z0 -> -10 lead 2, -10 -> -20 lead 3 (same diameter), -20 -> -25 to diameter 36
+    # (3 on the radius over 5 on Z: longitudinal, lead 4); one cut, SF 30
+    call = "CYCLE98(0, 30, -10, 30, -20, 30, -25, 36, 1, 0, 1, 0, 0, 30, 1, 0, 2, 3, 4, 1, 1)"
+    recs = moves_of(tmp_path, program(call))
+    synced = [r for r in recs if isinstance(r, SyncedFeed)]
+    assert [(r.lead, r.lead_axis) for r in synced] == [(2.0, "Z"), (2.0, "Z"), (3.0, "Z"), (4.0, "Z")]
+    turns = [1.0 / 2.0, 10.0 / 2.0, 10.0 / 3.0]  # run-in 1 mm, segment 1, segment 2
+    want = [(30.0 + 360.0 * sum(turns[:k])) % 360.0 for k in range(4)]
+    assert [r.start_angle for r in synced] == pytest.approx(want)
+    assert synced[-1].end == pytest.approx((18.0 - 1.0, 0.0, -25.0))  # radius 18 less TDEP 1
+
+
+# ---------------------------------------------------------------------------------------------
+# CYCLE93
+def test_cycle93_corners_and_groove(tmp_path):
+    # VARI 5: longitudinal, outside, starting point on the right: the groove from SPL -10 towards -Z,
+    # WIDG 8, DIAG 4 on the bar of 30: floor diameter 22 from Z-18 to Z-10. FAL 0.2 / 0.2, IDEP 2.
+    # The grooving tool (width 3, hand R: its control point the corner towards -Z) roughs with its
+    # span inside Z -17.8 .. -10.2 in 3 plunges (ceil((7.6 - 3) / 3) + 1) to radius 15 - 3.8 = 11.2,
+    # each in two infeeds of 1.9; finishing: the tool's +Z corner down the wall at -10 (control
+    # -13), along the floor (radius 11) to the control point at -18, then up.
+    call = "CYCLE93(30, -10, 8, 4, 0, 0, 0, 0, 0, 0, 0, 0.2, 0.2, 2, 0, 5, 1)"
+    res = run(tmp_path, program(call, tool=2), tol=0.01)
+    feeds = [r for r in res.program.records if isinstance(r, Feed) and r.src.line == 4]
+    plunges = [r.end for r in feeds if r.end[0] == pytest.approx(11.2)]
+    assert [p[2] for p in plunges] == pytest.approx([-13.2, -15.5, -17.8])
+    assert [r.end[0] for r in feeds[:2]] == pytest.approx([13.1, 11.2])
+    fin = [(round(r.end[0], 6), round(r.end[2], 6)) for r in feeds[-5:]]
+    assert fin == [(15.0, -13.0), (11.0, -13.0), (11.0, -18.0), (15.0, -18.0), (11.0, -18.0)]
+    # the solid: 22 in the groove, 30 beside it; the walls at -10 and -18
+    for z, d in ((-14.0, 22.0), (-10.5, 22.0), (-17.5, 22.0), (-9.5, 30.0), (-18.5, 30.0)):
+        assert 2 * radii_at(res.part, z).min() == pytest.approx(d, abs=0.03), z
+
+
+def test_cycle93_flank_angles(tmp_path):
+    # VARI 1 (start on the left, the groove towards +Z) from SPL -20, WIDG 4 at the base, DIAG 3,
+    # ANG1 = ANG2 = 30: the base from -20 + 3 tan 30 = -18.268 to -14.268, the top to -12.536
+    t = math.tan(math.radians(30.0))
+    call = "CYCLE93(30, -20, 4, 3, 0, 30, 30, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1)"
+    res = run(tmp_path, program(call, tool=2), tol=0.01)
+    feeds = [r.end for r in res.program.records if isinstance(r, Feed) and r.src.line == 4]
+    # finishing flank 1 with the -Z corner (the control point), base until the +Z corner reaches zb2
+    assert (feeds[-4][0], feeds[-4][2]) == pytest.approx((12.0, -20.0 + 3 * t))
+    assert (feeds[-3][0], feeds[-3][2]) == pytest.approx((12.0, -20.0 + 3 * t + 4.0 - 3.0))
+    # the solid at mid-depth (radius 13.5): the flanks 1.5 tan 30 in from the top edges
+    zs = [-20.0 + 1.5 * t + 0.05, -12.536 - 1.5 * t - 0.05]
+    for z in zs:
+        assert radii_at(res.part, z).min() == pytest.approx(13.5, abs=0.15)
+    assert 2 * radii_at(res.part, -16.27).min() == pytest.approx(24.0, abs=0.03)
+
+
+# ---------------------------------------------------------------------------------------------
+# CYCLE94 / CYCLE96
+SHOULDER = "[[0, 0], [15, 0], [15, -40], [25, -40], [25, -60], [0, -60]]"  # 30 up to a shoulder 50 at Z-40
+
+
+def test_cycle94_form_e_corners(tmp_path):
+    # SPD 30 (over 18 up to 80): R0.6 x 0.3, width 2.5, ramp 15 degrees; _VARI 3 (outside, the
+    # cylinder towards +Z from the face at -40): from (15, -37.5) down to 14.7 at -37.5 - 0.3 / tan 15,
+    # the floor to -39.4, the fillet about (15.3, -39.4) to the face at radius 15.3
+    recs = moves_of(tmp_path, program('CYCLE94(30, -40, "E", 3)', tool=3))
+    cyc = [r for r in recs if r.src.line == 4 and isinstance(r, (Feed, Arc))]
+    pts = [(round(r.end[0], 6), round(r.end[2], 6)) for r in cyc]
+    run15 = 0.3 / math.tan(math.radians(15.0))
+    assert pts[:4] == [(15.0, -37.5), (14.7, round(-37.5 - run15, 6)), (14.7, -39.4), (15.3, -40.0)]
+    arc = cyc[3]
+    assert isinstance(arc, Arc) and arc.clockwise and arc.center == pytest.approx((15.3, 0.0, -39.4))
+
+
+def test_cycle94_form_f_and_the_solid(tmp_path):
+    # form F adds the face relief t2 0.2 at 8 degrees: the fillet meets the face 0.2 into the shoulder
+    # (-40.2), the relief returns to the face at radius 15.3 + 0.2 / tan 8
+    res = run(tmp_path, program('CYCLE94(30, -40, "F", 3)', tool=3), profile=SHOULDER, tol=0.005)
+    cyc = [r for r in res.program.records if r.src.line == 4 and isinstance(r, (Feed, Arc))]
+    assert (cyc[3].end[0], cyc[3].end[2]) == pytest.approx((15.3, -40.2))
+    assert (cyc[4].end[0], cyc[4].end[2]) == pytest.approx((15.3 + 0.2 / math.tan(math.radians(8.0)), -40.0))
+    # the part: the floor at 29.4 between the ramp and the fillet, 30 beyond the undercut
+    assert 2 * radii_at(res.part, -38.9).min() == pytest.approx(29.4, abs=0.02)
+    assert 2 * radii_at(res.part, -36.0).min() == pytest.approx(30.0, abs=0.02)
+
+
+def test_cycle96_form_a_corners_and_the_solid(tmp_path):
+    # DIATH 30: M30 coarse pitch 3.5 -> DIN 76 A: diameter 30 - 5 = 25, length 12, radius 1.6, flank
+    # 30 degrees: from (15, -28) down 2.5 to 12.5 over 2.5 tan 30, the floor to -38.4, the fillet to
+    # the face at radius 14.1
+    res = run(tmp_path, program('CYCLE96(30, -40, "A", 3)', tool=3), profile=SHOULDER, tol=0.005)
+    cyc = [r for r in res.program.records if r.src.line == 4 and isinstance(r, (Feed, Arc))]
+    pts = [(round(r.end[0], 6), round(r.end[2], 6)) for r in cyc]
+    assert pts[:4] == [(15.0, -28.0), (12.5, round(-28.0 - 2.5 * math.tan(math.radians(30.0)), 6)), (12.5, -38.4),
+                       (14.1, -40.0)]
+    assert 2 * radii_at(res.part, -35.0).min() == pytest.approx(25.0, abs=0.02)
+    assert 2 * radii_at(res.part, -27.0).min() == pytest.approx(30.0, abs=0.02)
+
+
+# ---------------------------------------------------------------------------------------------
+# drilling on the lathe
+@pytest.mark.parametrize("pre,plane", [("", "G18"), ("N35 G17\n", "G17")])
+def test_drilling_along_z_on_the_spindle_axis(tmp_path, pre, plane):
+    # CYCLE81 at X0: G0 to RFP + SDIS = Z2, G1 to DP -15, G0 back to RTP 10 (the drill of 8 leaves a
+    # bore of 8 down to the start of its point, -15 + 4 / tan 59)
+    text = f"N10 T4 D1 M6\nN20 G18 G95 S800 M3 F0.1\nN30 G0 X0 Z20\n{pre}N40 CYCLE81(10, 0, 2, -15)\nN50 M30\n"
+    res = run(tmp_path, text, profile=OUTSIDE)
+    cyc = [r for r in res.program.records if r.src.line == 5 - (0 if pre else 1)]
+    assert [(type(r).__name__, r.end) for r in cyc] == [("Rapid", (0.0, 0.0, 2.0)), ("Feed", (0.0, 0.0, -15.0)),
+                                                         ("Rapid", (0.0, 0.0, 10.0))]
+    tip = -15.0 + 4.0 / math.tan(math.radians(59.0))
+    for z, bore in ((tip + 0.5, 4.0), (-1.0, 4.0)):
+        pts = np.concatenate(plane_section(res.part, "z", z))
+        assert np.linalg.norm(pts, axis=1).min() == pytest.approx(bore, abs=0.02)
+    assert len(plane_section(res.part, "z", -16.0)) == 1  # below the point: the bar's outline alone
+
+
+# ---------------------------------------------------------------------------------------------
+# refusals: tests/data/bad/sinumerik/lathe/cycle*.mpf
+LATHE_BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "sinumerik" / "lathe"
+
+
+@pytest.mark.parametrize("prog", sorted(LATHE_BAD.glob("cycle*.mpf")), ids=lambda p: p.stem)
+def test_bad_turning_cycle_stops_at_its_parameter(prog, tmp_path):
+    assert_stops_at_its_line(prog, LATHE_BAD / "setup.toml", tmp_path)
