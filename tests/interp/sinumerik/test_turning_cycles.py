@@ -160,6 +160,24 @@ def test_cycle98_chain_records(tmp_path):
     assert synced[-1].end == pytest.approx((18.0 - 1.0, 0.0, -25.0))  # radius 18 less TDEP 1
 
 
+EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "sinumerik" / "cycle97-m30x2.mpf"
+
+
+@pytest.mark.parametrize("spoil,fails", [(None, set()), (("1.227, 0.05", "1.127, 0.05"), {"M30x2 two-start"}),
+                                          (("29, 30, 5", "29, 120, 5"), {"M30x2 two-start"}),
+                                          (("5, 2, 0, 0, 0", "5, 2.5, 0, 0, 0"), {"relief floor"})])
+def test_example_checks_pass_and_fail_when_spoiled(spoil, fails):
+    """The example's checks (derived in its setup's comments) pass; a thread 0.1 shallower (TDEP),
+    its starts at NSP 120 instead of 30 (phases 120 / 300) or a relief 0.5 deeper each fail."""
+    text = EXAMPLE.read_text()
+    if spoil:
+        assert spoil[0] in text
+        text = text.replace(spoil[0], spoil[1], 1)
+    res = cutsim.simulate(EXAMPLE.name, str(EXAMPLE.with_suffix(".toml")), text=text)
+    failed = {c["name"] for c in res.report["checks"] if not c["passed"]}
+    assert failed == fails
+
+
 # ---------------------------------------------------------------------------------------------
 # CYCLE93
 def test_cycle93_corners_and_groove(tmp_path):
