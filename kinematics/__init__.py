@@ -144,7 +144,7 @@ class _Planner:
             pts = np.vstack([p0, self.phys(rec.tool_end, rec.diameter)])
             travel = np.abs(pts[1] - pts[0])
             axis = "XYZ".index(rec.lead_axis) if rec.lead_axis else int(np.argmax(travel))
-            if self.speed > 0 and rec.lead > 0:
+            if self.speed > 0 and (rec.lead > 0 or rec.lead_change > 0):
                 self.out.cycle_time += 60.0 * revolutions(rec.lead, rec.lead_change, float(travel[axis])) / self.speed
         else:
             pts = np.vstack([p0, p1])

@@ -53,10 +53,14 @@ def varying_spans(lead: float, change: float, travel: float, tol: float) -> list
     within ``tol`` of the true one (the module's rule). ValueError when the lead reaches 0 first or
     when more than MAX_PIECES spans would be needed."""
     sq = lead * lead + 2.0 * change * travel
-    if sq <= 0.0:
+    if -1e-9 * max(lead * lead, 1.0) < sq <= 0.0:  # a run-out that brakes to a standstill at its end
+        sq = 0.0
+    elif sq <= 0.0:
         raise ValueError(f"the lead {lead:g} changing by {change:g} per revolution reaches 0 before the end of the "
                          f"{travel:g} mm thread")
     total = (math.sqrt(sq) - lead) / change
+    if total <= 0.0:
+        raise ValueError(f"the lead {lead:g} changing by {change:g} per revolution does not advance")
     step = math.sqrt(8.0 * tol / abs(change))
     count = max(1, math.ceil(total / step - 1e-9))
     if count > MAX_PIECES:

@@ -93,6 +93,8 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
 
     # -- emission (radius compensation buffers motions) -----------------------------------------
     def emit(self, rec) -> None:
+        if self.machine.lathe.pending is not None:  # a thread chain's last block waits for its DITE run-out
+            turning.before_emit(self, rec)
         for p in (rec.end, getattr(rec, "center", None)) if isinstance(rec, canon.MOTIONS) else ():
             if p is not None and max(abs(c) for c in p) > COORD_LIMIT:
                 i = max(range(3), key=lambda k: abs(p[k]))
@@ -152,6 +154,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
             self.count_block(ln)
             ended = self.block(ln, fr, stack)
         corner.finish(self)  # a chamfer or rounding on the last move (no M30) is an error there
+        turning.finish(self)  # the DITE run-out of a thread chain at the program's end
         if self.comp_buf is not None:
             self.flush_comp(None, last_line)
         self.program.blocks = self.executed
@@ -259,6 +262,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
         blk, src, line = st.block, st.src, st.src.line
         self.unsupported(blk, line)
         corner.comp_change(self, blk.comp)  # a corner where G40/G41/G42 changes: not modelled
+        lathe.nose_plane(self, blk, line)  # a lathe compensates its tool's nose in G18 only
         self.comp_on(blk.comp, src, line)
         blk.moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
         if blk.drills:  # the hole position: G0 in the plane at the level the tool stands on, then the hole

@@ -43,6 +43,8 @@ class Lathe:
     lims: float = 0.0  # LIMS= (rpm), 0: none
     tapped: tuple | None = None  # the last G331/G332/G63: (end point, pitch, direction, end angle)
     g63: bool = False  # G63 in this block
+    pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (turning.finish)
+    chaining: bool = False  # turning.run emits a record that continues the chain
 
 
 def is_lathe(m) -> bool:
@@ -82,11 +84,7 @@ def settings(m, ms, src, words: dict) -> None:
         elif addr in ("DITS", "DITE"):
             if not -1.0 <= v <= RAMP_LIMIT:
                 raise m.error(line, w.col, range_message(addr, v, -1.0, RAMP_LIMIT, "mm"))
-            setattr(lt, addr.lower(), v)
-            if v > 0:
-                ms.warn_once(m, src, "DITS", f"{addr}={v:g} (the thread's run-in / run-out path, where the axis "
-                             "accelerates or brakes): the tool follows the programmed line; the lead inside it is "
-                             "not simulated (measure the thread's lead outside it)")
+            setattr(lt, addr.lower(), v)  # turning.run cuts the run-in / run-out with its lead
         else:  # LIMS
             if not 0.0 < v <= SPEED_LIMIT:
                 raise m.error(line, w.col, range_message("LIMS (the spindle speed limit)", v, 0.0, SPEED_LIMIT, "rpm"))
@@ -181,6 +179,14 @@ def spindle(m, src, direction: int | None, speed: float | None) -> bool:
 
 
 # -- tool nose radius compensation ------------------------------------------------------------------
+def nose_plane(m, blk, line: int) -> None:
+    """G41/G42 on a lathe compensate the nose in the turning plane G18 only (an error at the word)."""
+    if blk.comp in (41, 42) and is_lathe(m) and m.plane != "ZX" and m.comp_buf is None:
+        col = next((c for code, c in blk.gs if code in (41, 42)), 1)
+        raise m.error(line, col, f"G{blk.comp} on a lathe in the plane {m.plane}: tool nose radius compensation works "
+                      "in the turning plane (G18, Z and X)")
+
+
 def nose(m) -> tuple[float, tuple[float, float]] | None:
     """On a lathe: the active tool's nose radius and the shift from the nose centre to its tip
     (the cutting edge position); None on a mill."""

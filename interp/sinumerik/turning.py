@@ -6,6 +6,8 @@ along Z. Entry: ``motion`` from Sinumerik.move, with the block's words already i
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 from .. import canon
 from .lathe import SYNCED, TAPS, THREADS
 from .threading import ThreadParamError, varying_lead
@@ -51,41 +53,52 @@ def emit(m, src, end, lead: float, axis: str, angle: float, change: float = 0.0)
     m.emit(rec)
     m.moved(end)
     i = "XYZ".index(axis)
-    travel = abs(end[i] - start[i])
-    if change:
-        ke = (lead * lead + 2.0 * change * travel) ** 0.5
-        revs = (ke - lead) / change
-    else:
-        revs = travel / lead
-    return (angle + 360.0 * revs) % 360.0
+    return (angle + 360.0 * revolutions(lead, change, abs(end[i] - start[i]))) % 360.0
+
+
+def revolutions(lead: float, change: float, travel: float) -> float:
+    """The spindle's turns over ``travel`` mm from the lead ``lead`` changing by ``change`` per turn."""
+    if not change:
+        return travel / lead
+    return (max(lead * lead + 2.0 * change * travel, 0.0) ** 0.5 - lead) / change
+
+
+def _point(a, b, f: float) -> tuple[float, float, float]:
+    return (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f)
+
+
+def _lead(m, src, words: dict, code: int) -> tuple[str, object] | None:
+    """The block's lead word (address, word): K or I; J and two of them are errors."""
+    leads = [(a, words.pop(a)) for a in ("I", "J", "K") if a in words]
+    if "CR" in words:
+        raise m.error(src.line, words["CR"].col, f"address CR has no meaning in a G{code} block")
+    for a, w in leads:
+        if a == "J":
+            raise m.error(src.line, w.col, f"a lathe has no Y axis: the lead of G{code} is programmed on K (along Z) "
+                          "or I (along X)")
+    if len(leads) > 1:
+        raise m.error(src.line, leads[1][1].col, f"two leads (I and K) in one G{code} block: program the lead on the "
+                      "axis with the longer travel")
+    return leads[0] if leads else None
 
 
 def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int]) -> None:
     """G33/G34/G35 X.. Z.. K../I.. (F.. the lead change of G34/G35)."""
     line, code, lt = src.line, m.motion, m.machine.lathe
-    leads = [(a, words.pop(a)) for a in ("I", "J", "K") if a in words]
-    if "CR" in words:
-        raise m.error(line, words["CR"].col, f"address CR has no meaning in a G{code} block")
-    for a, w in leads:
-        if a == "J":
-            raise m.error(line, w.col, f"a lathe has no Y axis: the lead of G{code} is programmed on K (along Z) or "
-                          "I (along X)")
-    if len(leads) > 1:
-        raise m.error(line, leads[1][1].col, f"two leads (I and K) in one G{code} block: program the lead on the axis "
-                      "with the longer travel")
+    given = _lead(m, src, words, code)
     change_word = words.pop("F", None) if code in (34, 35) else None
     if change_word is not None:
         lt.change = change_word.value * m.machine.unit()
     if not targets:
-        if leads:
-            raise m.error(line, leads[0][1].col, f"the lead {leads[0][0]} of G{code} without an end point (X or Z) "
-                          "cuts nothing")
+        if given:
+            raise m.error(line, given[1].col, f"the lead {given[0]} of G{code} without an end point (X or Z) cuts "
+                          "nothing")
         return
     end = _end(m, targets)
-    first = min(cols.values())
-    if not leads:
-        raise m.error(line, first, f"G{code} needs its lead in the block: K (mm per revolution along Z) or I (along X)")
-    a, w = leads[0]
+    if given is None:
+        raise m.error(line, min(cols.values()), f"G{code} needs its lead in the block: K (mm per revolution along Z) "
+                      "or I (along X)")
+    a, w = given
     axis = "Z" if a == "K" else "X"
     if w.value <= 0:
         raise m.error(line, w.col, f"the lead {a} of G{code} must be greater than 0 (it is written without a sign; "
@@ -97,7 +110,8 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
     if axis == "X" and dz > dx + EPS:
         raise m.error(line, w.col, f"G{code} taper flatter than 45 degrees (Z travel {dz:g} > X travel {dx:g} mm): "
                       "its lead is programmed on K, the axis with the longer travel")
-    if (dz if axis == "Z" else dx) <= EPS:
+    travel = dz if axis == "Z" else dx
+    if travel <= EPS:
         raise m.error(line, w.col, f"G{code} does not move along {axis}, the axis of its lead {a}")
     lead = w.value * _axis_scale(m, src, 2 if axis == "Z" else 0, f"G{code}")
     change = 0.0
@@ -105,15 +119,77 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
         if lt.change is None:
             raise m.error(line, w.col, f"G{code} needs F, the change of lead per revolution (mm/rev²)")
         try:
-            varying_lead(lead, lt.change, dz if axis == "Z" else dx, code == 34)
+            varying_lead(lead, lt.change, travel, code == 34)
         except ThreadParamError as e:
             col = change_word.col if (e.param == "F" and change_word is not None) else w.col
             raise m.error(line, col, f"G{code}: {e}") from None
         change = lt.change if code == 34 else -lt.change
-    chain = lt.chain
-    angle = chain[1] if chain is not None and m.start_point() is chain[0] else lt.sf
-    end_angle = emit(m, src, end, lead, axis, angle, change)
-    lt.chain = (m.start_point(), end_angle)
+    run(m, src, end, lead, axis, travel, change, w.col)
+
+
+def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: int) -> None:
+    """Emit the thread block: a chained one continues at the spindle angle the chain reached (SF acts
+    at the chain's first block only); DITS (G33 starting a chain) is a run-in over which the lead
+    rises linearly in the revolutions from 0 to K, DITE a run-out over which it falls to 0 at the
+    end of the chain's last block (``finish``)."""
+    lt = m.machine.lathe
+    chained = lt.chain is not None and m.start_point() is lt.chain[0]
+    angle = lt.chain[1] if chained else lt.sf
+    ramps = change == 0.0 and (lt.dits > 0 or lt.dite > 0)
+    if not ramps and (lt.dits > 0 or lt.dite > 0):
+        m.machine.warn_once(m, src, "DITS-G34", "DITS/DITE act on G33 blocks: a G34/G35 block starts and ends at "
+                            "its programmed leads")
+    if ramps and m.comp_buf is not None:
+        raise m.error(src.line, col, "DITS/DITE under radius compensation (G41/G42) are not modelled")
+    lt.pending = None if chained else lt.pending  # the run-out moves on to this block
+    lt.chaining = chained
+    try:
+        run_in = lt.dits if ramps and not chained else 0.0
+        if run_in > 0:
+            if run_in >= travel - EPS:
+                raise m.error(src.line, col, f"DITS={run_in:g}: the run-in is not shorter than the thread block's "
+                              f"{travel:g} mm along {axis}")
+            angle = emit(m, src, _point(m.pos, end, run_in / travel), 0.0, axis, angle, lead * lead / (2.0 * run_in))
+            lt.chaining = True
+        angle = emit(m, src, end, lead, axis, angle, change)
+    finally:
+        lt.chaining = False
+    lt.chain = (m.start_point(), angle)
+    if ramps and lt.dite > 0:
+        lst = m.comp_buf if m.comp_buf is not None else m.program.records
+        if lst and isinstance(lst[-1], canon.SyncedFeed) and lst[-1].end is end:
+            lt.pending = (lst[-1], lst, lt.dite)
+
+
+def before_emit(m, rec) -> None:
+    """Sinumerik.emit's hook: a record that does not continue the chain ends it, so the last thread
+    block gets its DITE run-out first (a spindle speed record does not end a chain)."""
+    lt = m.machine.lathe
+    if lt.pending is not None and not lt.chaining and not isinstance(rec, canon.Spindle):
+        finish(m)
+
+
+def finish(m) -> None:
+    """The pending DITE run-out: the chain's last block's record becomes the thread up to DITE
+    before its end and the run-out, over which the lead falls linearly to 0."""
+    lt = m.machine.lathe
+    if lt.pending is None:
+        return
+    rec, lst, dite = lt.pending
+    lt.pending = None
+    k = next((i for i in range(len(lst) - 1, -1, -1) if lst[i] is rec), None)
+    if k is None:  # pragma: no cover - the record stays in its list until the next record is emitted
+        return
+    i = "XYZ".index(rec.lead_axis)
+    travel = abs(rec.end[i] - rec.start[i])
+    if dite >= travel - EPS:
+        raise m.error(rec.src.line, rec.src.col, f"DITE={dite:g}: the run-out is not shorter than the thread block's "
+                      f"{travel:g} mm along {rec.lead_axis}")
+    mid = _point(rec.start, rec.end, 1.0 - dite / travel)
+    head = replace(rec, end=mid)
+    angle = rec.start_angle + 360.0 * (travel - dite) / rec.lead
+    tail = replace(rec, start=mid, start_angle=angle % 360.0, lead_change=-rec.lead * rec.lead / (2.0 * dite))
+    lst[k:k + 1] = [head, tail]
 
 
 def _stays_on_axis(m, src, code: str, targets: dict[int, float], cols: dict[int, int]) -> None:
