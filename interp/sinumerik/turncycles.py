@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from . import grooving
 from .cycle import Cycle
+from .turning import tap_move
 from .threading import CYCLE97_NAMES, CYCLE98_NAMES, plan_cycle97, plan_cycle98, program_moves, ThreadParamError
 
 # parameter lists (the Cycles manual's names, in order; Cycle fills the empty ones with 0 or "")
@@ -62,6 +63,30 @@ def cycle97(cy: Cycle) -> None:
 def cycle98(cy: Cycle) -> None:
     """Chained thread of three segments (threading.plan_cycle98)."""
     _thread(cy, plan_cycle98, CYCLE98_NAMES)
+
+
+def rigid_tap(cy: Cycle, p, tap: tuple[float, float, int], steps: list[float], back: float, out: bool,
+              retract) -> None:
+    """CYCLE84 on a lathe (``tap``: the safety level, the pitch, the hand +1 right): G331 in to each
+    depth of ``steps`` (z) with the spindle following the tap (right-hand: turning as under M3), G332
+    back out on the same helix (back by ``back`` between steps, or out to the safety level with
+    ``out``), the spindle direction restored, then ``retract`` (the drilling cycle's G0 to RTP)."""
+    m, src = cy.m, cy.src
+    safe, lead, hand = tap
+    before = m.spindle_dir
+    angle = 0.0
+    for k, z in enumerate(steps):
+        if k:
+            up = safe if out else min(m.pos[2] + back, safe)
+            tap_move(m, src, (p[0], p[1], up), lead, -hand, (-angle) % 360.0)
+            angle = m.machine.lathe.tapped[3]
+            angle = (-angle) % 360.0
+        tap_move(m, src, (p[0], p[1], z), lead, hand, angle)
+        angle = m.machine.lathe.tapped[3]
+    tap_move(m, src, (p[0], p[1], safe), lead, -hand, (-angle) % 360.0)
+    m.spindle_dir = before
+    m.spindle(src, before, None)
+    retract()
 
 
 def _groove(cy: Cycle, plan_fn) -> None:

@@ -278,6 +278,52 @@ def test_drilling_along_z_on_the_spindle_axis(tmp_path, pre, plane):
     assert len(plane_section(res.part, "z", -16.0)) == 1  # below the point: the bar's outline alone
 
 
+TAP = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = true
+start = [60.0, 0.0, 20.0]
+[stock]
+shape = "revolve"
+profile = [[0, 0], [15, 0], [15, -30], [0, -30]]
+[[tool]]
+number = 1
+kind = "drill"
+diameter = 8.5
+point_angle = 118.0
+length = 60.0
+[[tool]]
+number = 2
+kind = "tap"
+diameter = 10.0
+pitch = 1.5
+length = 25.0
+[simulation]
+tolerance = 0.01
+"""
+
+
+def test_cycle83_and_cycle84_tap_m10_on_the_spindle_axis(tmp_path):
+    # CYCLE83 (deep hole, chip breaking: FDPR 8, DAM 4, back 1 mm) to Z-22, then CYCLE84 M10x1.5
+    # (PIT 1.5) from RFP + SDIS = Z2 to Z-15: G331 in, 17 / 1.5 = 11 1/3 turns, ending at 120 degrees;
+    # G332 out on the same helix with the spindle reversed, starting at -120 = 240 degrees
+    (tmp_path / "setup.toml").write_text(TAP)
+    text = ("N10 T1 D1 M6\nN20 G18 G95 S800 M3 F0.1\nN30 G0 X0 Z20\nN40 CYCLE83(10, 0, 2, -22, , -8, , 4, 0, 0, 1, 0)\n"
+            "N50 T2 D1 M6\nN60 S200 M3\nN70 CYCLE84(10, 0, 2, -15, , 0, 3, , 1.5, 0, 200, 200)\nN80 M30\n")
+    res = cutsim.simulate("tap.mpf", str(tmp_path / "setup.toml"), text=text)
+    drill = [r.end[2] for r in res.program.records if r.src.line == 4 and isinstance(r, Feed)]
+    assert drill == pytest.approx([-8.0, -7.0, -12.0, -11.0, -16.0, -15.0, -19.0, -18.0, -22.0])
+    taps = [r for r in res.program.records if isinstance(r, SyncedFeed)]
+    got = [v for r in taps for v in (r.start[2], r.end[2], r.lead, r.start_angle)]
+    assert got == pytest.approx([2.0, -15.0, 1.5, 0.0, -15.0, 2.0, 1.5, 240.0])
+    spindle = [r.direction for r in res.program.records if r.src.line == 7 and type(r).__name__ == "Spindle"]
+    assert spindle == [1, -1, 1]  # in under M3, out reversed, M3 again
+    got = measure_thread(res.part, -12.0, -4.0, inside=True)
+    assert got["lead"] == pytest.approx(1.5, abs=0.005) and got["hand"] == "right" and got["starts"] == 1
+    assert got["root_diameter"] == pytest.approx(10.0, abs=0.03)  # the tap's major diameter
+
+
 # ---------------------------------------------------------------------------------------------
 # refusals: tests/data/bad/sinumerik/lathe/cycle*.mpf
 LATHE_BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "sinumerik" / "lathe"
