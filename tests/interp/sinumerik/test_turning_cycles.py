@@ -332,3 +332,43 @@ LATHE_BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "sinumerik" /
 @pytest.mark.parametrize("prog", sorted(LATHE_BAD.glob("cycle*.mpf")), ids=lambda p: p.stem)
 def test_bad_turning_cycle_stops_at_its_parameter(prog, tmp_path):
     assert_stops_at_its_line(prog, LATHE_BAD / "setup.toml", tmp_path)
+
+
+# ---------------------------------------------------------------------------------------------
+# CYCLE93 over its range: the groove check (docs/checks.md) passes on the derived numbers and fails
+# on numbers 0.1 off
+def _groove_case(seed: int):
+    import random
+
+    rng = random.Random(seed)
+    inside = rng.random() < 0.4
+    right = rng.random() < 0.5
+    widg = round(rng.uniform(3.2, 9.0), 2)  # at least the tool's 3 (FAL2 0)
+    diag = round(rng.uniform(0.8, 3.5 if not inside else 2.5), 2)
+    spl = round(rng.uniform(-20.0, -12.0), 2) if right else round(rng.uniform(-26.0, -18.0), 2)
+    idep = rng.choice([0.0, 0.7, 1.5])
+    vari = (7 if right else 3) if inside else (5 if right else 1)
+    spd = 16.376 if inside else 30.0
+    return inside, right, widg, diag, spl, idep, vari, spd
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_cycle93_grooves_over_the_range(tmp_path, seed):
+    from cutsim.reports.checks import evaluate
+    from cutsim.testing import make_check_spec
+
+    inside, right, widg, diag, spl, idep, vari, spd = _groove_case(seed)
+    call = f"CYCLE93({spd:g}, {spl:g}, {widg:g}, {diag:g}, 0, 0, 0, 0, 0, 0, 0, 0, 0, {idep:g}, 0, {vari}, 1)"
+    start = "N30 G0 X12 Z5\n" if inside else "N30 G0 X40 Z5\n"
+    text = f"N10 T2 D1 M6\nN20 G18 G95 S300 M3 F0.1\n{start}N40 {call}\nN50 M30\n"
+    res = run(tmp_path, text, inside=inside, tol=0.005)
+    # hand-derived: the groove spans SPL .. SPL -/+ WIDG, its floor SPD -/+ 2 DIAG
+    lo, hi = (spl - widg, spl) if right else (spl, spl + widg)
+    floor = spd + 2 * diag if inside else spd - 2 * diag
+    good = dict(at=(lo + hi) / 2, side="inside" if inside else "outside", width=widg, diameter=floor,
+                center=(lo + hi) / 2, reach=4.0, tolerance=0.03)
+    ok = evaluate(make_check_spec(res, good, "groove"), res)
+    assert ok["passed"], ok
+    for key, off in (("width", 0.1), ("diameter", -0.1 if not inside else 0.1), ("center", 0.1)):
+        bad = evaluate(make_check_spec(res, {**good, key: good[key] + off}, "groove"), res)
+        assert not bad["passed"], (key, bad)
