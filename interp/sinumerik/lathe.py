@@ -126,11 +126,6 @@ def x_words(m, ms, words: dict, arc: bool) -> None:
         words["I"] = replace(words["I"], value=words["I"].value * 0.5)
 
 
-def x_value(ms, radius: float) -> float:
-    """The program's X value of a radius (a diameter under DIAMON/DIAM90)."""
-    return radius / x_factor(ms, True)
-
-
 # -- the spindle: G96 / G97 / LIMS ------------------------------------------------------------------
 def spindle_mode(m, ms, code: int, src) -> None:
     """G96/G961 switch the constant cutting speed on (the next S is in m/min), G97/G971 off: the speed

@@ -158,8 +158,6 @@ class Machine:
         unit, an extra axis as tracked (degrees for a rotary axis); None for an axis the machine
         does not have. (For $AA_IW[..], AX[..] and AXIS variables.)"""
         name = name.upper()
-        if name == "X":
-            return lathe.x_value(self, self.to_wcs(m.pos)[0] / self.unit())
         if name in AXES:
             return self.to_wcs(m.pos)[AXES.index(name)] / self.unit()
         if name in self.cfg.axes:

@@ -69,7 +69,7 @@ def _point(a, b, f: float) -> tuple[float, float, float]:
 
 def _lead(m, src, words: dict, code: int) -> tuple[str, object] | None:
     """The block's lead word (address, word): K or I; J and two of them are errors."""
-    leads = [(a, words.pop(a)) for a in ("I", "J", "K") if a in words]
+    leads = sorted(((a, words.pop(a)) for a in ("I", "J", "K") if a in words), key=lambda aw: aw[1].col)
     if "CR" in words:
         raise m.error(src.line, words["CR"].col, f"address CR has no meaning in a G{code} block")
     for a, w in leads:
