@@ -33,7 +33,7 @@ DIN509_RAMP, DIN509_FACE = 15.0, 8.0
 # DIN 76-1 thread undercuts, forms A (external) and C (internal), normal length, by pitch (as
 # HEIDENHAIN's MANUALplus 620 manual, 10.2 "Undercut parameters", reproduces them):
 # pitch -> (external: diameter below d, length, radius; internal: diameter above D, length, radius);
-# the flank on the thread's side 30 degrees
+# the flank on the thread's side 30 degrees (to the axis, as DIN 509's 15)
 DIN76 = {0.5: (0.8, 1.75, 0.2, 0.3, 2.7, 0.2), 0.7: (1.1, 2.45, 0.4, 0.3, 3.8, 0.4),
          0.8: (1.3, 2.8, 0.4, 0.3, 4.2, 0.4), 1.0: (1.6, 3.5, 0.6, 0.5, 5.2, 0.6),
          1.25: (2.0, 4.4, 0.6, 0.5, 6.7, 0.6), 1.5: (2.3, 5.2, 0.8, 0.5, 7.8, 0.8),
@@ -362,6 +362,6 @@ def plan_cycle96(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
         R = (diath - 1.082532 * pitch) / 2.0
         t1 = (diath + dd) / 2.0 - R
     p = _Path()
-    _undercut(p, tool, outside, s, R, _num(v, "SPL"), t1, length, r, DIN76_FLANK, False, 0.0,
+    _undercut(p, tool, outside, s, R, _num(v, "SPL"), t1, length, r, DIN76_FLANK, True, 0.0,
               _unsigned(v, "_VRT") or DEFAULT_CLEARANCE)
     return p.moves

@@ -37,7 +37,7 @@ SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"
 
 # the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
 drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec, DRILLING)
-# the turning cycles (CYCLE93, 94, 96, 97, 98) too, run in G18 on a lathe (turncycles.register)
+# the turning cycles (CYCLE93..98) too, run in G18 on a lathe (turncycles.register)
 turncycles.register(SPECS, RUNNERS, CYCLES, _spec, TURNING)
 
 # keywords that are never a subprogram file, even with a file of that name beside the program
@@ -47,8 +47,7 @@ NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1",
            "WORKPIECE"}
 
 # Siemens cycles the simulator knows but does not run yet: the error names what they do
-NOT_YET = {"CYCLE95": "stock removal along a contour, a turning cycle",
-           "CYCLE99": "ShopTurn thread turning; CYCLE97 cuts the same threads"}
+NOT_YET = {"CYCLE99": "ShopTurn thread turning; CYCLE97 cuts the same threads"}
 
 # path words the simulator does not implement: an error naming them, not "unknown variable"
 UNSUPPORTED_NAMES = {"ANG": "a contour angle", "AR": "an arc's opening angle",

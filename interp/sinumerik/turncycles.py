@@ -13,7 +13,9 @@ position in (interp/sinumerik/lathe.py). A planner's ``ThreadParamError`` /
 """
 from __future__ import annotations
 
-from . import grooving
+from ..canon import Arc, MOTIONS
+from . import grooving, stockremoval
+from .contour import contour_lines, contour_records
 from .cycle import Cycle
 from .turning import tap_move
 from .threading import CYCLE97_NAMES, CYCLE98_NAMES, plan_cycle97, plan_cycle98, program_moves, ThreadParamError
@@ -22,12 +24,13 @@ from .threading import CYCLE97_NAMES, CYCLE98_NAMES, plan_cycle97, plan_cycle98,
 NAMES = {
     "CYCLE93": "SPD SPL WIDG DIAG STA1 ANG1 ANG2 RCO1 RCO2 RCI1 RCI2 FAL1 FAL2 IDEP DTB VARI _VRT _DN",
     "CYCLE94": "SPD SPL FORM _VARI _VRT",
+    "CYCLE95": "NPP MID FALZ FALX FAL FF1 FF2 FF3 VARI DT DAM _VRT",
     "CYCLE96": "DIATH SPL FORM _VARI _VRT",
     "CYCLE97": " ".join(CYCLE97_NAMES),
     "CYCLE98": " ".join(CYCLE98_NAMES),
 }
-REQUIRED = {"CYCLE93": "SPD SPL WIDG DIAG", "CYCLE94": "SPD SPL FORM", "CYCLE96": "DIATH SPL FORM"}
-STRINGS = {"CYCLE94": "FORM", "CYCLE96": "FORM"}
+REQUIRED = {"CYCLE95": "NPP VARI", "CYCLE93": "SPD SPL WIDG DIAG", "CYCLE94": "SPD SPL FORM", "CYCLE96": "DIATH SPL FORM"}
+STRINGS = {"CYCLE94": "FORM", "CYCLE95": "NPP", "CYCLE96": "FORM"}
 
 
 def _fail(cy: Cycle, e: ValueError):
@@ -90,8 +93,8 @@ def rigid_tap(cy: Cycle, p, tap: tuple[float, float, int], steps: list[float], b
 
 
 def _groove(cy: Cycle, plan_fn) -> None:
-    """A grooving planner's moves: ("G0" | "G1", (x, z)) and ("ARC", (x, z), (cx, cz), clockwise),
-    x a diameter; the feed in force cuts them."""
+    """A grooving planner's moves: ("G0" | "G1", (x, z)), ("ARC", (x, z), (cx, cz), clockwise), x a
+    diameter, and ("F", feed); the feed in force cuts them unless the cycle gives its own."""
     m = cy.m
     tool = grooving.ToolEdge.of(m)
     try:
@@ -101,6 +104,9 @@ def _groove(cy: Cycle, plan_fn) -> None:
     k = 0.5  # the planner's diameters -> the radius the lathe mode keeps X as
     y = _y(cy)
     for mv in moves:
+        if mv[0] == "F":  # the cycle's feed from here on (0: the feed in force)
+            m.feed = mv[1] if mv[1] > 0 else cy.saved_feed
+            continue
         x, z = mv[1]
         p = (x * k, y, z)
         if mv[0] == "G0":
@@ -127,7 +133,31 @@ def cycle96(cy: Cycle) -> None:
     _groove(cy, grooving.plan_cycle96)
 
 
-RUNNERS = {"CYCLE93": cycle93, "CYCLE94": cycle94, "CYCLE96": cycle96, "CYCLE97": cycle97, "CYCLE98": cycle98}
+def _contour95(cy: Cycle):
+    """CYCLE95's contour NPP (a subprogram or "START:END" labels) in G18: its start (radius, z) and
+    its elements ("L", p, q) / ("A", p, q, centre, clockwise); the blocks run in a sandbox."""
+    unit, lines = contour_lines(cy.m, str(cy["NPP"]), cy, "NPP")
+    recs = [r for r in contour_records(cy.m, unit, lines, cy, "ZX") if isinstance(r, MOTIONS)]
+    if len(recs) < 2:
+        raise cy.m.error(cy.line, cy.cols["NPP"], f"CYCLE95: the contour {cy['NPP']} needs a start point and "
+                         "at least one element")
+    start = (recs[0].end[0], recs[0].end[2])
+    elems = []
+    for r in recs[1:]:
+        p, q = (r.start[0], r.start[2]), (r.end[0], r.end[2])
+        if isinstance(r, Arc):
+            elems.append(("A", p, q, (r.center[0], r.center[2]), r.clockwise))
+        elif abs(q[0] - p[0]) + abs(q[1] - p[1]) > 1e-9:
+            elems.append(("L", p, q))
+    return start, elems
+
+
+def cycle95(cy: Cycle) -> None:
+    start, elems = _contour95(cy)
+    _groove(cy, lambda v, tool, limit: stockremoval.plan_cycle95(v, start, elems, tool, limit))
+
+
+RUNNERS = {"CYCLE93": cycle93, "CYCLE94": cycle94, "CYCLE95": cycle95, "CYCLE96": cycle96, "CYCLE97": cycle97, "CYCLE98": cycle98}
 
 
 def register(specs: dict, runners: dict, cycles: set, spec, turning: set) -> None:

@@ -249,12 +249,12 @@ def test_cycle94_form_f_and_the_solid(tmp_path):
 
 def test_cycle96_form_a_corners_and_the_solid(tmp_path):
     # DIATH 30: M30 coarse pitch 3.5 -> DIN 76 A: diameter 30 - 5 = 25, length 12, radius 1.6, flank
-    # 30 degrees: from (15, -28) down 2.5 to 12.5 over 2.5 tan 30, the floor to -38.4, the fillet to
-    # the face at radius 14.1
+    # 30 degrees to the axis: from (15, -28) down 2.5 to 12.5 over 2.5 / tan 30, the floor to -38.4,
+    # the fillet to the face at radius 14.1
     res = run(tmp_path, program('CYCLE96(30, -40, "A", 3)', tool=3), profile=SHOULDER, tol=0.005)
     cyc = [r for r in res.program.records if r.src.line == 4 and isinstance(r, (Feed, Arc))]
     pts = [(round(r.end[0], 6), round(r.end[2], 6)) for r in cyc]
-    assert pts[:4] == [(15.0, -28.0), (12.5, round(-28.0 - 2.5 * math.tan(math.radians(30.0)), 6)), (12.5, -38.4),
+    assert pts[:4] == [(15.0, -28.0), (12.5, round(-28.0 - 2.5 / math.tan(math.radians(30.0)), 6)), (12.5, -38.4),
                        (14.1, -40.0)]
     assert 2 * radii_at(res.part, -35.0).min() == pytest.approx(25.0, abs=0.02)
     assert 2 * radii_at(res.part, -27.0).min() == pytest.approx(30.0, abs=0.02)
@@ -372,3 +372,75 @@ def test_cycle93_grooves_over_the_range(tmp_path, seed):
     for key, off in (("width", 0.1), ("diameter", -0.1 if not inside else 0.1), ("center", 0.1)):
         bad = evaluate(make_check_spec(res, {**good, key: good[key] + off}, "groove"), res)
         assert not bad["passed"], (key, bad)
+
+
+# ---------------------------------------------------------------------------------------------
+# CYCLE95 (longitudinal outside: VARI 1, 5, 9)
+C95_SETUP = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = true
+start = [60.0, 0.0, 20.0]
+[stock]
+shape = "revolve"
+profile = [[0, 0], [15, 0], [15, -40], [0, -40]]
+[[tool]]
+number = 1
+kind = "turning"
+insert = "V"
+size = 9.525
+tip_radius = 0.0
+approach = 93.0
+hand = "R"
+[simulation]
+tolerance = 0.005
+"""
+C95 = """N10 G18 G90 G95 DIAMON
+N20 T1 D1
+N30 S500 M3 F0.2
+N40 G0 X40 Z5
+N50 CYCLE95("KONT_A:KONT_E", 1.5, 0.1, 0.2, 0, 0.25, 0.1, 0.1, {vari}, 0, 0, 1)
+N60 G0 X60 Z20
+N70 M30
+KONT_A: G1 X16 Z0
+X20 Z-2
+Z-12
+G2 X26 Z-15 CR=3
+G1 Z-22
+X30
+KONT_E: Z-30
+"""
+
+
+def _c95(tmp_path, vari):
+    (tmp_path / "setup.toml").write_text(C95_SETUP)
+    return cutsim.simulate("c95.mpf", str(tmp_path / "setup.toml"), text=C95.format(vari=vari))
+
+
+def test_cycle95_roughing_levels_and_the_finished_part(tmp_path):
+    # the material between the contour and its largest radius 15, from its start Z0: roughed from
+    # radius 15 down to 8 + FALX 0.2 in ceil(6.8 / 1.5) = 5 equal cuts of 1.36, each along Z to the
+    # contour moved by FALX 0.2 / FALZ 0.1, then up along it to the level before
+    res = _c95(tmp_path, 9)
+    rough = [r for r in res.program.records if r.src.line == 5 and isinstance(r, Feed) and r.feed == 0.25]
+    levels = sorted({round(r.start[0], 6) for r in rough if r.start[0] == r.end[0] and r.start[2] == 1.1},
+                    reverse=True)
+    assert levels == pytest.approx([15 - 1.36 * k for k in range(1, 6)])
+    # the level 13.64 meets the shoulder (Z-22 + 0.1); the level 12.28 the fillet (centre (13.2, -11.9)
+    # moved by the allowances): z = -11.9 - sqrt(9 - 0.92^2)
+    ends = {round(r.start[0], 2): r.end[2] for r in rough if r.start[2] == 1.1 and r.start[0] == r.end[0]}
+    assert ends[13.64] == pytest.approx(-21.9) and ends[12.28] == pytest.approx(-11.9 - math.sqrt(9 - 0.92 ** 2))
+    # finishing on the contour at F0.1; the part: 18 at Z-1 (the chamfer), 20, the fillet, 26, 30
+    fin = [r for r in res.program.records if r.src.line == 5 and getattr(r, "feed", None) == 0.1]
+    assert (fin[0].end[0], fin[0].end[2]) == (8.0, 0.0) and isinstance(fin[3], Arc)
+    for z, d in ((-1.0, 18.0), (-7.0, 20.0), (-13.5, 2 * (13 - math.sqrt(9 - 1.5 ** 2))), (-18.0, 26.0),
+                 (-26.0, 30.0), (-35.0, 30.0)):
+        assert 2 * radii_at(res.part, z).min() == pytest.approx(d, abs=0.02), z
+
+
+def test_cycle95_roughing_only_leaves_the_allowances(tmp_path):
+    res = _c95(tmp_path, 1)
+    assert not [r for r in res.program.records if getattr(r, "feed", None) == 0.1]
+    for z, d in ((-7.0, 20.4), (-18.0, 26.4)):  # + 2 FALX
+        assert 2 * radii_at(res.part, z).min() == pytest.approx(d, abs=0.02), z
