@@ -444,3 +444,26 @@ def test_cycle95_roughing_only_leaves_the_allowances(tmp_path):
     assert not [r for r in res.program.records if getattr(r, "feed", None) == 0.1]
     for z, d in ((-7.0, 20.4), (-18.0, 26.4)):  # + 2 FALX
         assert 2 * radii_at(res.part, z).min() == pytest.approx(d, abs=0.02), z
+
+
+def test_cycle98_cuts_each_segment_at_its_lead(tmp_path):
+    # a chain on the bar of 30: Z0 -> -12 at lead 2, -12 -> -24 at lead 3, -24 -> -28 at lead 3; APP 2
+    # in the air, ROP 3 off the bar's end at -30; TDEP 1: root 28 all along
+    call = "CYCLE98(0, 30, -12, 30, -24, 30, -28, 30, 2, 3, 1, 0, 0, 0, 2, 0, 2, 3, 3, 1, 1)"
+    res = run(tmp_path, program(call))
+    first = measure_thread(res.part, -10.0, -3.0)
+    second = measure_thread(res.part, -22.0, -15.0)
+    assert first["lead"] == pytest.approx(2.0, abs=0.005) and second["lead"] == pytest.approx(3.0, abs=0.005)
+    for got in (first, second):
+        assert got["hand"] == "right" and 28.0 - 0.045 <= got["root_diameter"] <= 28.005
+
+
+def test_contour_cycles_warn_an_uncompensated_nose(tmp_path):
+    text = C95.format(vari=5)
+    (tmp_path / "setup.toml").write_text(C95_SETUP.replace("tip_radius = 0.0", "tip_radius = 0.4"))
+    from cutsim import interp_config, load_setup
+    from cutsim.interp import interpret
+
+    s = load_setup(str(tmp_path / "setup.toml"))
+    prog = interpret("c95.mpf", text, interp_config(s, s.machine.start))
+    assert any("nose radius 0.4 is not compensated" in msg and src.line == 5 for src, msg in prog.warnings)
