@@ -172,10 +172,6 @@ def _cycle93_shape(v: dict):
         if a >= ANGLE_MAX:
             raise GrooveParamError(n, f"{n} must be from 0 to below {ANGLE_MAX:g} degrees (got {a:g})")
         angs.append(math.tan(math.radians(a)))
-    for n in ("RCO1", "RCO2", "RCI1", "RCI2"):
-        if abs(_num(v, n)) > EPS:
-            raise GrooveParamError(n, f"{n}: a rounding or chamfer at the groove's edges is not simulated yet "
-                                      "(give 0)")
     fal1, fal2, idep = _unsigned(v, "FAL1"), _unsigned(v, "FAL2"), _unsigned(v, "IDEP")
     _unsigned(v, "DTB")
     vari = _num(v, "VARI")
@@ -203,10 +199,81 @@ def _cycle93_shape(v: dict):
     return outside, s, d, r0, rb, spl, zb1, zb2, z2, fal1, fal2, idep, clear, angs, widg, diag
 
 
+def _corner(prev, here, nxt, value: float, chf: bool, name: str):
+    """A rounding (value > 0, radius) or chamfer (value < 0; CHF: its length, else CHR: its legs)
+    at ``here`` between the lines from ``prev`` and to ``nxt`` (points (r, z)): (A, B, element
+    from A to B or None) with A on the incoming line, B on the outgoing one."""
+    if abs(value) <= EPS:
+        return here, here, None
+    a = (prev[0] - here[0], prev[1] - here[1])
+    b = (nxt[0] - here[0], nxt[1] - here[1])
+    la, lb = math.hypot(*a), math.hypot(*b)
+    a, b = (a[0] / la, a[1] / la), (b[0] / lb, b[1] / lb)
+    theta = math.acos(max(-1.0, min(1.0, a[0] * b[0] + a[1] * b[1])))
+    if value > 0:
+        t = value / math.tan(theta / 2)
+    else:
+        t = -value / (2 * math.sin(theta / 2)) if chf else -value
+    if t > min(la, lb) / 2.0 + EPS:  # each flank and the base are shared by two corners
+        raise GrooveParamError(name, f"{name} {value:g} does not fit on the groove's edges")
+    A = (here[0] + a[0] * t, here[1] + a[1] * t)
+    B = (here[0] + b[0] * t, here[1] + b[1] * t)
+    if value < 0:
+        return A, B, ("L", A, B)
+    bis = (a[0] + b[0], a[1] + b[1])
+    lbis = math.hypot(*bis)
+    dist = value / math.sin(theta / 2)
+    c = (here[0] + bis[0] / lbis * dist, here[1] + bis[1] / lbis * dist)
+    u, w = (A[1] - c[1], A[0] - c[0]), (B[1] - c[1], B[0] - c[0])  # (z, x): G18 seen from +Y
+    return A, B, ("A", A, B, c, u[0] * w[1] - u[1] * w[0] < 0)
+
+
+def _groove_contour(v, s, d, r0, rb, z1, zb1, zb2, z2, clear):
+    """The groove's finished contour in (r, z) from the surface before edge 1 to the surface after
+    edge 2, its four corners rounded or chamfered (RCO1 edge 1, RCI1 base 1, RCI2 base 2, RCO2
+    edge 2): the elements of side 1 (to the end of the base) and of side 2 (reversed)."""
+    chf = int(_num(v, "VARI")) // 10 == 0
+    pts = [(r0, z1 - s * (clear + abs(_num(v, "RCO1")) * 2)), (r0, z1), (rb, zb1), (rb, zb2), (r0, z2),
+           (r0, z2 + s * (clear + abs(_num(v, "RCO2")) * 2))]
+    corners = [_corner(pts[i - 1], pts[i], pts[i + 1], _num(v, n), chf, n)
+               for i, n in zip(range(1, 5), ("RCO1", "RCI1", "RCI2", "RCO2"))]
+    elems = []
+    for i, (A, B, el) in enumerate(corners):
+        start = pts[0] if i == 0 else corners[i - 1][1]
+        if math.hypot(A[0] - start[0], A[1] - start[1]) > EPS:
+            elems.append(("L", start, A))
+        if el is not None:
+            elems.append(el)
+    elems.append(("L", corners[3][1], pts[5]))
+    return elems, corners
+
+
+def _depth_at(elems, z: float, r0: float, d: float) -> float:
+    """The contour's depth (along d, from r0) at z: the shallowest of the elements there."""
+    best = None
+    for e in elems:
+        p, q = e[1], e[2]
+        lo, hi = min(p[1], q[1]), max(p[1], q[1])
+        if not lo - EPS <= z <= hi + EPS:
+            continue
+        if e[0] == "L":
+            rs = [p[0], q[0]] if abs(q[1] - p[1]) < EPS else [p[0] + (q[0] - p[0]) * (z - p[1]) / (q[1] - p[1])]
+        else:
+            c = e[3]
+            rad = math.hypot(p[0] - c[0], p[1] - c[1])
+            h = math.sqrt(max(rad * rad - (z - c[1]) ** 2, 0.0))
+            rs = [rr for rr in (c[0] + h, c[0] - h) if min(p[0], q[0]) - EPS <= rr <= max(p[0], q[0]) + EPS]
+        for rr in rs:
+            dep = d * (rr - r0)
+            best = dep if best is None else min(best, dep)
+    return 0.0 if best is None else max(best, 0.0)
+
+
 def plan_cycle93(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
     """Grooving: plunges across the groove, each in IDEP steps (backing off CHIP_BREAK after each),
-    to the base less FAL1 and short of the flanks by FAL2; then the finishing cut down flank 1 and
-    along the base, and down flank 2. The tool is a grooving tool of the cycle's side."""
+    to the contour less FAL1 below and FAL2 beside; then the finishing cut down side 1 (edge,
+    flank, base) with the tool's starting-side corner and down side 2 with the other corner. The
+    tool is a grooving tool of the cycle's side."""
     (outside, s, d, r0, rb, z1, zb1, zb2, z2, fal1, fal2, idep, clear, tans, widg,
      diag) = _cycle93_shape(v)
     w = tool.width
@@ -219,36 +286,27 @@ def plan_cycle93(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
     if widg - 2.0 * fal2 < w - EPS:
         raise GrooveParamError("WIDG", f"the groove's base WIDG {widg:g} less the allowances FAL2 is narrower "
                                        f"than the grooving tool ({w:g} wide)")
+    elems, corners = _groove_contour(v, s, d, r0, rb, z1, zb1, zb2, z2, clear)
     lo_z, hi_z = sorted((z1, z2))
     k = tool.k
 
-    def ctl(z_low):  # the control point's z for the tool covering [z_low, z_low + w]
-        return z_low + k * w
-
-    def depth_at(z):  # the depth the roughing may reach at z (allowances FAL1 below, FAL2 beside)
-        u = s * (z - z1) - fal2  # from flank 1's top, along the groove
-        u2 = s * (z2 - z) - fal2
-        lim = diag - fal1
-        for uu, t in ((u, tans[0]), (u2, tans[1])):
-            if uu < -EPS:
-                return 0.0
-            if t > EPS:
-                lim = min(lim, uu / t)
-        return max(lim, 0.0)
+    def allowed(z):  # the roughing's depth at z: FAL2 beside, FAL1 below the contour (the window
+        h = max(fal2 - 1e-6, 0.0)  # open: a vertical wall at its edge does not count)
+        return max(min(_depth_at(elems, zz, r0, d) for zz in (z - h, z, z + h)) - fal1, 0.0)
 
     span_lo, span_hi = lo_z + fal2, hi_z - fal2
     n = max(1, math.ceil((span_hi - span_lo - w) / w - 1e-9) + 1)
     steps = max(1, math.ceil((diag - fal1) / idep - 1e-9)) if idep > EPS else 1
-    _budget(n * (2 * steps + 3) + 12, max_moves, f"{n} plunges of {steps} infeeds (IDEP {idep:g})", "IDEP")
+    _budget(n * (2 * steps + 3) + 24, max_moves, f"{n} plunges of {steps} infeeds (IDEP {idep:g})", "IDEP")
     p = _Path()
     clear_r = r0 - d * clear
     starts = [span_lo + (span_hi - span_lo - w) * j / (n - 1) if n > 1 else span_lo for j in range(n)]
     if s < 0:
         starts.reverse()  # from the starting point's side across
-    _enter(p, tool, outside, clear_r, ctl(starts[0]))
+    _enter(p, tool, outside, clear_r, starts[0] + k * w)
     for zl in starts:
-        dep = min(depth_at(zl), depth_at(zl + w))
-        c = ctl(zl)
+        dep = min(allowed(zl + 1e-6), allowed(zl + w - 1e-6))
+        c = zl + k * w
         p.g0(clear_r, c)
         if dep <= EPS:
             continue
@@ -261,20 +319,67 @@ def plan_cycle93(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
                 p.g0(reach - d * CHIP_BREAK, c)
                 p.g0(reach, c)
         p.g0(clear_r, c)
-    # finishing: flank 1 and the base with the start-side corner, then flank 2 with the other
-    near = (lambda z: z + k * w) if s > 0 else (lambda z: z - (1.0 - k) * w)
-    far = (lambda z: z - (1.0 - k) * w) if s > 0 else (lambda z: z + k * w)
-    p.g0(clear_r, near(z1))
-    p.g1(r0, near(z1))
-    p.g1(rb, near(zb1))
-    p.g1(rb, far(zb2))
-    p.g0(clear_r, far(zb2))
-    p.g0(clear_r, far(z2))
-    p.g1(r0, far(z2))
-    p.g1(rb, far(zb2))
-    p.g0(clear_r, far(zb2))
+    _finish93(p, elems, corners, s, w, k, clear_r)
     _leave(p, tool, outside, clear_r)
     return p.moves
+
+
+def _finish93(p: _Path, elems, corners, s: float, w: float, k: float, clear_r: float) -> None:
+    """Side 1 with the tool's starting-side corner from edge 1 along the base until its other corner
+    reaches the base's end (the start of RCI2); side 2 with the other corner from edge 2 back down to
+    that end."""
+    near = k * w if s > 0 else -(1.0 - k) * w
+    far = -(1.0 - k) * w if s > 0 else k * w
+    base_end = corners[2][0]  # the base's end on side 2 (A of RCI2)
+    stop = base_end[1] - s * w  # the near corner's z when the far corner reaches it
+    side1 = _upto(elems, base_end)
+    first = corners[0][0]  # the edge 1 point where the cut enters (A of RCO1)
+    p.g0(clear_r, first[1] + near)
+    p.g1(first[0], first[1] + near)
+    _run(p, [e for e in side1 if s * e[1][1] >= s * first[1] - EPS], near, base_end, stop)
+    p.g0(clear_r, p.moves[-1][1][1])
+    last = corners[3][1]  # the edge 2 point (B of RCO2)
+    p.g0(clear_r, last[1] + far)
+    p.g1(last[0], last[1] + far)
+    back = [_reverse(e) for e in reversed(_from(elems, base_end))]
+    back = [e for e in back if s * e[1][1] <= s * last[1] + EPS]
+    _run(p, back, far, None, None)
+    p.g0(clear_r, p.moves[-1][1][1])
+
+
+def _upto(elems, point):
+    out = []
+    for e in elems:
+        out.append(e)
+        if e[2] == point:
+            break
+    return out
+
+
+def _from(elems, point):
+    for i, e in enumerate(elems):
+        if e[1] == point:
+            return elems[i:]
+    return []
+
+
+def _reverse(e):
+    return ("L", e[2], e[1]) if e[0] == "L" else ("A", e[2], e[1], e[3], not e[4])
+
+
+def _run(p: _Path, elems, off: float, base_end, stop) -> None:
+    """The elements with the tool's control point ``off`` along z from the contour; on the base
+    (the element ending at ``base_end``) only as far as ``stop`` (the near corner's limit)."""
+    for e in elems:
+        q = e[2]
+        if base_end is not None and q == base_end:
+            q = (q[0], stop)
+            if (q[1] - e[1][1]) * (base_end[1] - e[1][1]) <= EPS:
+                continue
+        if e[0] == "L":
+            p.g1(q[0], q[1] + off)
+        else:
+            p.moves.append(("ARC", (2.0 * q[0], q[1] + off), (2.0 * e[3][0], e[3][1] + off), e[4]))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -467,3 +467,24 @@ def test_contour_cycles_warn_an_uncompensated_nose(tmp_path):
     s = load_setup(str(tmp_path / "setup.toml"))
     prog = interpret("c95.mpf", text, interp_config(s, s.machine.start))
     assert any("nose radius 0.4 is not compensated" in msg and src.line == 5 for src, msg in prog.warnings)
+
+
+def test_cycle93_chamfer_and_roundings(tmp_path):
+    # VARI 5 (right: the groove Z-10 .. -18, floor 22) with RCO1 -1 (a chamfer of length 1, CHF: legs
+    # 1 / (2 sin 45) = 0.7071), RCI1 0.5 and RCI2 0.5 (fillets at the base), RCO2 0.8 (a rounding)
+    call = "CYCLE93(30, -10, 8, 4, 0, 0, 0, -1, 0.8, 0.5, 0.5, 0, 0, 0, 0, 5, 1)"
+    res = run(tmp_path, program(call, tool=2), tol=0.005)
+    leg = 1.0 / (2 * math.sin(math.radians(45.0)))
+    arcs = [r for r in res.program.records if isinstance(r, Arc) and r.src.line == 4]
+    # the tool's +Z corner (control point 3 to its -Z side) traces side 1: the fillet RCI1 about
+    # (11.5, -10.5) -> the control point's centre at -13.5; the far corner (the control point
+    # itself) traces side 2 from the rounding RCO2 about (14.2, -18.8) and RCI2 about (11.5, -17.5)
+    centres = sorted((round(a.center[0], 6), round(a.center[2], 6)) for a in arcs)
+    assert centres == [(11.5, -17.5), (11.5, -13.5), (14.2, -18.8)]
+    chamfer = [r for r in res.program.records if isinstance(r, Feed) and r.src.line == 4
+               and r.start[0] == pytest.approx(15.0) and r.end[0] == pytest.approx(15.0 - leg)]
+    assert len(chamfer) == 1 and chamfer[0].end[2] == pytest.approx(-10.0 - 3.0)
+    # the part, on each feature
+    for z, r in ((-9.6, 15.0 - (leg - 0.4)), (-18.4, 14.2 + math.sqrt(0.8 ** 2 - 0.4 ** 2)),
+                 (-10.2, 11.5 - math.sqrt(0.25 - 0.3 ** 2)), (-14.0, 11.0), (-17.8, 11.5 - math.sqrt(0.25 - 0.3 ** 2))):
+        assert radii_at(res.part, z).min() == pytest.approx(r, abs=0.01), z
