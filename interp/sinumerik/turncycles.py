@@ -1,7 +1,8 @@
 """The Sinumerik turning cycles in the interpreter: CYCLE97 and CYCLE98 (threads, planned by
 ``threading``), CYCLE93 (grooving), CYCLE94 (undercut DIN 509) and CYCLE96 (thread undercut DIN 76),
-planned by ``grooving``. Each runs in G18 on a lathe (milling.run_cycle checks the plane) and
-expands into plain records through the ModalMachine methods -- G0 ``rapid``, G1 ``linear``, G2/G3
+planned by ``grooving``, CYCLE95 (stock removal along a contour, ``stockremoval``), and CYCLE84's
+rigid tapping on a lathe (``rigid_tap``). Each runs in G18 on a lathe (milling.run_cycle checks
+the plane) and expands into plain records through the ModalMachine methods -- G0 ``rapid``, G1 ``linear``, G2/G3
 ``arc``, G33 ``synced`` with the start angle of each chained block -- every record carrying the
 cycle block's Src.
 
@@ -29,7 +30,8 @@ NAMES = {
     "CYCLE97": " ".join(CYCLE97_NAMES),
     "CYCLE98": " ".join(CYCLE98_NAMES),
 }
-REQUIRED = {"CYCLE95": "NPP VARI", "CYCLE93": "SPD SPL WIDG DIAG", "CYCLE94": "SPD SPL FORM", "CYCLE96": "DIATH SPL FORM"}
+REQUIRED = {"CYCLE93": "SPD SPL WIDG DIAG", "CYCLE94": "SPD SPL FORM", "CYCLE95": "NPP VARI",
+            "CYCLE96": "DIATH SPL FORM"}
 STRINGS = {"CYCLE94": "FORM", "CYCLE95": "NPP", "CYCLE96": "FORM"}
 
 
@@ -170,7 +172,8 @@ def cycle95(cy: Cycle) -> None:
     _groove(cy, lambda v, tool, limit: stockremoval.plan_cycle95(v, start, elems, tool, limit))
 
 
-RUNNERS = {"CYCLE93": cycle93, "CYCLE94": cycle94, "CYCLE95": cycle95, "CYCLE96": cycle96, "CYCLE97": cycle97, "CYCLE98": cycle98}
+RUNNERS = {"CYCLE93": cycle93, "CYCLE94": cycle94, "CYCLE95": cycle95, "CYCLE96": cycle96, "CYCLE97": cycle97,
+           "CYCLE98": cycle98}
 
 
 def register(specs: dict, runners: dict, cycles: set, spec, turning: set) -> None:
