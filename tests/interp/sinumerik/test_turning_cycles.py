@@ -178,6 +178,24 @@ def test_example_checks_pass_and_fail_when_spoiled(spoil, fails):
     assert failed == fails
 
 
+SHAFT = Path(__file__).resolve().parents[3] / "examples" / "sinumerik" / "turning-cycles.mpf"
+
+
+@pytest.mark.parametrize("spoil,fails", [(None, set()),
+                                          (('CYCLE96(24, -30, "A", 0)', 'CYCLE96(27, -30, "A", 0)'),
+                                           {"DIN 76 undercut floor"}),  # M27: pitch 3, floor 22.6
+                                          (('CYCLE94(32, -45, "E", 0)', 'CYCLE94(32, -44, "E", 0)'),
+                                           {"DIN 509 undercut floor"}),  # 1 mm towards +Z: Z-44 on its face
+                                          (("Z-30\nX32", "Z-30\nX32.1"), {"collar 32"})])
+def test_turning_example_checks_pass_and_fail_when_spoiled(spoil, fails):
+    text = SHAFT.read_text()
+    if spoil:
+        assert spoil[0] in text
+        text = text.replace(spoil[0], spoil[1], 1)
+    res = cutsim.simulate(SHAFT.name, str(SHAFT.with_suffix(".toml")), text=text)
+    assert {c["name"] for c in res.report["checks"] if not c["passed"]} == fails
+
+
 # ---------------------------------------------------------------------------------------------
 # CYCLE93
 def test_cycle93_corners_and_groove(tmp_path):
