@@ -71,7 +71,7 @@ def settings(m, ms, src, words: dict) -> None:
             ms.warn_once(m, src, "LIMS", "LIMS (the spindle speed limit) changes nothing on the tool path (warned once)")
             continue
         if not is_lathe(m):
-            raise m.error(line, w.col, f"{addr}= belongs to turning (threads, spindle limit): the setup's machine is "
+            raise m.error(line, w.col, f"{addr}= belongs to thread cutting on a lathe: the setup's machine is "
                           "a mill ([machine] kind = \"lathe\" for a lathe)")
         v = w.value
         if addr == "SF":
@@ -87,7 +87,8 @@ def settings(m, ms, src, words: dict) -> None:
             setattr(lt, addr.lower(), v)  # turning.run cuts the run-in / run-out with its lead
         else:  # LIMS
             if not 0.0 < v <= SPEED_LIMIT:
-                raise m.error(line, w.col, range_message("LIMS (the spindle speed limit)", v, 0.0, SPEED_LIMIT, "rpm"))
+                raise m.error(line, w.col, f"LIMS={v:g}: the spindle speed limit is greater than 0 and at most "
+                              f"{SPEED_LIMIT:,.0f} rpm")
             lt.lims = v
             if lt.css_on and lt.css > 0:
                 spindle(m, src, None, None)

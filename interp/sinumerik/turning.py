@@ -36,12 +36,12 @@ def _end(m, targets: dict[int, float]) -> tuple[float, float, float]:
     return (end[0], end[1], end[2])
 
 
-def _axis_scale(m, src, i: int, what: str) -> float:
+def _axis_scale(m, src, i: int, what: str, col: int = 1) -> float:
     """How the active frame scales axis ``i`` (X 0, Z 2), which must map onto itself."""
     lin = m.machine.linear_part()
     off = [abs(lin[i][k]) + abs(lin[k][i]) for k in range(3) if k != i]
     if any(v > 1e-12 for v in off):
-        raise m.error(src.line, 1, f"{what} under a rotated frame (ROT/AROT) is not modelled: the lead axis would "
+        raise m.error(src.line, col, f"{what} under a rotated frame (ROT/AROT) is not modelled: the lead axis would "
                       "leave the turning axes")
     return abs(lin[i][i])
 
@@ -113,7 +113,7 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
     travel = dz if axis == "Z" else dx
     if travel <= EPS:
         raise m.error(line, w.col, f"G{code} does not move along {axis}, the axis of its lead {a}")
-    lead = w.value * _axis_scale(m, src, 2 if axis == "Z" else 0, f"G{code}")
+    lead = w.value * _axis_scale(m, src, 2 if axis == "Z" else 0, f"G{code}", w.col)
     change = 0.0
     if code in (34, 35):
         if lt.change is None:
@@ -122,7 +122,7 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
             varying_lead(lead, lt.change, travel, code == 34)
         except ThreadParamError as e:
             col = change_word.col if (e.param == "F" and change_word is not None) else w.col
-            raise m.error(line, col, f"G{code}: {e}") from None
+            raise m.error(line, col, str(e)) from None
         change = lt.change if code == 34 else -lt.change
     run(m, src, end, lead, axis, travel, change, w.col)
 
@@ -230,7 +230,7 @@ def rigid_tap(m, src, words: dict, targets: dict[int, float], cols: dict[int, in
     if k is None:
         raise m.error(line, min(cols.values()), "G331 needs its pitch on K, signed (K2 a right-hand thread, K-2 a "
                       "left-hand one)")
-    pitch = abs(k.value) * _axis_scale(m, src, 2, "G331")
+    pitch = abs(k.value) * _axis_scale(m, src, 2, "G331", k.col)
     direction = 1 if k.value > 0 else -1
     keep = here and t[1] == pitch and t[2] == direction
     tap_move(m, src, end, pitch, direction, t[3] if keep else 0.0)

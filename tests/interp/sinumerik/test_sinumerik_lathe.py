@@ -160,7 +160,7 @@ def test_threads_under_frames():
     ("G0 X10 Z0\nDITE=20\nG33 Z-20 K2\nG0 X20\n", 3, 1, "DITE=20: the run-out is not shorter"),
     ("G0 X10 Z0\nG35 Z-20 K1 F0.1\n", 2, 13, "brings the lead 1 to zero after 5 mm"),
     ("G0 X10 Z0\nG34 Z-20 K1\n", 2, 10, "needs F"),
-    ("G0 X10 Z0\nROT RPL=30\nG33 Z-20 K2\n", 3, 1, "rotated frame"),
+    ("G0 X10 Z0\nROT RPL=30\nG33 Z-20 K2\n", 3, 10, "rotated frame"),
     ("G0 X10 Z0\nG1 Z-5 K2 F100\n", 2, 8, "address K has no meaning in a G1 block"),
     ("G17 T1 D1\nG41 G0 X10 Z0\n", 2, 1, "G41 on a lathe in the plane XY"),
 ])
@@ -170,7 +170,7 @@ def test_thread_errors_at_the_word(text, line, col, fragment):
 
 
 @pytest.mark.parametrize("text,col,fragment", [("G33 Z-5 K1", 1, "needs a lathe"), ("G331 Z-5 K1", 1, "needs a lathe"),
-                                               ("G63 Z-5", 1, "needs a lathe"), ("G0 Z5 SF=10", 7, "belongs to turning")])
+                                               ("G63 Z-5", 1, "needs a lathe"), ("G0 Z5 SF=10", 7, "belongs to thread cutting")])
 def test_turning_codes_on_a_mill(text, col, fragment):
     e = fails("G17 M3 S500\n" + text + "\nM30\n", kind="mill", start=(0.0, 0.0, 50.0))
     assert (e.line, e.col) == (2, col) and fragment in e.message
