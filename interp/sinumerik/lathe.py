@@ -60,9 +60,9 @@ def start(m) -> None:
 
 
 # -- words and commands (machine.word takes SF= DITS= DITE= LIMS= into the block's words) ----------
-def settings(m, ms, src, words: dict) -> None:
-    """Apply the block's SF, DITS, DITE, LIMS (range-checked; on a mill they are errors)."""
-    lt, line = ms.lathe, src.line
+def settings(m, ms, src, blk) -> None:
+    """Apply the block's SF, DITS, DITE, LIMS (range-checked; on a mill SF, DITS, DITE are errors)."""
+    lt, line, words = ms.lathe, src.line, blk.words
     for addr in LATHE_WORDS:
         if addr not in words:
             continue
@@ -77,7 +77,8 @@ def settings(m, ms, src, words: dict) -> None:
         if addr == "SF":
             if not 0.0 <= v < SF_MAX:
                 raise m.error(line, w.col, range_message("SF (the thread's start angle)", v, 0.0, 359.9999, "degrees"))
-            if lt.chain is not None and m.motion in THREADS and m.start_point() is lt.chain[0]:
+            motion = next((c for c, _ in blk.gs if c in (0, 1, 2, 3) + SYNCED), m.motion)  # this block's
+            if lt.chain is not None and motion in THREADS and m.start_point() is lt.chain[0]:
                 m.warn(src, f"SF={v:g} in a chained thread block: the spindle synchronised at the chain's first "
                        "block, the offset acts from the next thread on")
             lt.sf = v

@@ -383,7 +383,7 @@ def settings(m, src, blk, cycles: set) -> None:
     blk.calls[:] = keep
     if frame_cmd is not None:
         frame(m, ms, frame_cmd[0], blk.words, line, frame_cmd[1])
-    lathe.settings(m, ms, src, blk.words)
+    lathe.settings(m, ms, src, blk)
     if "F" in blk.words and ms.inch_feed:
         f = blk.words["F"]
         f.value *= INCH

@@ -235,3 +235,8 @@ def test_nose_radius_compensation_with_the_edge_position():
     prog = run("DIAMON T1 D1\nG18 G0 X12 Z6\nG42 G1 X20 Z2 F0.2\nZ-20\nG40 X40\nM30\n",
                tool_noses={1: (0.8, 3)}, tool_radii={1: 0.0})
     assert ends(prog) == [(6.0, 6.0), (10.0, 1.2), (10.0, -20.8), (20.0, -20.0)]
+
+
+def test_sf_in_the_block_that_ends_a_chain_does_not_warn():
+    prog = run("M3 S500\nG0 X13 Z5\nG33 Z0 K2 SF=30\nG0 X20 SF=90\nZ5\nX13\nG33 Z0 K2\nM30\n")
+    assert [round(r.start_angle, 9) for r in syncs(prog)] == [30.0, 90.0] and prog.warnings == []
