@@ -66,35 +66,47 @@ def _words(line: str) -> dict[str, float]:
 
 
 def derived_checks(text: str) -> dict:
-    """The example's check values from its words: the SF of each start, DITS, K, the last X before
-    a thread and the chained run-out block's end."""
-    sf, dits, k, x, z, last_x, lift = [], 0.0, None, None, None, None, None
+    """The example's check values from its words: the SF of each start, DITS, K, and of the last
+    chain the lead-in (its first G33 block, from where the tool stands), the X of the thread and
+    the run-out (its last block), each ramp as the line ((z0, r0), (z1, r1)) of its root."""
+    sf, dits, k, x, z, chained = [], 0.0, None, None, None, False
+    lead_in = run_out = root = phase_z = None
     for line in text.splitlines():
-        w = _words(line)
+        w, g33 = _words(line), "G33" in line.split(";")[0]
         if "DITS" in w:
             dits = w["DITS"]
-        if "SF" in w:
-            sf.append(w["SF"])
-        if line.split(";")[0].find("G33") >= 0:
+        if g33:
+            sf += [w["SF"]] if "SF" in w else []
             k = w["K"]
-            if "X" in w:
-                lift = (last_x, z, w["X"], w["Z"])
+            ramp = ((z, x / 2.0), (w["Z"], w["X"] / 2.0)) if "X" in w else None
+            if not chained:
+                lead_in, phase_z = ramp, z
+            elif ramp:
+                run_out = ramp
             else:
-                last_x, start_z = x, z
+                root = x
+        chained = g33
         x, z = w.get("X", x), w.get("Z", z)
-    x0, z1, x1, z2 = lift
-    slope = (x1 - x0) / 2.0 / (z1 - z2)
-    return {"phase": [s + 360.0 * dits / k for s in sf], "phase_z": start_z, "lead": k, "root_diameter": last_x,
-            "ramp_z": [z1 - 2.5, z1 - 0.5], "ramp": [x0 / 2.0 + slope * 2.5, x0 / 2.0 + slope * 0.5]}
+    return {"phase": [a + 360.0 * dits / k for a in sf], "phase_z": phase_z, "lead": k, "root_diameter": root,
+            "lead-in": lead_in, "run-out": run_out}
+
+
+def on_line(line, z: float) -> float:
+    (z0, r0), (z1, r1) = line
+    return r0 + (r1 - r0) * (z - z0) / (z1 - z0)
 
 
 def test_example_check_values_follow_from_the_program():
     d = derived_checks(EXAMPLE.with_suffix(".mpf").read_text())
-    checks = {c["kind"]: c for c in tomllib.loads(EXAMPLE.with_suffix(".toml").read_text())["check"]}
-    th, ramp = checks["thread"], checks["ramp"]
+    checks = {c["name"]: c for c in tomllib.loads(EXAMPLE.with_suffix(".toml").read_text())["check"]}
+    th = checks["M30x2 two-start"]
     assert (th["lead"], th["root_diameter"], th["phase_z"]) == (d["lead"], d["root_diameter"], d["phase_z"])
     assert th["phase"] == d["phase"] == [90.0, 270.0]
-    assert ramp["z"] == d["ramp_z"] == [-26.5, -24.5] and ramp["radius"] == pytest.approx(d["ramp"], abs=1e-5)
+    for name in ("lead-in", "run-out"):
+        ramp = checks[name]
+        assert ramp["radius"] == pytest.approx([on_line(d[name], z) for z in ramp["z"]], abs=1e-6)
+    # the thread check keeps clear of both ramps
+    assert d["lead-in"][1][0] > th["z"][1] and th["z"][0] > d["run-out"][0][0]
 
 
 @pytest.mark.parametrize("spoil,failing", [
