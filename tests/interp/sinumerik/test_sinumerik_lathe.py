@@ -240,3 +240,19 @@ def test_nose_radius_compensation_with_the_edge_position():
 def test_sf_in_the_block_that_ends_a_chain_does_not_warn():
     prog = run("M3 S500\nG0 X13 Z5\nG33 Z0 K2 SF=30\nG0 X20 SF=90\nZ5\nX13\nG33 Z0 K2\nM30\n")
     assert [round(r.start_angle, 9) for r in syncs(prog)] == [30.0, 90.0] and prog.warnings == []
+
+
+@pytest.mark.parametrize("frame,z,lead", [("TRANS Z-10", (4.0, -30.0), 2.0), ("SCALE Z2", (4.0, -40.0), 4.0)])
+def test_a_cycles_thread_is_mapped_under_a_frame(frame, z, lead):
+    """A cycle's moves run in the WCS and are mapped into the machine afterwards (machine.run_mapped):
+    a thread from where the tool stands (machine Z4) to (13, -20) in the WCS ends at Z-20-10 under
+    TRANS Z-10; SCALE Z2 doubles the end's Z (-40) and the lead along Z (2 -> 4)."""
+    from cutsim.interp.sinumerik import Sinumerik
+    from cutsim.interp.sinumerik import machine, turning
+    m = Sinumerik("t.mpf", InterpConfig(dialect="sinumerik", machine_kind="lathe", start=(13.0, 0.0, 4.0)))
+    m.run(f"{frame}\n")
+    src = canon.Src("t.mpf", 9)
+    machine.run_mapped(m, m.machine, lambda: turning.emit(m, src, (13.0, 0.0, -20.0), 2.0, "Z", 30.0))
+    rec = m.program.records[-1]
+    assert isinstance(rec, canon.SyncedFeed) and (rec.start[2], rec.end[2], rec.lead) == (z[0], z[1], lead)
+    assert rec.start_angle == 30.0
