@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from cutsim.interp import CutsimError, InterpConfig, canon, interpret
 
@@ -256,3 +257,30 @@ def test_a_cycles_thread_is_mapped_under_a_frame(frame, z, lead):
     rec = m.program.records[-1]
     assert isinstance(rec, canon.SyncedFeed) and (rec.start[2], rec.end[2], rec.lead) == (z[0], z[1], lead)
     assert rec.start_angle == 30.0
+
+
+@settings(max_examples=150, deadline=None)
+@given(k=st.sampled_from([0.5, 1.0, 1.25, 1.5, 2.0, 3.5, 6.0]), sf=st.integers(0, 359),
+       dits=st.sampled_from([0.0, 0.5, 1.0, 2.5]), dite=st.sampled_from([0.0, 0.5, 2.0]),
+       l1=st.integers(4, 40), l2=st.integers(4, 40))
+def test_chain_angles_over_the_documented_range(k, sf, dits, dite, l1, l2):
+    """A chain of two longitudinal blocks (L1, L2 mm at lead K) with run-in DITS and run-out DITE:
+    the pieces start at SF; SF + 360 (2 DITS / K) (after the run-in); SF + 360 (2 DITS + L1 - DITS)/K
+    (the second block); that + 360 (L2 - DITE)/K (the run-out), all mod 360; the run-in's lead
+    change K^2/(2 DITS), the run-out's -K^2/(2 DITE)."""
+    prog = run(f"M3 S500\nDITS={dits:g} DITE={dite:g}\nG0 X13 Z0\nG33 Z-{l1} K{k:g} SF={sf}\nZ-{l1 + l2} K{k:g}\n"
+               "G0 X20\nM30\n")
+    want, changes = [float(sf)], [k * k / (2 * dits)] if dits else []
+    if dits:
+        want.append(sf + 720.0 * dits / k)
+    want.append(sf + 360.0 * (dits + l1) / k)
+    changes += [0.0, 0.0]
+    if dite:
+        want.append(want[-1] + 360.0 * (l2 - dite) / k)
+        changes.append(-k * k / (2 * dite))
+    s = syncs(prog)
+    got = [r.start_angle for r in s]
+    assert len(got) == len(want)
+    assert all(abs((g - w + 180.0) % 360.0 - 180.0) < 1e-6 for g, w in zip(got, want)), (got, want)
+    assert [r.lead_change for r in s] == pytest.approx(changes)
+    assert s[-1].end[2] == -(l1 + l2) and all(a.end == b.start for a, b in zip(s, s[1:]))
