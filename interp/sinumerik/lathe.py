@@ -5,14 +5,14 @@ DITS/DITE; G34/G35 with a varying lead), rigid tapping (G331/G332) and floating 
 The interpreter keeps its position in machine millimetres with X a **radius** (the records carry
 ``diameter`` False): under DIAMON (and DIAM90 for absolute values) an X word is halved before the
 frames map it (``x_words``); the frames and work offsets shift X as a radius. The machine side
-(interp/sinumerik/machine.py) calls in through ``word``, ``settings``, ``diameter_command``,
-``spindle_mode`` and ``x_words``; the interpreter through ``start``, ``spindle``, ``nose`` and
-``motion``; the moves themselves are in interp/sinumerik/turning.py.
+(interp/sinumerik/machine.py) calls in through ``settings``, ``diameter_command``, ``spindle_mode``
+and ``x_words``; the interpreter through ``start``, ``spindle``, ``nose`` and ``nose_plane``; the
+moves themselves are in interp/sinumerik/turning.py (``turning.motion``).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import canon
 from ..core.compensation import nose_shift
@@ -117,7 +117,6 @@ def x_factor(ms, absolute: bool) -> float:
 def x_words(m, ms, words: dict, arc: bool) -> None:
     """An X word under DIAMON/DIAM90 becomes a radius; so does an arc's I=AC(..) (an incremental I, a
     distance from the start, is a radius already: cutsim assumes)."""
-    from dataclasses import replace
     if "X" in words:
         w = words["X"]
         ab = m.absolute if w.mode is None else w.mode != "IC"
@@ -140,7 +139,7 @@ def spindle_mode(m, ms, code: int, src) -> None:
         lt.css_on = False
         rpm = css_speed(m, lt)
         lt.css = 0.0
-        m.spindle_dir, m.speed = m.spindle_dir, rpm
+        m.speed = rpm
         m.emit(canon.Spindle(src, m.spindle_dir, rpm))
         return
     lt.css_on = on
