@@ -28,6 +28,7 @@ SYNCED = THREADS + TAPS
 SF_MAX = 360.0  # SF is 0 <= SF < 360 degrees
 SPEED_LIMIT = 99_999.0  # rpm (LIMS), as S
 RAMP_LIMIT = 99_999.9999  # mm (DITS, DITE)
+EPS = 1e-9
 
 
 @dataclass
@@ -192,3 +193,39 @@ def nose(m) -> tuple[float, tuple[float, float]] | None:
         return 0.0, (0.0, 0.0)
     r, edge = m.cfg.tool_noses.get(m.tool_no, (0.0, 9))
     return r, nose_shift(edge, r, m.plane)
+
+
+# -- the DITE run-out at the end of a thread chain (turning.run leaves ``pending``) -------------------
+def point(a, b, f: float) -> tuple[float, float, float]:
+    return (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f)
+
+
+def before_emit(m, rec) -> None:
+    """Sinumerik.emit's hook: a record that does not continue the chain ends it, so the last thread
+    block gets its DITE run-out first (a spindle speed record does not end a chain)."""
+    lt = m.machine.lathe
+    if lt.pending is not None and not lt.chaining and not isinstance(rec, canon.Spindle):
+        finish(m)
+
+
+def finish(m) -> None:
+    """The pending DITE run-out: the chain's last block's record becomes the thread up to DITE
+    before its end and the run-out, over which the lead falls linearly to 0."""
+    lt = m.machine.lathe
+    if lt.pending is None:
+        return
+    rec, lst, dite = lt.pending
+    lt.pending = None
+    k = next((i for i in range(len(lst) - 1, -1, -1) if lst[i] is rec), None)
+    if k is None:  # pragma: no cover - the record stays in its list until the next record is emitted
+        raise RuntimeError("the thread block waiting for its DITE run-out left its list")
+    i = "XYZ".index(rec.lead_axis)
+    travel = abs(rec.end[i] - rec.start[i])
+    if dite >= travel - EPS:
+        raise m.error(rec.src.line, rec.src.col, f"DITE={dite:g}: the run-out is not shorter than the thread block's "
+                      f"{travel:g} mm along {rec.lead_axis}")
+    mid = point(rec.start, rec.end, 1.0 - dite / travel)
+    head = replace(rec, end=mid)
+    angle = rec.start_angle + 360.0 * (travel - dite) / rec.lead
+    tail = replace(rec, start=mid, start_angle=angle % 360.0, lead_change=-rec.lead * rec.lead / (2.0 * dite))
+    lst[k:k + 1] = [head, tail]

@@ -532,6 +532,7 @@ def run_mapped(m, ms: Machine, fn) -> None:
     ms.sandbox = True
     try:
         fn()
+        lathe.finish(m)  # a thread chain the cycle ends with gets its DITE run-out before the mapping
     finally:
         ms.sandbox = False
         m.program.records = saved_records

@@ -6,10 +6,8 @@ along Z. Entry: ``motion`` from Sinumerik.move, with the block's words already i
 """
 from __future__ import annotations
 
-from dataclasses import replace
-
 from .. import canon
-from .lathe import SYNCED, TAPS, THREADS
+from .lathe import point, SYNCED, TAPS, THREADS
 from .threading import ThreadParamError, varying_lead
 
 EPS = 1e-9
@@ -61,10 +59,6 @@ def revolutions(lead: float, change: float, travel: float) -> float:
     if not change:
         return travel / lead
     return (max(lead * lead + 2.0 * change * travel, 0.0) ** 0.5 - lead) / change
-
-
-def _point(a, b, f: float) -> tuple[float, float, float]:
-    return (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f)
 
 
 def _lead(m, src, words: dict, code: int) -> tuple[str, object] | None:
@@ -149,7 +143,7 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
             if run_in >= travel - EPS:
                 raise m.error(src.line, col, f"DITS={run_in:g}: the run-in is not shorter than the thread block's "
                               f"{travel:g} mm along {axis}")
-            angle = emit(m, src, _point(m.pos, end, run_in / travel), 0.0, axis, angle, lead * lead / (2.0 * run_in))
+            angle = emit(m, src, point(m.pos, end, run_in / travel), 0.0, axis, angle, lead * lead / (2.0 * run_in))
             lt.chaining = True
         angle = emit(m, src, end, lead, axis, angle, change)
     finally:
@@ -159,37 +153,6 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
         lst = m.comp_buf if m.comp_buf is not None else m.program.records
         if lst and isinstance(lst[-1], canon.SyncedFeed) and lst[-1].end is end:
             lt.pending = (lst[-1], lst, lt.dite)
-
-
-def before_emit(m, rec) -> None:
-    """Sinumerik.emit's hook: a record that does not continue the chain ends it, so the last thread
-    block gets its DITE run-out first (a spindle speed record does not end a chain)."""
-    lt = m.machine.lathe
-    if lt.pending is not None and not lt.chaining and not isinstance(rec, canon.Spindle):
-        finish(m)
-
-
-def finish(m) -> None:
-    """The pending DITE run-out: the chain's last block's record becomes the thread up to DITE
-    before its end and the run-out, over which the lead falls linearly to 0."""
-    lt = m.machine.lathe
-    if lt.pending is None:
-        return
-    rec, lst, dite = lt.pending
-    lt.pending = None
-    k = next((i for i in range(len(lst) - 1, -1, -1) if lst[i] is rec), None)
-    if k is None:  # pragma: no cover - the record stays in its list until the next record is emitted
-        return
-    i = "XYZ".index(rec.lead_axis)
-    travel = abs(rec.end[i] - rec.start[i])
-    if dite >= travel - EPS:
-        raise m.error(rec.src.line, rec.src.col, f"DITE={dite:g}: the run-out is not shorter than the thread block's "
-                      f"{travel:g} mm along {rec.lead_axis}")
-    mid = _point(rec.start, rec.end, 1.0 - dite / travel)
-    head = replace(rec, end=mid)
-    angle = rec.start_angle + 360.0 * (travel - dite) / rec.lead
-    tail = replace(rec, start=mid, start_angle=angle % 360.0, lead_change=-rec.lead * rec.lead / (2.0 * dite))
-    lst[k:k + 1] = [head, tail]
 
 
 def _stays_on_axis(m, src, code: str, targets: dict[int, float], cols: dict[int, int]) -> None:
