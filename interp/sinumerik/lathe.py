@@ -44,7 +44,7 @@ class Lathe:
     lims: float = 0.0  # LIMS= (rpm), 0: none
     tapped: tuple | None = None  # the last G331/G332/G63: (end point, pitch, direction, end angle)
     g63: bool = False  # G63 in this block
-    pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (turning.finish)
+    pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (lathe.finish)
     chaining: bool = False  # turning.run emits a record that continues the chain
 
 

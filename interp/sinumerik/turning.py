@@ -125,7 +125,7 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
     """Emit the thread block: a chained one continues at the spindle angle the chain reached (SF acts
     at the chain's first block only); DITS (G33 starting a chain) is a run-in over which the lead
     rises linearly in the revolutions from 0 to K, DITE a run-out over which it falls to 0 at the
-    end of the chain's last block (``finish``)."""
+    end of the chain's last block (``lathe.finish``)."""
     lt = m.machine.lathe
     chained = lt.chain is not None and m.start_point() is lt.chain[0]
     angle = lt.chain[1] if chained else lt.sf
