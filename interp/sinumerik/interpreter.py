@@ -94,7 +94,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
     # -- emission (radius compensation buffers motions) -----------------------------------------
     def emit(self, rec) -> None:
         if self.machine.lathe.pending is not None:  # a thread chain's last block waits for its DITE run-out
-            turning.before_emit(self, rec)
+            lathe.before_emit(self, rec)
         for p in (rec.end, getattr(rec, "center", None)) if isinstance(rec, canon.MOTIONS) else ():
             if p is not None and max(abs(c) for c in p) > COORD_LIMIT:
                 i = max(range(3), key=lambda k: abs(p[k]))
@@ -154,7 +154,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
             self.count_block(ln)
             ended = self.block(ln, fr, stack)
         corner.finish(self)  # a chamfer or rounding on the last move (no M30) is an error there
-        turning.finish(self)  # the DITE run-out of a thread chain at the program's end
+        lathe.finish(self)  # the DITE run-out of a thread chain at the program's end
         if self.comp_buf is not None:
             self.flush_comp(None, last_line)
         self.program.blocks = self.executed

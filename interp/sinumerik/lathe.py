@@ -5,14 +5,14 @@ DITS/DITE; G34/G35 with a varying lead), rigid tapping (G331/G332) and floating 
 The interpreter keeps its position in machine millimetres with X a **radius** (the records carry
 ``diameter`` False): under DIAMON (and DIAM90 for absolute values) an X word is halved before the
 frames map it (``x_words``); the frames and work offsets shift X as a radius. The machine side
-(interp/sinumerik/machine.py) calls in through ``word``, ``settings``, ``diameter_command``,
-``spindle_mode`` and ``x_words``; the interpreter through ``start``, ``spindle``, ``nose`` and
-``motion``; the moves themselves are in interp/sinumerik/turning.py.
+(interp/sinumerik/machine.py) calls in through ``settings``, ``diameter_command``, ``spindle_mode``
+and ``x_words``; the interpreter through ``start``, ``spindle``, ``nose`` and ``nose_plane``; the
+moves themselves are in interp/sinumerik/turning.py (``turning.motion``).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import canon
 from ..core.compensation import nose_shift
@@ -28,6 +28,7 @@ SYNCED = THREADS + TAPS
 SF_MAX = 360.0  # SF is 0 <= SF < 360 degrees
 SPEED_LIMIT = 99_999.0  # rpm (LIMS), as S
 RAMP_LIMIT = 99_999.9999  # mm (DITS, DITE)
+EPS = 1e-9
 
 
 @dataclass
@@ -43,7 +44,7 @@ class Lathe:
     lims: float = 0.0  # LIMS= (rpm), 0: none
     tapped: tuple | None = None  # the last G331/G332/G63: (end point, pitch, direction, end angle)
     g63: bool = False  # G63 in this block
-    pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (turning.finish)
+    pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (lathe.finish)
     chaining: bool = False  # turning.run emits a record that continues the chain
 
 
@@ -60,9 +61,9 @@ def start(m) -> None:
 
 
 # -- words and commands (machine.word takes SF= DITS= DITE= LIMS= into the block's words) ----------
-def settings(m, ms, src, words: dict) -> None:
-    """Apply the block's SF, DITS, DITE, LIMS (range-checked; on a mill they are errors)."""
-    lt, line = ms.lathe, src.line
+def settings(m, ms, src, blk) -> None:
+    """Apply the block's SF, DITS, DITE, LIMS (range-checked; on a mill SF, DITS, DITE are errors)."""
+    lt, line, words = ms.lathe, src.line, blk.words
     for addr in LATHE_WORDS:
         if addr not in words:
             continue
@@ -71,13 +72,14 @@ def settings(m, ms, src, words: dict) -> None:
             ms.warn_once(m, src, "LIMS", "LIMS (the spindle speed limit) changes nothing on the tool path (warned once)")
             continue
         if not is_lathe(m):
-            raise m.error(line, w.col, f"{addr}= belongs to turning (threads, spindle limit): the setup's machine is "
+            raise m.error(line, w.col, f"{addr}= belongs to thread cutting on a lathe: the setup's machine is "
                           "a mill ([machine] kind = \"lathe\" for a lathe)")
         v = w.value
         if addr == "SF":
             if not 0.0 <= v < SF_MAX:
                 raise m.error(line, w.col, range_message("SF (the thread's start angle)", v, 0.0, 359.9999, "degrees"))
-            if lt.chain is not None and m.motion in THREADS and m.start_point() is lt.chain[0]:
+            motion = next((c for c, _ in blk.gs if c in (0, 1, 2, 3) + SYNCED), m.motion)  # this block's
+            if lt.chain is not None and motion in THREADS and m.start_point() is lt.chain[0]:
                 m.warn(src, f"SF={v:g} in a chained thread block: the spindle synchronised at the chain's first "
                        "block, the offset acts from the next thread on")
             lt.sf = v
@@ -87,7 +89,8 @@ def settings(m, ms, src, words: dict) -> None:
             setattr(lt, addr.lower(), v)  # turning.run cuts the run-in / run-out with its lead
         else:  # LIMS
             if not 0.0 < v <= SPEED_LIMIT:
-                raise m.error(line, w.col, range_message("LIMS (the spindle speed limit)", v, 0.0, SPEED_LIMIT, "rpm"))
+                raise m.error(line, w.col, f"LIMS={v:g}: the spindle speed limit is greater than 0 and at most "
+                              f"{SPEED_LIMIT:,.0f} rpm")
             lt.lims = v
             if lt.css_on and lt.css > 0:
                 spindle(m, src, None, None)
@@ -115,7 +118,6 @@ def x_factor(ms, absolute: bool) -> float:
 def x_words(m, ms, words: dict, arc: bool) -> None:
     """An X word under DIAMON/DIAM90 becomes a radius; so does an arc's I=AC(..) (an incremental I, a
     distance from the start, is a radius already: cutsim assumes)."""
-    from dataclasses import replace
     if "X" in words:
         w = words["X"]
         ab = m.absolute if w.mode is None else w.mode != "IC"
@@ -138,7 +140,7 @@ def spindle_mode(m, ms, code: int, src) -> None:
         lt.css_on = False
         rpm = css_speed(m, lt)
         lt.css = 0.0
-        m.spindle_dir, m.speed = m.spindle_dir, rpm
+        m.speed = rpm
         m.emit(canon.Spindle(src, m.spindle_dir, rpm))
         return
     lt.css_on = on
@@ -191,3 +193,39 @@ def nose(m) -> tuple[float, tuple[float, float]] | None:
         return 0.0, (0.0, 0.0)
     r, edge = m.cfg.tool_noses.get(m.tool_no, (0.0, 9))
     return r, nose_shift(edge, r, m.plane)
+
+
+# -- the DITE run-out at the end of a thread chain (turning.run leaves ``pending``) -------------------
+def point(a, b, f: float) -> tuple[float, float, float]:
+    return (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f)
+
+
+def before_emit(m, rec) -> None:
+    """Sinumerik.emit's hook: a record that does not continue the chain ends it, so the last thread
+    block gets its DITE run-out first (a spindle speed record does not end a chain)."""
+    lt = m.machine.lathe
+    if lt.pending is not None and not lt.chaining and not isinstance(rec, canon.Spindle):
+        finish(m)
+
+
+def finish(m) -> None:
+    """The pending DITE run-out: the chain's last block's record becomes the thread up to DITE
+    before its end and the run-out, over which the lead falls linearly to 0."""
+    lt = m.machine.lathe
+    if lt.pending is None:
+        return
+    rec, lst, dite = lt.pending
+    lt.pending = None
+    k = next((i for i in range(len(lst) - 1, -1, -1) if lst[i] is rec), None)
+    if k is None:  # pragma: no cover - the record stays in its list until the next record is emitted
+        raise RuntimeError("the thread block waiting for its DITE run-out left its list")
+    i = "XYZ".index(rec.lead_axis)
+    travel = abs(rec.end[i] - rec.start[i])
+    if dite >= travel - EPS:
+        raise m.error(rec.src.line, rec.src.col, f"DITE={dite:g}: the run-out is not shorter than the thread block's "
+                      f"{travel:g} mm along {rec.lead_axis}")
+    mid = point(rec.start, rec.end, 1.0 - dite / travel)
+    head = replace(rec, end=mid)
+    angle = rec.start_angle + 360.0 * (travel - dite) / rec.lead
+    tail = replace(rec, start=mid, start_angle=angle % 360.0, lead_change=-rec.lead * rec.lead / (2.0 * dite))
+    lst[k:k + 1] = [head, tail]

@@ -383,7 +383,7 @@ def settings(m, src, blk, cycles: set) -> None:
     blk.calls[:] = keep
     if frame_cmd is not None:
         frame(m, ms, frame_cmd[0], blk.words, line, frame_cmd[1])
-    lathe.settings(m, ms, src, blk.words)
+    lathe.settings(m, ms, src, blk)
     if "F" in blk.words and ms.inch_feed:
         f = blk.words["F"]
         f.value *= INCH
@@ -532,6 +532,7 @@ def run_mapped(m, ms: Machine, fn) -> None:
     ms.sandbox = True
     try:
         fn()
+        lathe.finish(m)  # a thread chain the cycle ends with gets its DITE run-out before the mapping
     finally:
         ms.sandbox = False
         m.program.records = saved_records

@@ -112,7 +112,7 @@ def plan_cycle95(v: dict, start, elems: list, tool: ToolEdge, max_moves: int | N
         raise GrooveParamError("MID", "MID, the infeed depth of the roughing cuts, must be greater than 0")
     for k, e in enumerate(elems):
         if not _monotone(e):
-            raise GrooveParamError("NPP", f"the contour's element {k + 1} (to X{2 * e[2][0]:g} Z{e[2][1]:g}) falls "
+            raise GrooveParamError("NPP", f"the contour's element {k + 1} (ending at Z{e[2][1]:g}) falls "
                                           "back towards the axis or runs towards +Z: only a contour rising "
                                           "monotonically towards -Z (no undercut) is simulated yet")
     clear = _unsigned(v, "_VRT") or DEFAULT_CLEARANCE

@@ -6,10 +6,8 @@ along Z. Entry: ``motion`` from Sinumerik.move, with the block's words already i
 """
 from __future__ import annotations
 
-from dataclasses import replace
-
 from .. import canon
-from .lathe import SYNCED, TAPS, THREADS
+from .lathe import point, SYNCED, TAPS, THREADS
 from .threading import ThreadParamError, varying_lead
 
 EPS = 1e-9
@@ -36,12 +34,12 @@ def _end(m, targets: dict[int, float]) -> tuple[float, float, float]:
     return (end[0], end[1], end[2])
 
 
-def _axis_scale(m, src, i: int, what: str) -> float:
+def _axis_scale(m, src, i: int, what: str, col: int = 1) -> float:
     """How the active frame scales axis ``i`` (X 0, Z 2), which must map onto itself."""
     lin = m.machine.linear_part()
     off = [abs(lin[i][k]) + abs(lin[k][i]) for k in range(3) if k != i]
     if any(v > 1e-12 for v in off):
-        raise m.error(src.line, 1, f"{what} under a rotated frame (ROT/AROT) is not modelled: the lead axis would "
+        raise m.error(src.line, col, f"{what} under a rotated frame (ROT/AROT) is not modelled: the lead axis would "
                       "leave the turning axes")
     return abs(lin[i][i])
 
@@ -61,10 +59,6 @@ def revolutions(lead: float, change: float, travel: float) -> float:
     if not change:
         return travel / lead
     return (max(lead * lead + 2.0 * change * travel, 0.0) ** 0.5 - lead) / change
-
-
-def _point(a, b, f: float) -> tuple[float, float, float]:
-    return (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f)
 
 
 def _lead(m, src, words: dict, code: int) -> tuple[str, object] | None:
@@ -113,7 +107,7 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
     travel = dz if axis == "Z" else dx
     if travel <= EPS:
         raise m.error(line, w.col, f"G{code} does not move along {axis}, the axis of its lead {a}")
-    lead = w.value * _axis_scale(m, src, 2 if axis == "Z" else 0, f"G{code}")
+    lead = w.value * _axis_scale(m, src, 2 if axis == "Z" else 0, f"G{code}", w.col)
     change = 0.0
     if code in (34, 35):
         if lt.change is None:
@@ -122,7 +116,7 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
             varying_lead(lead, lt.change, travel, code == 34)
         except ThreadParamError as e:
             col = change_word.col if (e.param == "F" and change_word is not None) else w.col
-            raise m.error(line, col, f"G{code}: {e}") from None
+            raise m.error(line, col, str(e)) from None
         change = lt.change if code == 34 else -lt.change
     run(m, src, end, lead, axis, travel, change, w.col)
 
@@ -131,7 +125,7 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
     """Emit the thread block: a chained one continues at the spindle angle the chain reached (SF acts
     at the chain's first block only); DITS (G33 starting a chain) is a run-in over which the lead
     rises linearly in the revolutions from 0 to K, DITE a run-out over which it falls to 0 at the
-    end of the chain's last block (``finish``)."""
+    end of the chain's last block (``lathe.finish``)."""
     lt = m.machine.lathe
     chained = lt.chain is not None and m.start_point() is lt.chain[0]
     angle = lt.chain[1] if chained else lt.sf
@@ -149,7 +143,7 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
             if run_in >= travel - EPS:
                 raise m.error(src.line, col, f"DITS={run_in:g}: the run-in is not shorter than the thread block's "
                               f"{travel:g} mm along {axis}")
-            angle = emit(m, src, _point(m.pos, end, run_in / travel), 0.0, axis, angle, lead * lead / (2.0 * run_in))
+            angle = emit(m, src, point(m.pos, end, run_in / travel), 0.0, axis, angle, lead * lead / (2.0 * run_in))
             lt.chaining = True
         angle = emit(m, src, end, lead, axis, angle, change)
     finally:
@@ -159,37 +153,6 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
         lst = m.comp_buf if m.comp_buf is not None else m.program.records
         if lst and isinstance(lst[-1], canon.SyncedFeed) and lst[-1].end is end:
             lt.pending = (lst[-1], lst, lt.dite)
-
-
-def before_emit(m, rec) -> None:
-    """Sinumerik.emit's hook: a record that does not continue the chain ends it, so the last thread
-    block gets its DITE run-out first (a spindle speed record does not end a chain)."""
-    lt = m.machine.lathe
-    if lt.pending is not None and not lt.chaining and not isinstance(rec, canon.Spindle):
-        finish(m)
-
-
-def finish(m) -> None:
-    """The pending DITE run-out: the chain's last block's record becomes the thread up to DITE
-    before its end and the run-out, over which the lead falls linearly to 0."""
-    lt = m.machine.lathe
-    if lt.pending is None:
-        return
-    rec, lst, dite = lt.pending
-    lt.pending = None
-    k = next((i for i in range(len(lst) - 1, -1, -1) if lst[i] is rec), None)
-    if k is None:  # pragma: no cover - the record stays in its list until the next record is emitted
-        return
-    i = "XYZ".index(rec.lead_axis)
-    travel = abs(rec.end[i] - rec.start[i])
-    if dite >= travel - EPS:
-        raise m.error(rec.src.line, rec.src.col, f"DITE={dite:g}: the run-out is not shorter than the thread block's "
-                      f"{travel:g} mm along {rec.lead_axis}")
-    mid = _point(rec.start, rec.end, 1.0 - dite / travel)
-    head = replace(rec, end=mid)
-    angle = rec.start_angle + 360.0 * (travel - dite) / rec.lead
-    tail = replace(rec, start=mid, start_angle=angle % 360.0, lead_change=-rec.lead * rec.lead / (2.0 * dite))
-    lst[k:k + 1] = [head, tail]
 
 
 def _stays_on_axis(m, src, code: str, targets: dict[int, float], cols: dict[int, int]) -> None:
@@ -230,7 +193,7 @@ def rigid_tap(m, src, words: dict, targets: dict[int, float], cols: dict[int, in
     if k is None:
         raise m.error(line, min(cols.values()), "G331 needs its pitch on K, signed (K2 a right-hand thread, K-2 a "
                       "left-hand one)")
-    pitch = abs(k.value) * _axis_scale(m, src, 2, "G331")
+    pitch = abs(k.value) * _axis_scale(m, src, 2, "G331", k.col)
     direction = 1 if k.value > 0 else -1
     keep = here and t[1] == pitch and t[2] == direction
     tap_move(m, src, end, pitch, direction, t[3] if keep else 0.0)

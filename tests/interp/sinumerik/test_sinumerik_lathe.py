@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from cutsim.interp import CutsimError, InterpConfig, canon, interpret
 
@@ -160,7 +161,7 @@ def test_threads_under_frames():
     ("G0 X10 Z0\nDITE=20\nG33 Z-20 K2\nG0 X20\n", 3, 1, "DITE=20: the run-out is not shorter"),
     ("G0 X10 Z0\nG35 Z-20 K1 F0.1\n", 2, 13, "brings the lead 1 to zero after 5 mm"),
     ("G0 X10 Z0\nG34 Z-20 K1\n", 2, 10, "needs F"),
-    ("G0 X10 Z0\nROT RPL=30\nG33 Z-20 K2\n", 3, 1, "rotated frame"),
+    ("G0 X10 Z0\nROT RPL=30\nG33 Z-20 K2\n", 3, 10, "rotated frame"),
     ("G0 X10 Z0\nG1 Z-5 K2 F100\n", 2, 8, "address K has no meaning in a G1 block"),
     ("G17 T1 D1\nG41 G0 X10 Z0\n", 2, 1, "G41 on a lathe in the plane XY"),
 ])
@@ -170,7 +171,7 @@ def test_thread_errors_at_the_word(text, line, col, fragment):
 
 
 @pytest.mark.parametrize("text,col,fragment", [("G33 Z-5 K1", 1, "needs a lathe"), ("G331 Z-5 K1", 1, "needs a lathe"),
-                                               ("G63 Z-5", 1, "needs a lathe"), ("G0 Z5 SF=10", 7, "belongs to turning")])
+                                               ("G63 Z-5", 1, "needs a lathe"), ("G0 Z5 SF=10", 7, "belongs to thread cutting")])
 def test_turning_codes_on_a_mill(text, col, fragment):
     e = fails("G17 M3 S500\n" + text + "\nM30\n", kind="mill", start=(0.0, 0.0, 50.0))
     assert (e.line, e.col) == (2, col) and fragment in e.message
@@ -235,3 +236,51 @@ def test_nose_radius_compensation_with_the_edge_position():
     prog = run("DIAMON T1 D1\nG18 G0 X12 Z6\nG42 G1 X20 Z2 F0.2\nZ-20\nG40 X40\nM30\n",
                tool_noses={1: (0.8, 3)}, tool_radii={1: 0.0})
     assert ends(prog) == [(6.0, 6.0), (10.0, 1.2), (10.0, -20.8), (20.0, -20.0)]
+
+
+def test_sf_in_the_block_that_ends_a_chain_does_not_warn():
+    prog = run("M3 S500\nG0 X13 Z5\nG33 Z0 K2 SF=30\nG0 X20 SF=90\nZ5\nX13\nG33 Z0 K2\nM30\n")
+    assert [round(r.start_angle, 9) for r in syncs(prog)] == [30.0, 90.0] and prog.warnings == []
+
+
+@pytest.mark.parametrize("frame,z,lead", [("TRANS Z-10", (4.0, -30.0), 2.0), ("SCALE Z2", (4.0, -40.0), 4.0)])
+def test_a_cycles_thread_is_mapped_under_a_frame(frame, z, lead):
+    """A cycle's moves run in the WCS and are mapped into the machine afterwards (machine.run_mapped):
+    a thread from where the tool stands (machine Z4) to (13, -20) in the WCS ends at Z-20-10 under
+    TRANS Z-10; SCALE Z2 doubles the end's Z (-40) and the lead along Z (2 -> 4)."""
+    from cutsim.interp.sinumerik import Sinumerik
+    from cutsim.interp.sinumerik import machine, turning
+    m = Sinumerik("t.mpf", InterpConfig(dialect="sinumerik", machine_kind="lathe", start=(13.0, 0.0, 4.0)))
+    m.run(f"{frame}\n")
+    src = canon.Src("t.mpf", 9)
+    machine.run_mapped(m, m.machine, lambda: turning.emit(m, src, (13.0, 0.0, -20.0), 2.0, "Z", 30.0))
+    rec = m.program.records[-1]
+    assert isinstance(rec, canon.SyncedFeed) and (rec.start[2], rec.end[2], rec.lead) == (z[0], z[1], lead)
+    assert rec.start_angle == 30.0
+
+
+@settings(max_examples=150, deadline=None)
+@given(k=st.sampled_from([0.5, 1.0, 1.25, 1.5, 2.0, 3.5, 6.0]), sf=st.integers(0, 359),
+       dits=st.sampled_from([0.0, 0.5, 1.0, 2.5]), dite=st.sampled_from([0.0, 0.5, 2.0]),
+       l1=st.integers(4, 40), l2=st.integers(4, 40))
+def test_chain_angles_over_the_documented_range(k, sf, dits, dite, l1, l2):
+    """A chain of two longitudinal blocks (L1, L2 mm at lead K) with run-in DITS and run-out DITE:
+    the pieces start at SF; SF + 360 (2 DITS / K) (after the run-in); SF + 360 (2 DITS + L1 - DITS)/K
+    (the second block); that + 360 (L2 - DITE)/K (the run-out), all mod 360; the run-in's lead
+    change K^2/(2 DITS), the run-out's -K^2/(2 DITE)."""
+    prog = run(f"M3 S500\nDITS={dits:g} DITE={dite:g}\nG0 X13 Z0\nG33 Z-{l1} K{k:g} SF={sf}\nZ-{l1 + l2} K{k:g}\n"
+               "G0 X20\nM30\n")
+    want, changes = [float(sf)], [k * k / (2 * dits)] if dits else []
+    if dits:
+        want.append(sf + 720.0 * dits / k)
+    want.append(sf + 360.0 * (dits + l1) / k)
+    changes += [0.0, 0.0]
+    if dite:
+        want.append(want[-1] + 360.0 * (l2 - dite) / k)
+        changes.append(-k * k / (2 * dite))
+    s = syncs(prog)
+    got = [r.start_angle for r in s]
+    assert len(got) == len(want)
+    assert all(abs((g - w + 180.0) % 360.0 - 180.0) < 1e-6 for g, w in zip(got, want)), (got, want)
+    assert [r.lead_change for r in s] == pytest.approx(changes)
+    assert s[-1].end[2] == -(l1 + l2) and all(a.end == b.start for a, b in zip(s, s[1:]))

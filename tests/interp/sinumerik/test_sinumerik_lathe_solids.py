@@ -4,7 +4,8 @@
 - The example examples/sinumerik/thread-two-start: its check values follow from the program's own
   words (root diameter = the last X, phase = SF + 360 DITS / K at the Z the cut starts, the
   run-out's root line from its chained block), and spoiled copies fail them.
-- G34: the groove a tool leaves while the lead grows by F per turn lies, at the angle phi, where
+- A face thread (G33 X.. I..): its spiral's roots at r = r0 + I frac(-(phi + SF)/360) (mod I).
+- G34/G35: the groove a tool leaves while the lead changes by F per turn lies, at the angle phi, where
   the revolutions n(z) = (sqrt(K^2 + 2 F (z0 - z)) - K) / F since the start satisfy
   n + phi / 360 = 0 (mod 1) (the constant-lead rule z = z0 - K n with n = -(phi + SF)/360 of
   docs/checks.md, with the travel K n + F n^2 / 2).
@@ -34,6 +35,7 @@ HERE = Path(__file__).resolve()
 EXAMPLE = HERE.parents[3] / "examples" / "sinumerik" / "thread-two-start"
 sys.path.insert(0, str(HERE.parents[1] / "cnc8x6"))
 from test_lathe_holes import assert_m10_groove  # noqa: E402
+from support.geometry import load, section, wrap  # noqa: E402
 
 LATHE = """[machine]
 kind = "lathe"
@@ -64,35 +66,47 @@ def _words(line: str) -> dict[str, float]:
 
 
 def derived_checks(text: str) -> dict:
-    """The example's check values from its words: the SF of each start, DITS, K, the last X before
-    a thread and the chained run-out block's end."""
-    sf, dits, k, x, z, last_x, lift = [], 0.0, None, None, None, None, None
+    """The example's check values from its words: the SF of each start, DITS, K, and of the last
+    chain the lead-in (its first G33 block, from where the tool stands), the X of the thread and
+    the run-out (its last block), each ramp as the line ((z0, r0), (z1, r1)) of its root."""
+    sf, dits, k, x, z, chained = [], 0.0, None, None, None, False
+    lead_in = run_out = root = phase_z = None
     for line in text.splitlines():
-        w = _words(line)
+        w, g33 = _words(line), "G33" in line.split(";")[0]
         if "DITS" in w:
             dits = w["DITS"]
-        if "SF" in w:
-            sf.append(w["SF"])
-        if line.split(";")[0].find("G33") >= 0:
+        if g33:
+            sf += [w["SF"]] if "SF" in w else []
             k = w["K"]
-            if "X" in w:
-                lift = (last_x, z, w["X"], w["Z"])
+            ramp = ((z, x / 2.0), (w["Z"], w["X"] / 2.0)) if "X" in w else None
+            if not chained:
+                lead_in, phase_z = ramp, z
+            elif ramp:
+                run_out = ramp
             else:
-                last_x, start_z = x, z
+                root = x
+        chained = g33
         x, z = w.get("X", x), w.get("Z", z)
-    x0, z1, x1, z2 = lift
-    slope = (x1 - x0) / 2.0 / (z1 - z2)
-    return {"phase": [s + 360.0 * dits / k for s in sf], "phase_z": start_z, "lead": k, "root_diameter": last_x,
-            "ramp_z": [z1 - 2.5, z1 - 0.5], "ramp": [x0 / 2.0 + slope * 2.5, x0 / 2.0 + slope * 0.5]}
+    return {"phase": [a + 360.0 * dits / k for a in sf], "phase_z": phase_z, "lead": k, "root_diameter": root,
+            "lead-in": lead_in, "run-out": run_out}
+
+
+def on_line(line, z: float) -> float:
+    (z0, r0), (z1, r1) = line
+    return r0 + (r1 - r0) * (z - z0) / (z1 - z0)
 
 
 def test_example_check_values_follow_from_the_program():
     d = derived_checks(EXAMPLE.with_suffix(".mpf").read_text())
-    checks = {c["kind"]: c for c in tomllib.loads(EXAMPLE.with_suffix(".toml").read_text())["check"]}
-    th, ramp = checks["thread"], checks["ramp"]
+    checks = {c["name"]: c for c in tomllib.loads(EXAMPLE.with_suffix(".toml").read_text())["check"]}
+    th = checks["M30x2 two-start"]
     assert (th["lead"], th["root_diameter"], th["phase_z"]) == (d["lead"], d["root_diameter"], d["phase_z"])
     assert th["phase"] == d["phase"] == [90.0, 270.0]
-    assert ramp["z"] == d["ramp_z"] == [-26.5, -24.5] and ramp["radius"] == pytest.approx(d["ramp"], abs=1e-5)
+    for name in ("lead-in", "run-out"):
+        ramp = checks[name]
+        assert ramp["radius"] == pytest.approx([on_line(d[name], z) for z in ramp["z"]], abs=1e-6)
+    # the thread check keeps clear of both ramps
+    assert d["lead-in"][1][0] > th["z"][1] and th["z"][0] > d["run-out"][0][0]
 
 
 @pytest.mark.parametrize("spoil,failing", [
@@ -108,28 +122,58 @@ def test_example_fails_when_spoiled(tmp_path, spoil, failing):
     assert failing <= bad and "lead" not in bad
 
 
-# -- G34 ------------------------------------------------------------------------------------------
-G34 = "DIAMON G95 M3 S400\nG0 X34 Z4\nX28\nG34 Z-30 K2 F0.05\nG0 X34\nM30\n"
-
-
+# -- G34 / G35 -----------------------------------------------------------------------------------
 def residuals(roots, z0: float, k: float, f: float) -> np.ndarray:
     """How far (mm along Z, at the local lead) each root (phi, z, r) lies from the groove the
-    varying lead makes; ``f`` 0: from a constant lead ``k``."""
+    varying lead makes (``f`` signed: G34 > 0, G35 < 0; 0: a constant lead ``k``)."""
     phi, z = np.array([p for p, _, _ in roots]), np.array([z for _, z, _ in roots])
     n = (np.sqrt(k * k + 2 * f * (z0 - z)) - k) / f if f else (z0 - z) / k
     frac = n + phi / 360.0
     return np.abs(frac - np.round(frac)) * (k + f * n)
 
 
-def test_g34_grooves_follow_the_varying_lead(tmp_path):
-    """Roots between Z-25 and Z-3 at r 14 (X28), on the varying-lead helix to 0.02 mm; the constant
-    lead 2 would put them 0.1 mm or more off."""
-    res = simulate(tmp_path, G34)
+@pytest.mark.parametrize("code,k,f", [(34, 2.0, 0.05), (35, 3.0, -0.05)])
+def test_varying_lead_grooves(tmp_path, code, k, f):
+    """G34 K2 F0.05 / G35 K3 F0.05 from Z4 to Z-30 at X28: roots between Z-25 and Z-3 at r 14, on
+    the varying-lead helix to 0.02 mm; the constant lead K would put them 0.1 mm or more off."""
+    res = simulate(tmp_path, f"DIAMON G95 M3 S400\nG0 X34 Z4\nX28\nG{code} Z-30 K{k:g} F{abs(f):g}\nG0 X34\nM30\n")
     roots = res.thread(-25.0, -3.0)["roots"]
     assert len(roots) > 100
     assert np.allclose([r for _, _, r in roots], 14.0, atol=0.02)
-    assert residuals(roots, 4.0, 2.0, 0.05).max() < 0.02
-    assert residuals(roots, 4.0, 2.0, 0.0).max() > 0.1
+    assert residuals(roots, 4.0, k, f).max() < 0.02
+    assert residuals(roots, 4.0, k, 0.0).max() > 0.1
+
+
+# -- a face thread --------------------------------------------------------------------------------
+def face_roots(res, phi: float) -> np.ndarray:
+    """Radii (10 < r < 16) where the face's outline in the half-plane at ``phi`` has a groove's root
+    (the lowest z of a dip), from trimesh sections (tests/support/geometry.py)."""
+    segs = section(load(res), phi)
+    rs = np.arange(10.0, 16.0, 0.005)
+    top = np.full(rs.shape, -np.inf)
+    r0, r1, z0, z1 = segs[:, 0, 0], segs[:, 1, 0], segs[:, 0, 1], segs[:, 1, 1]
+    for i, r in enumerate(rs):
+        hit = (np.minimum(r0, r1) <= r) & (np.maximum(r0, r1) >= r) & (np.abs(r1 - r0) > 1e-12)
+        t = (r - r0[hit]) / (r1[hit] - r0[hit])
+        top[i] = np.max(z0[hit] + t * (z1[hit] - z0[hit]))
+    low = (top[1:-1] < top[:-2]) & (top[1:-1] <= top[2:]) & (top[1:-1] < -0.7)
+    return rs[1:-1][low]
+
+
+@pytest.mark.parametrize("sf,ok", [(0, True), (90, False)])
+def test_face_thread_spiral(tmp_path, sf, ok):
+    """G33 X36 I2 at Z-0.8 from X16 (r 8 .. 18; the V's flank reaches 5.8 mm in from its point): the
+    point passes the angle phi at the turns n = -(phi + SF)/360 (mod 1), at r = 8 + 2 n: the spiral's
+    roots at r = 2 frac(-phi/360) (mod 2) for SF=0; SF=90 puts them 0.5 mm further in."""
+    tool = 'kind = "thread"\nangle = 60.0\nside = "face"'
+    res = simulate(tmp_path, f"DIAMON G95 M3 S300\nG0 X16 Z2\nZ-0.8\nG33 X36 I2 SF={sf}\nG0 Z5\nM30\n",
+                   d=40.0, tool=tool)
+    for phi in (33.3, 151.7, 262.9):
+        roots = face_roots(res, phi)
+        assert len(roots) >= 2, phi
+        want = 2.0 * ((-phi / 360.0) % 1.0)
+        off = np.abs(wrap(roots - want, 2.0))
+        assert (off.max() < 0.02) == ok, (phi, roots)
 
 
 # -- tapping --------------------------------------------------------------------------------------

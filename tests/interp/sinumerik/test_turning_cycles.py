@@ -16,7 +16,6 @@ import numpy as np
 
 from cutsim.reports.measure import measure_thread, plane_section, radii_at
 
-from support.bad import assert_stops_at_its_line
 
 BAR = """
 [machine]
@@ -342,14 +341,8 @@ def test_cycle83_and_cycle84_tap_m10_on_the_spindle_axis(tmp_path):
     assert got["root_diameter"] == pytest.approx(10.0, abs=0.03)  # the tap's major diameter
 
 
-# ---------------------------------------------------------------------------------------------
-# refusals: tests/data/bad/sinumerik/lathe/cycle*.mpf
-LATHE_BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "sinumerik" / "lathe"
-
-
-@pytest.mark.parametrize("prog", sorted(LATHE_BAD.glob("cycle*.mpf")), ids=lambda p: p.stem)
-def test_bad_turning_cycle_stops_at_its_parameter(prog, tmp_path):
-    assert_stops_at_its_line(prog, LATHE_BAD / "setup.toml", tmp_path)
+# (the refusals, each at its parameter: tests/data/bad/sinumerik/lathe/cycle*.mpf, run with the lathe's other
+# bad programs by tests/interp/sinumerik/test_bad_sinumerik.py)
 
 
 # ---------------------------------------------------------------------------------------------
