@@ -8,6 +8,7 @@ import math
 from ..canon import Src
 from ..core.compensation import _cross, _dot, _norm, _sub, Elem, length
 from .contour import cycle72
+from .lathe import x_factor
 from .cycle import budget, Cycle, DRILLING, EPS, FACE_STEP, INNER_LOOP, n_levels, NUM_LIMIT, reverse, SIDE_STEP, TURNING
 
 
@@ -534,7 +535,7 @@ def _check_plane(m, name: str, src: Src, label: str) -> None:
         if m.plane in ("XY", "ZX"):
             if abs(m.pos[0]) > 1e-6 or abs(m.pos[1]) > 1e-6:
                 raise m.error(src.line, 1, f"{label} on a lathe drills along Z on the spindle axis: the tool stands "
-                              f"at X{m.pos[0]:g}, bring it to X0 first")
+                              f"at X{m.pos[0] / x_factor(m.machine, True):g}, bring it to X0 first")
             return
     if m.plane != "XY" and name in DRILLING:
         g, axis = ("G18", "Y") if m.plane == "ZX" else ("G19", "X")
