@@ -25,11 +25,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import cutsim
 from cutsim.base.specs import MachineSpec, ToolSpec
 from cutsim.interp import InterpConfig, interpret
 from cutsim.kinematics import plan
+from cutsim.kinematics.spindle import varying_spans
 
 HERE = Path(__file__).resolve()
 EXAMPLE = HERE.parents[3] / "examples" / "sinumerik" / "thread-two-start"
@@ -260,3 +262,45 @@ def test_g96_facing_time():
     rl = 200000.0 / (2 * math.pi * 5000.0)
     assert _face_time("LIMS=5000") == pytest.approx(60.0 * (math.pi * (225.0 - rl * rl) / 40000.0 + rl / 1000.0),
                                                     rel=1e-9)
+
+
+@settings(max_examples=200, deadline=None)
+@given(k=st.floats(0.2, 6.0), f=st.floats(0.001, 0.5), sign=st.sampled_from([1, -1]), travel=st.floats(1.0, 80.0),
+       tol=st.sampled_from([0.001, 0.005, 0.02]))
+def test_varying_lead_pieces_stay_within_the_tolerance(k, f, sign, travel, tol):
+    """kinematics.spindle.varying_spans: each constant-lead piece's chord of the travel
+    T(n) = K n + c n^2 / 2 is off by at most tol (sampled), the pieces join and end at the travel;
+    half as many pieces (each twice as long, c dn^2 / 8 four times as large) would be off by more
+    than tol whenever more than one piece is needed."""
+    c = sign * f
+    if k * k + 2 * c * travel <= 0.01:
+        return  # a G35 that stops before the end: refused by the interpreter
+    spans = varying_spans(k, c, travel, tol)
+
+    def worst(pieces):
+        n0, out = 0.0, 0.0
+        for t0, t1, dn in pieces:
+            n = np.linspace(n0, n0 + dn, 41)
+            true = k * n + c * n * n / 2
+            chord = t0 + (t1 - t0) * (n - n0) / dn
+            out = max(out, float(np.abs(true - chord).max()))
+            n0 += dn
+        return out
+    assert worst(spans) <= tol * (1 + 1e-6)
+    assert spans[-1][1] == travel and all(a[1] == pytest.approx(b[0]) for a, b in zip(spans, spans[1:]))
+    if len(spans) > 2:
+        pairs = [(a[0], b[1], a[2] + b[2]) for a, b in zip(spans[::2], spans[1::2])]
+        assert worst(pairs) > tol
+
+
+def test_trans_and_work_offset_move_the_thread(tmp_path):
+    """G54 Z-2 and TRANS Z-3 (radius shifts too: X unchanged as a radius): the thread programmed from
+    Z9 at SF=0 is cut from Z4 (9 - 2 - 3), lead 2, root X27.6 -> its phase is 0 at Z4."""
+    text = "G54 DIAMON G95 M3 S400\nTRANS Z-3\nG0 X34 Z9\nX27.6\nG33 Z-20 K2 SF=0\nG0 X34\nM30\n"
+    setup = tmp_path / "s.toml"
+    setup.write_text(LATHE.format(d=30.0, z0=-40.0, tool=THREAD_TOOL, tol=0.005) + "[work_offsets]\nG54 = [0.0, 0.0, -2.0]\n")
+    res = cutsim.simulate("p.mpf", str(setup), text=text)
+    rec = res.check(kind="thread", z=[-16.0, -2.0], lead=2.0, root_diameter=27.6, phase=[0.0], phase_z=4.0)
+    assert rec["passed"], rec
+    wrong = res.check(kind="thread", z=[-16.0, -2.0], lead=2.0, phase=[0.0], phase_z=9.0)  # the offsets ignored
+    assert not wrong["passed"]
