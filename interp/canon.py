@@ -89,13 +89,17 @@ class SyncedFeed(Motion):
     displacement added progressively over its length (the lead-in over the first ``leadin.length``
     mm of lead-axis travel, the runout over the last), so it stops at ``tool_end``. ``end`` is thus
     the programmed end point only where no ramp moves it: the interpreter sets it so that the
-    tool reaches what the dialect means (CNC8x6: see its lead-in rule in docs/dialects/cnc8x6.md)."""
+    tool reaches what the dialect means (CNC8x6: see its lead-in rule in docs/dialects/cnc8x6.md).
+
+    ``lead_change`` (mm/rev², Sinumerik G34 > 0, G35 < 0): the lead is not constant but linear in
+    the revolutions turned since the start, lead(n) = ``lead`` + ``lead_change``·n (no ramps then)."""
 
     lead: float
     lead_axis: str | None
     start_angle: float
     leadin: Ramp | None = None
     runout: Ramp | None = None
+    lead_change: float = 0.0
 
     @property
     def tool_end(self) -> Vec3:
@@ -111,9 +115,15 @@ class SyncedFeed(Motion):
 
 @dataclass(frozen=True, slots=True)
 class Spindle:
+    """The spindle's direction and speed from here on. ``css`` > 0 (Sinumerik G96 on a lathe): a
+    constant cutting speed in m/min instead: the speed follows the tool's radius r as
+    1000·css / (2·pi·r) rpm, at most ``limit`` rpm (LIMS; 0: no limit); ``speed`` is then the
+    speed at the position where it was set."""
     src: Src
     direction: int  # +1 M03, -1 M04, 0 M05
     speed: float  # rpm, as programmed by S
+    css: float = 0.0  # m/min (constant cutting speed), 0: ``speed`` holds
+    limit: float = 0.0  # rpm, the speed limit under ``css`` (0: none)
 
 
 @dataclass(frozen=True, slots=True)
@@ -215,8 +225,12 @@ def describe(rec) -> str:
         for name, r in (("LEADIN", rec.leadin), ("RUNOUT", rec.runout)):
             if r is not None:
                 body += f" {name} {_fmt(r.length)}@{_fmt(r.angle)}{'+' if r.direction > 0 else '-'}{r.axis}"
+        if rec.lead_change:
+            body += f" DLEAD {_fmt(rec.lead_change)}"
     elif isinstance(rec, Spindle):
         body = f"SPINDLE {({1: 'M03', -1: 'M04', 0: 'M05'})[rec.direction]} S{_fmt(rec.speed)}"
+        if rec.css:
+            body += f" CSS {_fmt(rec.css)}" + (f" LIMS {_fmt(rec.limit)}" if rec.limit else "")
     elif isinstance(rec, ToolChange):
         body = ("TOOL none" if rec.tool is None else f"TOOL T{rec.tool}") + ("" if rec.offset is None else f" D{rec.offset}")
     elif isinstance(rec, ProgramEnd):

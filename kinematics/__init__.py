@@ -11,6 +11,7 @@ from cutsim.interp import canon
 from cutsim.interp.errors import CutsimError
 
 from .paths import ArcGeom, GaugePath, PlanarPath, RampGeom, ScrewPath, SpatialPath, arc_geom, arc_points
+from .spindle import css_minutes, inverse_speed, revolutions, varying_spans
 
 __all__ = ["ArcGeom", "GaugePath", "Plan", "plan", "PlanarPath", "ScrewPath", "SpatialPath"]
 
@@ -37,6 +38,7 @@ class _Planner:
         self.out = Plan()
         self.spindle_dir = 0
         self.speed = 0.0
+        self.css, self.limit = 0.0, 0.0  # constant cutting speed (m/min) and its limit (rpm): Sinumerik G96
         self.lathe = machine.kind == "lathe"
         self._warned_y = False
 
@@ -55,6 +57,7 @@ class _Planner:
         for rec in self.program.records:
             if isinstance(rec, canon.Spindle):
                 self.spindle_dir, self.speed = rec.direction, rec.speed
+                self.css, self.limit = rec.css, rec.limit
             elif isinstance(rec, canon.ToolChange):
                 if rec.tool is None:  # the spindle is emptied: the moves carry no tool (GaugePath)
                     self.tool = None
@@ -115,10 +118,13 @@ class _Planner:
                 arc = arc_geom(p0, p1, c, rec.plane, rec.clockwise, rec.full_turn)
         else:
             pts = np.vstack([p0, p1])
-        length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        length = float(np.sum(seg))
         rapid = isinstance(rec, canon.Rapid)
-        rate = self.m.rapid if rapid else self.feed_rate(rec)
-        self.out.cycle_time += 60.0 * length / rate
+        if not rapid and self.css > 0 and rec.per_rev and rec.feed > 0:  # G96: the speed follows the radius
+            self.out.cycle_time += 60.0 * css_minutes(pts[:, 0], seg, rec.feed, self.css, self.limit)
+        else:
+            self.out.cycle_time += 60.0 * length / (self.m.rapid if rapid else self.feed_rate(rec))
         if self.lathe:
             if self.spindle_dir != 0:
                 self.out.paths.append(PlanarPath(rec.src, self.tool, np.column_stack([pts[:, 0], pts[:, 2]]), rapid))
@@ -138,8 +144,8 @@ class _Planner:
             pts = np.vstack([p0, self.phys(rec.tool_end, rec.diameter)])
             travel = np.abs(pts[1] - pts[0])
             axis = "XYZ".index(rec.lead_axis) if rec.lead_axis else int(np.argmax(travel))
-            if self.speed > 0 and rec.lead > 0:
-                self.out.cycle_time += 60.0 * float(travel[axis]) / rec.lead / self.speed
+            if self.speed > 0 and (rec.lead > 0 or rec.lead_change > 0):
+                self.out.cycle_time += 60.0 * revolutions(rec.lead, rec.lead_change, float(travel[axis])) / self.speed
         else:
             pts = np.vstack([p0, p1])
         rapid = isinstance(rec, canon.Rapid)
@@ -163,7 +169,7 @@ class _Planner:
         travel = d[axis]
         if travel <= 1e-9:
             raise self.err(rec.src, f"G33 does not move along {axis}, the axis its lead is measured on")
-        revs = travel / rec.lead
+        revs = revolutions(rec.lead, rec.lead_change, travel)
         ramps = []
         for ramp, at_start in ((rec.leadin, True), (rec.runout, False)):
             if ramp is None:
@@ -174,7 +180,9 @@ class _Planner:
                 raise self.err(rec.src, f"the runout axis {ramp.axis} is the thread's own lead axis")
             start = 0.0 if at_start else travel - ramp.length
             ramps.append(RampGeom(start, ramp.length, ramp.displacement, "r" if ramp.axis == "X" else "z"))
-        if self.speed > 0:
+        if self.css > 0:  # G96: the controller holds the speed it has at the thread's start
+            self.out.cycle_time += 60.0 * revs * inverse_speed(p0[0], self.css, self.limit)
+        elif self.speed > 0:
             self.out.cycle_time += 60.0 * revs / self.speed
         if self.spindle_dir == 0:
             self.warn(rec.src, "G33 with the spindle stopped: the controller would wait for the zero pulse forever; "
@@ -189,5 +197,22 @@ class _Planner:
         # and the tool meets the workpiece at minus the spindle angle.
         rot = self.spindle_dir * (1 if self.m.m03 == "positive" else -1)
         phi0 = -rot * rec.start_angle
+        if rec.lead_change:
+            self.varying(rec, p0, p1, travel, phi0, -rot)
+            return
         self.out.paths.append(ScrewPath(rec.src, self.tool, p0[0], p0[2], p1[0], p1[2], travel, revs,
                                         phi0, -rot, tuple(ramps)))
+
+    def varying(self, rec: canon.SyncedFeed, p0, p1, travel: float, phi0: float, sense: int) -> None:
+        """G34/G35: chained constant-lead screws, each within the tolerance (kinematics/spindle.py)."""
+        if rec.leadin is not None or rec.runout is not None:
+            raise self.err(rec.src, "a thread with a varying lead and a lead-in or runout ramp is not modelled")
+        try:
+            spans = varying_spans(rec.lead, rec.lead_change, travel, self.tol)
+        except ValueError as e:
+            raise self.err(rec.src, str(e)) from None
+        phi = phi0
+        for t0, t1, revs in spans:
+            a, b = p0 + (p1 - p0) * (t0 / travel), p0 + (p1 - p0) * (t1 / travel)
+            self.out.paths.append(ScrewPath(rec.src, self.tool, a[0], a[2], b[0], b[2], t1 - t0, revs, phi, sense))
+            phi += sense * 360.0 * revs

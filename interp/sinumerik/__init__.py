@@ -10,7 +10,9 @@
   ``frames``; ``axes`` (AXNAME, AXSTRING, SPI, AXTOSPI, AX[..]);
 - cycles: ``cycle`` (parameters, ``Cycle``, the contour offset), ``milling`` (SLOT1/2, POCKET1-4,
   CYCLE71, run_cycle), ``contour`` (CYCLE72), ``drilling`` (CYCLE81..89, patterns, MCALL, ISO G81..G89),
-  ``corners`` (CHF, CHR, RND, RNDM, FRC, FRCM).
+  ``corners`` (CHF, CHR, RND, RNDM, FRC, FRCM); the turning cycles: ``turncycles`` (CYCLE93..98 in the
+  interpreter, CYCLE84 on a lathe) on the planners ``threading`` (CYCLE97, 98), ``grooving`` (CYCLE93,
+  94, 96) and ``stockremoval`` (CYCLE95).
 
 ``interpret(name, text, cfg)`` is the registry's entry point (interp/__init__.py).
 """

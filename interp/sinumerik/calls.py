@@ -15,7 +15,7 @@ from .syntax import Call, Frame, Index, Ret, SubprogramMissing, Unit, Var
 from .reader import split_units
 from .cycle import CYCLES
 from .milling import run_cycle
-from .tables import call_name, IGNORED_CALLS, MAX_SUB_BYTES, missing_hint, NOT_FILES, SAVED_MODAL
+from .tables import call_name, IGNORED_CALLS, MAX_SUB_BYTES, missing_hint, NOT_FILES, NOT_YET, SAVED_MODAL
 from .values import ArrayVar, Block, Slot, to_text, Value
 
 
@@ -35,6 +35,9 @@ class Calls:
         if name in NOT_FILES:
             listed = " ([machine] external_subprograms does not apply to it: the simulator knows the Siemens " \
                      "keywords and cycles and will not take one as cutting nothing)" if name in self.externals else ""
+            what = NOT_YET.get(name)
+            if what:
+                raise self.error(line, col, f"{name} ({what}) is not simulated yet{listed}")
             raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support{listed}")
         path = None
         for d in (*self.sub_dirs(), *self.cfg.subprogram_path):

@@ -20,6 +20,13 @@ G_CODES: dict[int, Code] = {
     2: Code(Group.MOTION, _CIRCLE, "arc clockwise"),
     3: Code(Group.MOTION, _CIRCLE, "arc counter-clockwise"),
     4: Code(Group.NON_MODAL, "F S", "dwell"),
+    # the lathe's spindle-synchronised moves (interp/sinumerik/turning.py)
+    33: Code(Group.MOTION, "X Y Z I J K", "thread cutting with constant lead"),
+    34: Code(Group.MOTION, "X Y Z I J K F", "thread cutting with increasing lead"),
+    35: Code(Group.MOTION, "X Y Z I J K F", "thread cutting with decreasing lead"),
+    331: Code(Group.MOTION, "X Y Z K", "rigid tapping"),
+    332: Code(Group.MOTION, "X Y Z K", "rigid tapping, retraction"),
+    63: Code(Group.NON_MODAL, "X Y Z F", "tapping with compensating chuck"),
     9: Code(Group.NON_MODAL, "", "exact stop for one block"),
     40: Code(Group.RADIUS_COMP, "", "off"),
     41: Code(Group.RADIUS_COMP, "", "left"),

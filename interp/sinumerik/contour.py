@@ -42,11 +42,12 @@ class ModalState:
                                                                      self.executed)
 
 
-def contour_lines(m, name: str, cy: Cycle):
-    """The unit and the lines of the contour named by _KNAME: a subprogram or "START:END" labels."""
+def contour_lines(m, name: str, cy: Cycle, param: str = "_KNAME"):
+    """The unit and the lines of the contour named by ``param`` (CYCLE72 _KNAME, CYCLE95 NPP): a
+    subprogram or "START:END" labels."""
     name = name.strip()
     if not name:
-        raise cy.err("_KNAME is empty: name the contour (subprogram or \"START:END\" labels)")
+        raise cy.err(f"{param} is empty: name the contour (subprogram or \"START:END\" labels)")
     if ":" in name:
         l1, l2 = [s.strip().upper() for s in name.split(":", 1)]
         for unit in [m.main, *m.subs.values()]:
@@ -60,8 +61,9 @@ def contour_lines(m, name: str, cy: Cycle):
     return unit, unit.lines
 
 
-def contour_records(m, unit, lines, cy: Cycle) -> list:
-    """Run the contour's blocks in a sandbox: their records, with the machine's state put back."""
+def contour_records(m, unit, lines, cy: Cycle, plane: str = "XY") -> list:
+    """Run the contour's blocks in a sandbox: their records, with the machine's state put back. The
+    contour lies in ``plane`` (CYCLE72: G17; CYCLE95: G18)."""
     saved = ModalState.of(m)
     saved_program = m.unit_program
     saved_corners = m.corners
@@ -90,8 +92,9 @@ def contour_records(m, unit, lines, cy: Cycle) -> list:
                     raise m.error(ln.line, st.col, f"a contour for {cy.name} holds only G blocks: {what} is not allowed "
                                   "there (no jumps, control structures IF/WHILE/FOR/CASE, calls, G41/G42 or drilling cycles)")
             m.block(ln, fr, [fr])
-            if m.plane != "XY":
-                raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in G17 (XY)")
+            if m.plane != plane:
+                g = {"XY": "G17 (XY)", "ZX": "G18 (ZX)"}[plane]
+                raise m.error(ln.line, 1, f"the contour for {cy.name} must lie in {g}")
         finish_corners(m)  # RND on the contour's last move: an error there
     finally:
         saved.restore(m)

@@ -22,6 +22,10 @@ SIDE_STEP = 1.0  # pocket/slot roughing: radial step between concentric paths, x
 INNER_LOOP = 0.9  # the innermost roughing path lies this many tool radii inside the final one
 FACE_STEP = 1.5  # CYCLE71 default side step (_MIDA empty), x tool radius
 EPS = 1e-9
+# coarse metric threads M3..M60 (ISO 261): size -> pitch (mm), for MPIT (CYCLE84, CYCLE97) and DIATH (CYCLE96)
+COARSE_PITCH = {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 2.0, 16: 2.0, 18: 2.5, 20: 2.5,
+                22: 2.5, 24: 3.0, 27: 3.0, 30: 3.5, 33: 3.5, 36: 4.0, 39: 4.0, 42: 4.5, 45: 4.5, 48: 5.0, 52: 5.0,
+                56: 5.5, 60: 5.5}
 ANGLES = {"STA1", "INDA", "AFSL", "_STA"}  # degrees, within +-ANGLE_LIMIT
 ANGLE_LIMIT = 360.0
 NUM_LIMIT = 1000  # SLOT1/SLOT2 NUM
@@ -72,6 +76,7 @@ SPECS = {
 }
 CYCLES = set(SPECS)
 DRILLING: set[str] = set()  # the drilling cycles and patterns (drilling.register fills it)
+TURNING: set[str] = set()  # the turning cycles, run in G18 on a lathe (turncycles.register fills it)
 
 
 class Cycle:
@@ -85,8 +90,10 @@ class Cycle:
             raise m.error(self.line, args[len(spec)][1], f"{name} takes at most {len(spec)} parameters, not {len(args)}")
         self.v: dict[str, object] = {}
         self.given: set[str] = set()
+        self.cols: dict[str, int] = {}  # parameter -> the column of its argument (the call's when empty)
         for k, p in enumerate(spec):
             val, col = args[k] if k < len(args) else (None, self.col)
+            self.cols[p.name] = col
             if val is None:
                 if p.default is None:
                     raise m.error(self.line, col, f"{name}: parameter {k + 1} ({p.name}) is required")

@@ -19,7 +19,8 @@ from dataclasses import dataclass
 from ..canon import Src
 from ..core import Group
 from .codes import G_CODES, ISO_GROUPS
-from .cycle import CYCLES
+from . import turncycles
+from .cycle import COARSE_PITCH, CYCLES
 from .milling import run_cycle
 from .syntax import COORD_LIMIT, Call, SubCall, range_message
 from .machine import in_wcs
@@ -33,10 +34,7 @@ ANTICIPATION_MIN, ANTICIPATION_DEPTH, ANTICIPATION_MAX = 0.6, 30.0, 7.0
 # moves: a pattern of n holes with a modal cycle makes at least MOVES_PER_HOLE moves per hole
 MOVES_PER_HOLE = 4  # G0 to the position, G0 to RFP + SDIS, G1 to the depth, G0 to RTP
 
-# coarse metric threads M3..M48 (ISO 261): MPIT -> pitch (mm)
-METRIC_PITCH = {3: 0.5, 4: 0.7, 5: 0.8, 6: 1.0, 8: 1.25, 10: 1.5, 12: 1.75, 14: 2.0, 16: 2.0, 18: 2.5,
-                20: 2.5, 22: 2.5, 24: 3.0, 27: 3.0, 30: 3.5, 33: 3.5, 36: 4.0, 39: 4.0, 42: 4.5, 45: 4.5,
-                48: 5.0}
+METRIC_PITCH = {k: p for k, p in COARSE_PITCH.items() if k <= 48}  # ISO 261 coarse: MPIT M3..M48 -> pitch
 
 _COMMON = "RTP RFP SDIS DP DPR"
 _NEW = " _GMODE _DMODE _AMODE"  # the later (ShopMill / Operate) parameters: _GMODE checked (tip_reference)
@@ -258,6 +256,9 @@ def _tap(cy, h: Hole, lead: float | None, steps: list[float] | None = None, back
     back by ``back`` (chip breaking) or out to RFP + SDIS (``out``: chip removal) and in again."""
     _approach(cy, h)
     m = cy.m
+    if lead is not None and m.cfg.machine_kind == "lathe":  # G331/G332 on the spindle axis
+        hand = -1 if cy["PIT"] < 0 or cy["MPIT"] < 0 else 1  # the sign of the pitch: the hand
+        return turncycles.rigid_tap(cy, h.p, (h.safe, lead, hand), steps or [h.dp], back, out, lambda: _retract(cy, h))
     per_rev, feed = m.per_rev, m.feed
     if lead is not None:
         m.per_rev, m.feed = True, lead

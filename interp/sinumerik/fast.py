@@ -184,6 +184,8 @@ def plain_block(m, ln: Line, src) -> bool:
     if "X" in vals or "Y" in vals or "Z" in vals:
         pos = m.pos
         absolute = m.absolute
+        if "X" in vals and modal.diam != "DIAMOF" and (modal.diam == "DIAMON" or absolute and modal.diam == "DIAM90"):
+            vals["X"] *= 0.5  # a diameter (lathe.x_words): the position is kept as a radius
         end = [pos[0], pos[1], pos[2]]
         for i, a in enumerate("XYZ"):
             v = vals.get(a)

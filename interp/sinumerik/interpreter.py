@@ -31,7 +31,7 @@ from ..core.geometry import FullCircle, radius_centre, RadiusTooSmall
 from ..core.compensation import compensate_records
 from ..errors import CutsimError
 from ..core.modal import InterpConfig, PLANE_AXES
-from . import corners as corner, drilling as drill, fast as sinumerik_fast, machine
+from . import corners as corner, drilling as drill, fast as sinumerik_fast, lathe, machine, turning
 from .codes import G_CODES, M_CODES, takes
 from .calls import Calls
 from .flow import Flow
@@ -79,9 +79,13 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
         self.machine_modal = machine.Modal()  # the machine side's modal part (saved by PROC ... SAVE)
         self.machine = machine.Machine(cfg, self)  # the machine side: units, frames, extra axes, spindles
         self.drill = drill.DrillState()  # MCALL and the ISO drilling cycles
+        lathe.start(self)  # a lathe set up for diameters starts in DIAMON (the position kept as a radius)
 
     # -- values ----------------------------------------------------------------------------------
     def tool_radius(self) -> float:
+        nose = lathe.nose(self)
+        if nose is not None:  # a lathe tool's nose radius
+            return nose[0]
         if self.d_no == 0 or self.tool_no is None:
             return 0.0
         return float(self.cfg.tool_radii.get(self.tool_no, 0.0))
@@ -89,6 +93,8 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
 
     # -- emission (radius compensation buffers motions) -----------------------------------------
     def emit(self, rec) -> None:
+        if self.machine.lathe.pending is not None:  # a thread chain's last block waits for its DITE run-out
+            lathe.before_emit(self, rec)
         for p in (rec.end, getattr(rec, "center", None)) if isinstance(rec, canon.MOTIONS) else ():
             if p is not None and max(abs(c) for c in p) > COORD_LIMIT:
                 i = max(range(3), key=lambda k: abs(p[k]))
@@ -148,6 +154,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
             self.count_block(ln)
             ended = self.block(ln, fr, stack)
         corner.finish(self)  # a chamfer or rounding on the last move (no M30) is an error there
+        lathe.finish(self)  # the DITE run-out of a thread chain at the program's end
         if self.comp_buf is not None:
             self.flush_comp(None, last_line)
         self.program.blocks = self.executed
@@ -237,8 +244,12 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
             blk.end = any(code in (2, 30) for code, _ in ms)
             blk.calls.extend(Ret(col) for code, col in ms if code == 17)
 
+    def spindle(self, src: Src, direction, speed) -> None:
+        if not lathe.spindle(self, src, direction, speed):  # G96 on a lathe: S is a cutting speed
+            super().spindle(src, direction, speed)
+
     def convert_feed(self, st: Step) -> None:
-        if "F" in st.words:
+        if "F" in st.words and self.motion not in (34, 35):  # G34/G35: F is the change of lead
             f = st.words.pop("F")
             if f.value <= 0:
                 raise self.error(st.src.line, f.col, "feed F must be positive")
@@ -251,6 +262,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
         blk, src, line = st.block, st.src, st.src.line
         self.unsupported(blk, line)
         corner.comp_change(self, blk.comp)  # a corner where G40/G41/G42 changes: not modelled
+        lathe.nose_plane(self, blk, line)  # a lathe compensates its tool's nose in G18 only
         self.comp_on(blk.comp, src, line)
         blk.moved = drill.moves_axes(blk.words)  # MCALL: the modal cycle runs after a block with X/Y/Z
         if blk.drills:  # the hole position: G0 in the plane at the level the tool stands on, then the hole
@@ -303,6 +315,11 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
         machine.move(self, src, words, run_cycle)  # WCS -> machine: units, frames, extra axes (machine)
         cols = {i: words[a].col for i, a in enumerate("XYZ") if a in words}
         targets = self.axis_targets(words)
+        if turning.active(self):  # G33/G34/G35, G331/G332, G63 (interp/sinumerik/turning.py)
+            for i, v in targets.items():
+                self.in_range(line, cols[i], "XYZ"[i], v, "the end point")
+            turning.motion(self, src, words, targets, cols)
+            return
         if not targets and motion_word not in (2, 3) and not any(k in words for k in ("I", "J", "K", "CR")):
             return
         end = list(self.pos)
@@ -368,8 +385,10 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
         buf, self.comp_buf = self.comp_buf, None
         side = 1 if self.comp == 41 else -1
         r = self.tool_radius()
+        nose = lathe.nose(self)  # a lathe tool: its tip is where the program's contour runs
         recs = compensate_records(buf, side * r, self.plane, src_g40 is not None, True, False,
-                                  lambda rec, msg: self.error(rec.src.line, rec.src.col, msg), strict=False)
+                                  lambda rec, msg: self.error(rec.src.line, rec.src.col, msg), strict=False,
+                                  shift=(0.0, 0.0) if nose is None else nose[1])
         self.program.records.extend(recs)
         self.comp = 40
         # the position is where the last emitted motion ends

@@ -30,6 +30,7 @@ from ..core.frames import Affine, cofactor, IDENTITY, mat_mul, Mat, ZERO
 from .frames import _diag, _rot
 from ..core import CENTRE_WORDS, Group
 from .codes import G_CODES, M_CODES, PATH_ONLY
+from . import lathe
 from .syntax import COORD_LIMIT, range_message
 
 INCH = 25.4
@@ -86,6 +87,7 @@ class Modal:
     settable: str = "G500"
     offset: tuple[float, float, float] = ZERO
     frame: Affine = field(default_factory=Affine)  # programmable frame
+    diam: str = "DIAMOF"  # the lathe's diameter mode: DIAMON, DIAMOF, DIAM90, DIAMCYCOF (lathe.py)
 
 
 def _modal(name: str) -> property:
@@ -112,6 +114,7 @@ class Machine:
     arc_flip: bool = False  # the arc being programmed turns the other way in the machine (mirror)
     sandbox: bool = False  # a cycle runs in WCS; its records are mapped afterwards
     deferred: list = field(default_factory=list)  # cycles of the block under a frame, run by ``move``
+    lathe: lathe.Lathe = field(default_factory=lathe.Lathe)  # threads, tapping, G96 (interp/sinumerik/lathe.py)
 
     # -- the transform -----------------------------------------------------------------------------
     def unit(self) -> float:
@@ -197,6 +200,11 @@ def word(m, st, val, line: int, blk) -> bool:
     if addr == "RPL":
         blk.words["RPL"] = Word(m.num(val, line, st.col), None, st.col)
         return True
+    if addr in lathe.LATHE_WORDS:  # SF= DITS= DITE= LIMS=: lathe.settings applies them
+        if addr in blk.words:
+            raise m.error(line, st.col, f"address {addr} appears twice in one block")
+        blk.words[addr] = Word(m.num(val, line, st.col), None, st.col)
+        return True
     return False
 
 
@@ -252,6 +260,7 @@ def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
     returned for the interpreter (G41/G42 swapped while a mirror turns the plane over)."""
     ms = m.machine
     ms.suppress = False
+    ms.lathe.g63 = False
     rest = []
     seen: dict[Group, tuple[int, int]] = {}
     for code, col in gs:
@@ -272,10 +281,20 @@ def g_codes(m, gs: list[tuple[int, int]], line: int) -> list[tuple[int, int]]:
         elif code in PATH_ONLY:
             ms.warn_once(m, None, f"G{code}", f"G{code} ({G_CODES[code].meaning}) does not change the tool path; "
                          "accepted")
+        elif code in lathe.SYNCED or code == 63:
+            if not lathe.is_lathe(m):
+                raise m.error(line, col, f"G{code} ({G_CODES[code].meaning}) needs a lathe: the setup's machine is a "
+                              "mill ([machine] kind = \"lathe\")")
+            if code == 63:
+                ms.lathe.g63 = True
+            else:
+                rest.append((code, col))
         elif group is Group.SPINDLE_MODE:
             if code in (961, 971):
                 m.per_rev = False  # G961/G971: the feed in mm/min, as G94
-            if code in (96, 961):
+            if lathe.is_lathe(m):
+                lathe.spindle_mode(m, ms, code, canon.Src(m.unit_program, line, col))
+            elif code in (96, 961):
                 ms.warn_once(m, None, f"G{code}", f"G{code} ({G_CODES[code].meaning}): S is a cutting speed in "
                              "m/min; the tool path is unchanged, the spindle speed is recorded as written (not in rpm)")
         elif code in (41, 42) and flipped(ms, m.plane):
@@ -340,6 +359,8 @@ def settings(m, src, blk, cycles: set) -> None:
             traori_on(m, ms, src, col)
         elif name == "TRAFOOF":
             ms.traori = False
+        elif name in lathe.DIAMETER_MODES:
+            lathe.diameter_command(m, ms, name, src, col)
         elif name in ACCEPTED:
             ms.warn_once(m, src, name, f"{name} ({ACCEPTED[name]}) does not change the tool path; accepted")
         else:
@@ -362,6 +383,7 @@ def settings(m, src, blk, cycles: set) -> None:
     blk.calls[:] = keep
     if frame_cmd is not None:
         frame(m, ms, frame_cmd[0], blk.words, line, frame_cmd[1])
+    lathe.settings(m, ms, src, blk)
     if "F" in blk.words and ms.inch_feed:
         f = blk.words["F"]
         f.value *= INCH
@@ -510,6 +532,7 @@ def run_mapped(m, ms: Machine, fn) -> None:
     ms.sandbox = True
     try:
         fn()
+        lathe.finish(m)  # a thread chain the cycle ends with gets its DITE run-out before the mapping
     finally:
         ms.sandbox = False
         m.program.records = saved_records
@@ -531,8 +554,14 @@ def map_record(m, ms: Machine, r):
         n = PLANE_AXES[r.plane][2]
         flip = plane_image(m, ms, r.plane, r.src.line, r.src.col)
         return replace(r, start=start, end=end, center=ms.to_machine(r.center), clockwise=r.clockwise != flip)
-    if isinstance(r, canon.SyncedFeed):  # pragma: no cover - no Sinumerik cycle threads
-        raise m.error(r.src.line, r.src.col, "a thread under a frame is not modelled")
+    if isinstance(r, canon.SyncedFeed):  # a cycle's thread: its lead axis must stay a turning axis
+        i = AXES.index(r.lead_axis)
+        lin = ms.linear_part()
+        if any(abs(lin[i][k]) + abs(lin[k][i]) > 1e-12 for k in range(3) if k != i):
+            raise m.error(r.src.line, r.src.col, "a thread under a rotated frame (ROT/AROT) is not modelled: the lead "
+                          "axis would leave the turning axes")
+        return replace(r, start=start, end=end, lead=r.lead * abs(lin[i][i]),
+                       lead_change=r.lead_change * abs(lin[i][i]))
     return replace(r, start=start, end=end)
 
 
@@ -567,6 +596,8 @@ def move(m, src, words: dict, run_cycle) -> None:
     if m.cfg.axes:  # only axes the setup declares are taken from the words
         extra_axes(m, ms, src, words)
     arc = m.motion in (2, 3)
+    if m.cfg.machine_kind == "lathe":
+        lathe.x_words(m, ms, words, arc)  # DIAMON / DIAM90: X (and I=AC) diameters -> radii
     if ms.identity() or ms.sandbox:
         return
     if m.drill.mcall is not None and any(a in words for a in AXES) and not MODAL_CYCLES_IN_WCS:

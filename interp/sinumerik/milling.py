@@ -8,7 +8,8 @@ import math
 from ..canon import Src
 from ..core.compensation import _cross, _dot, _norm, _sub, Elem, length
 from .contour import cycle72
-from .cycle import budget, Cycle, DRILLING, EPS, FACE_STEP, INNER_LOOP, n_levels, NUM_LIMIT, reverse, SIDE_STEP
+from .lathe import x_factor
+from .cycle import budget, Cycle, DRILLING, EPS, FACE_STEP, INNER_LOOP, n_levels, NUM_LIMIT, reverse, SIDE_STEP, TURNING
 
 
 # ---------------------------------------------------------------------------------------------
@@ -505,6 +506,37 @@ def run_cycle(m, name: str, args, src: Src, col: int, label: str | None = None) 
     label = label or name
     if m.comp_buf is not None:
         raise m.error(src.line, 1, f"{label} cannot run with radius compensation G41/G42 on: program G40 first")
+    _check_plane(m, name, src, label)
+    cy = Cycle(m, name, args, src, col, label)
+    motion = m.motion
+    RUNNERS[name](cy)
+    m.motion = motion
+
+
+PATTERNS = ("HOLES1", "HOLES2", "CYCLE801")
+
+
+def _check_plane(m, name: str, src: Src, label: str) -> None:
+    """The plane (and machine) a cycle runs in: the milling cycles in G17; the turning cycles in G18
+    on a lathe; the drilling cycles in G17, or on a lathe in G18 too, along Z on the spindle axis."""
+    lathe = m.cfg.machine_kind == "lathe"
+    if name in TURNING:
+        if not lathe:
+            raise m.error(src.line, 1, f"{label} is a turning cycle: it runs on a lathe ([machine] kind = \"lathe\")")
+        if m.plane != "ZX":
+            g = {"XY": "G17", "YZ": "G19"}[m.plane]
+            raise m.error(src.line, 1, f"{label} turns in G18 (Z the longitudinal, X the transverse axis), not in "
+                          f"{g}: program G18 before the call")
+        return
+    if name in DRILLING and lathe:
+        if name in PATTERNS:
+            raise m.error(src.line, 1, f"{label} on a lathe: a hole pattern lies off the spindle axis, and a lathe "
+                          "drills on the axis (X0)")
+        if m.plane in ("XY", "ZX"):
+            if abs(m.pos[0]) > 1e-6 or abs(m.pos[1]) > 1e-6:
+                raise m.error(src.line, 1, f"{label} on a lathe drills along Z on the spindle axis: the tool stands "
+                              f"at X{m.pos[0] / x_factor(m.machine, True):g}, bring it to X0 first")
+            return
     if m.plane != "XY" and name in DRILLING:
         g, axis = ("G18", "Y") if m.plane == "ZX" else ("G19", "X")
         raise m.error(src.line, 1, f"{label} in {g} drills along {axis}: the simulated tool stands along Z (a "
@@ -512,7 +544,3 @@ def run_cycle(m, name: str, args, src: Src, col: int, label: str | None = None) 
                       "holes in G17")
     if m.plane != "XY":
         raise m.error(src.line, 1, f"{label} is simulated in the G17 plane only")
-    cy = Cycle(m, name, args, src, col, label)
-    motion = m.motion
-    RUNNERS[name](cy)
-    m.motion = motion

@@ -18,15 +18,15 @@ from ..errors import CutsimError
 EXTRA_AXES = set("ABCUVW")  # axis letters beyond X/Y/Z: words for them need the setup's [machine] axes
 ADDRESSES = set("GMXYZIJKFSTDLP") | EXTRA_AXES  # single-letter addresses with a number
 ISO_ADDRESSES = {"R", "Q"}  # the ISO drilling cycles' R plane and peck depth, with a plain number
-EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P", "RPL"} | EXTRA_AXES  # RPL: ROT RPL=30
+EXPR_ADDRESSES = {"X", "Y", "Z", "I", "J", "K", "F", "S", "T", "D", "CR", "P", "RPL",
+                  "SF", "DITS", "DITE", "LIMS"} | EXTRA_AXES  # RPL: ROT RPL=30; the lathe's (interp/sinumerik/lathe.py)
 STRUCTURED = {"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT", "UNTIL"}
 KEYWORDS = {"DEF", "GOTOF", "GOTOB", "GOTO", "GOTOC", "PROC", "RET", "CASE", "EXTERN", "REPEATB", "CALL", "EXTCALL",
             "PCALL", "OF", "DEFAULT",
             "TO", "AND", "OR", "XOR", "NOT", "DIV", "MOD", "B_AND", "B_OR", "B_XOR", "B_NOT"} | STRUCTURED
 TYPES = {"REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME"}
 JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
-# DIAMOF (radius programming) is a mill's only mode: nothing to say about it
-IGNORED_WORDS = {"DIAMOF"}
+IGNORED_WORDS: set[str] = set()
 # Bare keywords without parameters read as ``Command`` (never a subprogram, never a file name):
 # LANG_COMMANDS change nothing on the tool path and get one warning per kind (docs: "Warnings");
 # MACHINE_COMMANDS are for interp/sinumerik/interpreter.py's settings (frames, units, compensation...), which
@@ -37,7 +37,7 @@ LANG_COMMANDS = {"STOPRE", "DISPLOF", "DISPLON", "SBLOF", "SBLON", "GROUP_BEGIN"
                  "G_GROUP", "FIFOCTRL", "RMBBL", "RMIBL", "RMEBL", "RMNBL", "TRAILOF", "SPOF"}
 MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "SUPA",
                     "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "DRFOF", "TRAFOOF", "TRAORI", "TRANSMIT",
-                    "TRACYL", "DIAMON", "DIAM90", "CUT2D", "CUT2DF", "CUT3DC", "CDON", "CDOF", "CDOF2",
+                    "TRACYL", "DIAMON", "DIAM90", "DIAMOF", "DIAMCYCOF", "CUT2D", "CUT2DF", "CUT3DC", "CDON", "CDOF", "CDOF2",
                     "ORIWKS", "ORIMKS", "ORIAXES", "ORIVECT", "ORICONCW", "ORICONCCW", "TOFRAME", "TOROT",
                     "PAROT", "PAROTOF", "TOROTOF", "G500", "DYNNORM", "DYNPOS", "DYNROUGH", "DYNSEMIFIN",
                     "DYNFINISH", "FGREF", "OFFN",
@@ -50,7 +50,7 @@ MACHINE_COMMANDS = {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR
                     "ASPLINE", "BSPLINE", "CSPLINE", "POLY", "CIP", "CT", "COMPSURF"}
 # NAME=value / NAME[n]=value settings without effect on the tool path (spindle positioning and
 # limits, smoothing distances): one warning per kind
-SETTING_WORDS = {"SPOS", "SPOSA", "LIMS", "ADIS", "ADISPOS", "SOFTA", "BRISKA", "DRIVEA", "ACC", "OVRA", "VELOLIM",
+SETTING_WORDS = {"SPOS", "SPOSA", "ADIS", "ADISPOS", "SOFTA", "BRISKA", "DRIVEA", "ACC", "OVRA", "VELOLIM",
                  "JERKLIM", "FA", "SCC", "FPR", "FPRAON", "FPRAOF", "FGREF", "COUPON", "COUPOF"}
 SYNC_WORDS = {"WHEN", "WHENEVER", "EVERY", "FROM", "DO"}  # synchronized actions: the rest of the block
 FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT": 1, "ABS": 1,

@@ -7,9 +7,9 @@ from __future__ import annotations
 import os
 import re
 
-from . import drilling as drill
+from . import drilling as drill, turncycles
 from .syntax import KEYWORDS as LANG_KEYWORDS, MACHINE_COMMANDS
-from .cycle import _spec, ANGLES, CYCLES, DRILLING, SPECS
+from .cycle import _spec, ANGLES, CYCLES, DRILLING, SPECS, TURNING
 from .milling import RUNNERS
 
 
@@ -37,12 +37,17 @@ SAVED_MODAL = ["absolute", "per_rev", "plane", "motion", "comp", "machine_modal"
 
 # the drilling cycles and the position patterns join the cycles' tables (CYCLES, SPECS, RUNNERS)
 drill.register(SPECS, RUNNERS, CYCLES, ANGLES, _spec, DRILLING)
+# the turning cycles (CYCLE93..98) too, run in G18 on a lathe (turncycles.register)
+turncycles.register(SPECS, RUNNERS, CYCLES, _spec, TURNING)
 
 # keywords that are never a subprogram file, even with a file of that name beside the program
 NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1", "HOLES2", "LONGHOLE", "CYCLE800",
            "CYCLE801", "CYCLE802", "CYCLE832", "CYCLE840", "CYCLE84", "CYCLE86", "CYCLE87", "CYCLE88", "CYCLE89",
-           "CYCLE90", "CYCLE61", "CYCLE76", "CYCLE77", "CYCLE79", "CYCLE899", "CYCLE95", "CYCLE97", "MSG", "SETAL",
+           "CYCLE90", "CYCLE61", "CYCLE76", "CYCLE77", "CYCLE79", "CYCLE899", "CYCLE95", "CYCLE99", "MSG", "SETAL",
            "WORKPIECE"}
+
+# Siemens cycles the simulator knows but does not run yet: the error names what they do
+NOT_YET = {"CYCLE99": "ShopTurn thread turning; CYCLE97 cuts the same threads"}
 
 # path words the simulator does not implement: an error naming them, not "unknown variable"
 UNSUPPORTED_NAMES = {"ANG": "a contour angle", "AR": "an arc's opening angle",

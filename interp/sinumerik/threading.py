@@ -19,11 +19,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .drilling import METRIC_PITCH as _COARSE_TO_M48
+from .cycle import COARSE_PITCH
 from .syntax import range_message
 
 # coarse metric threads (ISO 261) M3..M60: CYCLE97's MPIT range reaches M60, the tapping cycles' M48
-METRIC_PITCH: dict[int, float] = {**_COARSE_TO_M48, 52: 5.0, 56: 5.5, 60: 5.5}
+METRIC_PITCH: dict[int, float] = COARSE_PITCH
 DEFAULT_RETRACT = 1.0  # mm: the lift above the thread when _VRT is 0 (manual: 1 mm)
 MAX_IANG = 89.0  # degrees: beyond, tan() makes the flank offset meaningless
 EPS = 1e-9

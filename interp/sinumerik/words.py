@@ -128,7 +128,7 @@ class Words:
 
     def convert_settings(self, st: Step) -> None:
         """The executor's hook (core.Interpreter.execute): the machine keywords, then spindle and
-        tool (T, D, M6)."""
+        tool (T, D, M6; on a lathe T alone changes the tool, as a turret's T does)."""
         src, blk = st.src, st.block
         machine.settings(self, src, blk, CYCLES)  # frames, TRAORI, CYCLE800, F under G700 (machine)
         line, words = src.line, blk.words
@@ -137,6 +137,7 @@ class Words:
             self.spindle(src, direction, words.pop("S").value)
         elif direction is not None:
             self.spindle(src, direction, None)
+        turret = "T" in words and self.cfg.machine_kind == "lathe"  # a lathe's T changes the tool at once
         if "T" in words:
             t = words.pop("T")
             if t.value != int(t.value):
@@ -147,7 +148,7 @@ class Words:
             if d.value != int(d.value):
                 raise self.error(line, d.col, "D must be a whole offset number")
             self.d_no = int(d.value)
-        if any(code == 6 for code, _ in blk.ms):
+        if turret or any(code == 6 for code, _ in blk.ms):
             self.change_tool(src)
 
     def change_tool(self, src: Src) -> None:

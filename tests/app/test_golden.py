@@ -16,7 +16,13 @@ rectangle X20..50 Y30..50 with corner radius 1 (40 x 30, radius 6, minus the 5 m
 Every other Sinumerik example has one too: POCKET4 (PRAD 15, 10 mm tool, FAL 0.2) roughs the
 circles of radius 4.5 (0.9 tool radii) and 9.8 and finishes on radius 10 about (40, 40); CYCLE71
 (80 x 50, _MIDA 7) cuts ceil(50 / 7) + 1 = 9 lines 6.25 apart from X -10 (_FDP 5 + tool radius) to
-87 (_FDP1 2 + tool radius) at Z 1 and Z 0 (_MID 1 from _RFP 2).
+87 (_FDP1 2 + tool radius) at Z 1 and Z 0 (_MID 1 from _RFP 2). CYCLE97 (cycle97-m30x2) makes its
+first cut at radius 15 - 1.177 sqrt(1/5) = 14.47363, shifted (1.227 - 0.52637) tan 29 = 0.388365
+towards +Z, its chained G33 blocks all starting at 30 degrees (4 and 24 mm are whole turns of lead
+4), the last cut of start 2 at radius 13.773 from Z4 at 210 degrees. turning-cycles roughs with
+CYCLE95 at radius 20 - 8.8 k / 5 (18.24 first) from Z1.1 (_VRT 1 + FALZ 0.1), cuts the DIN 76
+undercut down the 30 degree flank from (12, -19.5) to (9.8, -23.310512) and round the fillet 1.6
+about (11.4, -28.4), the DIN 509 one from (16, -42.5) to (15.7, -43.619615) and round (16.3, -44.4).
 
 The test programs under tests/data/programs/ that simulate (CNC8x6 and ISG) have golden files
 ``tests_<folder>_<name>.txt`` with the setup their tests use (TEST_PROGRAMS), e.g. mill/slot.nc

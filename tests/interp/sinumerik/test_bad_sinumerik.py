@@ -1,4 +1,5 @@
-"""Bad Sinumerik programs (tests/data/bad/sinumerik/*.mpf and a few generated here): each must stop the
+"""Bad Sinumerik programs (tests/data/bad/sinumerik/*.mpf on a mill, tests/data/bad/sinumerik/lathe/*.mpf on
+a lathe, each folder with its setup.toml, and a few generated here): each must stop the
 CLI at once with exit status 2 and ``PROGRAM:LINE:COL: error: TEXT`` naming the offending word,
 parameter or block, nothing written, no traceback. The first line of each file says what is
 expected: ``; EXPECT LINE:COL fragment``. Inputs too big to keep in the repository (a block of 600
@@ -18,7 +19,7 @@ from cutsim.cli import main
 
 BAD = Path(__file__).resolve().parents[2] / "data" / "bad" / "sinumerik"
 SETUP = BAD / "setup.toml"
-PROGRAMS = sorted(BAD.glob("*.mpf"))
+PROGRAMS = sorted(BAD.glob("*.mpf")) + sorted((BAD / "lathe").glob("*.mpf"))  # lathe/: its own setup.toml
 RULES = {  # every limit of docs/dialects/sinumerik.md ("Limits") has its program
     "non-ascii-letter", "fullwidth-digit", "arabic-indic-digit", "number-321-digits", "coordinate-over-range",
     "incremental-over-range", "arc-centre-over-range", "arc-centre-ac-over-range", "feed-negative",
@@ -28,6 +29,9 @@ RULES = {  # every limit of docs/dialects/sinumerik.md ("Limits") has its progra
     "pocket2-tiny-tool-too-many-moves", "pocket1-mid-too-many-moves", "pocket3-helix-too-many-moves",
     "cycle71-mida-too-many-moves", "cycle72-contour-bottleneck", "cycle72-contour-concave-arc",
     "axis-spi-not-whole",
+    # the lathe's (docs/dialects/sinumerik-turning.md): SF, DITS/DITE, LIMS, the lead's axis, G35's lead
+    "sf-over-range", "dits-below-minus-one", "dits-longer-than-block", "dite-longer-than-block", "lims-zero",
+    "g33-taper-lead-on-k", "g33-taper-lead-on-i", "g35-lead-reaches-zero",
 }
 
 
@@ -38,7 +42,8 @@ def expectation(path: Path) -> tuple[int, int, str]:
 
 
 def simulate(program: Path, out: Path):
-    return CliRunner().invoke(main, ["simulate", str(program), "--setup", str(SETUP), "--out", str(out), "-q"])
+    setup = program.parent / "setup.toml" if (program.parent / "setup.toml").is_file() else SETUP
+    return CliRunner().invoke(main, ["simulate", str(program), "--setup", str(setup), "--out", str(out), "-q"])
 
 
 def assert_error(res, out: Path, where: str, text: str) -> None:

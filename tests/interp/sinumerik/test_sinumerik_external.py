@@ -198,13 +198,13 @@ def test_a_pocket_cycle_runs_whether_listed_or_not():
 
 
 def test_a_refused_siemens_cycle_stays_refused():
-    """CYCLE95 (stock removal) is a Siemens cycle the simulator does not run: listing it does not
-    make it cut nothing; the message says the list does not apply."""
-    e = error_of(HEAD + "CYCLE95(\"KONT\", 2)\nM30\n", ["CYCLE95"])
+    """CYCLE99 (ShopTurn thread turning) is a Siemens cycle the simulator does not run: listing it
+    does not make it cut nothing; the message says the list does not apply."""
+    e = error_of(HEAD + "CYCLE99(0, 40, -30, 40, 2, 1, 0.92)\nM30\n", ["CYCLE99"])
     assert (e.line, e.col) == (3, 1)
-    assert "CYCLE95 is a Siemens keyword the simulator does not support" in e.message
+    assert "CYCLE99 (ShopTurn thread turning; CYCLE97 cuts the same threads) is not simulated yet" in e.message
     assert "[machine] external_subprograms does not apply" in e.message
-    assert "does not apply" not in error_of(HEAD + "CYCLE95(\"KONT\", 2)\nM30\n").message
+    assert "does not apply" not in error_of(HEAD + "CYCLE99(0, 40, -30, 40, 2, 1, 0.92)\nM30\n").message
 
 
 def test_a_cycle800_swivel_stays_refused():
