@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import cycles, offsets, threading
+from . import cycles, lathe, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
@@ -49,6 +49,9 @@ class Ngc(Interpreter):
         self.coord = 1
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
+        self.feed_scale = 1.0  # mm per unit of F (the units when F was programmed)
+        self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
+        self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
         offsets.load(self)
 
     # -- program coordinates -----------------------------------------------------------------------
@@ -249,7 +252,11 @@ class Ngc(Interpreter):
         m = self.motion
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
-        if m in cycles.CYCLE_CODES and has_axes:
+        if self.profile is not None:
+            self.check_profile(st, m, has_axes)
+        if m in lathe.LATHE_CYCLES and st.motion == m:
+            lathe.cycle(self, st)
+        elif m in cycles.CYCLE_CODES and has_axes:
             cycles.run(self, st)
         elif not has_axes:
             if st.motion not in (None, 0, 1, 80) and Group.NON_MODAL not in st.g:
@@ -275,6 +282,39 @@ class Ngc(Interpreter):
             self.rigid_tap(st)
         self.check_left(st)
 
+    def check_profile(self, st: Step, m, has_axes: bool) -> None:
+        """A block of a G70-G72 profile: straight moves and arcs only, absolute (LinuxCNC's
+        incremental profiles are not simulated)."""
+        if not has_axes:
+            return
+        col = st.groups[MOTION].col if MOTION in st.groups else 1
+        if m not in (0, 1, 2, 3):
+            raise self.error(st.block.line, col, f"G{m:g} in a G70-G72 profile (G0-G3 only)")
+        if not self.absolute:
+            raise self.error(st.block.line, col, "G91 in a G70-G72 profile is not simulated")
+
+    # -- a profile collects its moves instead of cutting them (lathe.capture) -----------------------
+    def rapid(self, src: Src, end) -> None:
+        if self.profile is None:
+            super().rapid(src, end)
+        else:
+            self.profile.append((self.start_point(), tuple(end), None, False))
+            self.moved(end)
+
+    def linear(self, src: Src, end) -> None:
+        if self.profile is None:
+            super().linear(src, end)
+        else:
+            self.profile.append((self.start_point(), tuple(end), None, False))
+            self.moved(end)
+
+    def arc(self, src: Src, end, center, clockwise: bool) -> None:
+        if self.profile is None:
+            super().arc(src, end, center, clockwise)
+        else:
+            self.profile.append((self.start_point(), tuple(end), tuple(center), clockwise))
+            self.moved(end)
+
     def check_left(self, st: Step) -> None:
         """A word the block did not use is refused at its column (LinuxCNC: "... word with no G code
         that uses it"), so no value is silently ignored."""
@@ -284,9 +324,8 @@ class Ngc(Interpreter):
             raise self.error(st.block.line, w.col, f"{letter} word with nothing that uses it in this block")
 
     def linear_to(self, st: Step, end) -> None:
-        length = math.dist(self.pos, end)
-        feed = self.feed_for(st, length)
-        self.feed = feed
+        if self.profile is None:
+            self.feed = self.feed_for(st, math.dist(self.pos, end))
         self.linear(self.src(st), end)
 
     def thread(self, st: Step) -> None:
@@ -344,8 +383,10 @@ class Ngc(Interpreter):
                 elif w is not None:
                     centre[i] = start[i] + w.value * self.scale
             self.check_radii(line, start, end, centre, a, b)
-        length = self.arc_length(start, end, centre, clockwise, turns)
-        self.feed = self.feed_for(st, length)
+        if self.profile is not None and turns != 1:
+            raise self.error(line, p.col, "an arc of more than one turn in a G70-G72 profile is not simulated")
+        if self.profile is None:
+            self.feed = self.feed_for(st, self.arc_length(start, end, centre, clockwise, turns))
         cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
 
     def check_radii(self, line: int, start, end, centre, a: int, b: int) -> None:
