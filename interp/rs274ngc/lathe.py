@@ -142,8 +142,11 @@ def level_start(path: Path, start, p0, v: int, vdir: int) -> list:
 
 def finish(m, st, src, y, segs, start, d, e, passes) -> None:
     path = Path(m, st, src, y)
-    start = level_start(path, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
-    side = side_of(segs[0], start)
+    # G70 levels S with P0 along Z when the profile runs along Z away from S (rs274 2.9); the offset
+    # goes to the side of the levelled start, of S where that lies on the first segment's line
+    levelled = level_start(path, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
+    side = side_of(segs[0], levelled) or side_of(segs[0], start)
+    start = levelled
     for k in range(1, passes + 1):
         prof = offset(segs, e + (d - e) * (passes - k) / passes, side)
         path.rapid(start)
@@ -173,7 +176,7 @@ def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
     if vdir == 0:
         raise ValueError("the profile ends where it starts along the cut")
     s = level_start(path, start, segs[0].p0, v, vdir)
-    prof = offset(segs, d, side_of(segs[0], s))
+    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start))
     p0, pe = prof[0].p0, prof[-1].p1
     su = _sign(p0[u] - s[u])
     monotonic(segs, u, v, su, vdir)

@@ -246,14 +246,14 @@ class Ngc(Interpreter):
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
         has_axes = any(a in st.words for a in "XYZ") or (self.motion in (2, 3) and any(a in st.words for a in "IJK"))
+        if self.profile is not None:
+            self.check_profile(st, self.motion, has_axes)
         if any(a in st.words for a in "ABCUVW"):
             a = next(st.words[a] for a in "ABCUVW" if a in st.words)
             raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")
         m = self.motion
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
-        if self.profile is not None:
-            self.check_profile(st, m, has_axes)
         if m in lathe.LATHE_CYCLES and st.motion == m:
             lathe.cycle(self, st)
         elif m in cycles.CYCLE_CODES and has_axes:
@@ -285,9 +285,13 @@ class Ngc(Interpreter):
     def check_profile(self, st: Step, m, has_axes: bool) -> None:
         """A block of a G70-G72 profile: straight moves and arcs only, absolute (LinuxCNC's
         incremental profiles are not simulated)."""
+        col = st.groups[MOTION].col if MOTION in st.groups else 1
+        for letter, what in (("A", "fillet"), ("C", "chamfer")):
+            if letter in st.words:
+                raise self.error(st.block.line, st.words[letter].col,
+                                 f"{letter} ({what}) in a G70-G72 profile is not simulated")
         if not has_axes:
             return
-        col = st.groups[MOTION].col if MOTION in st.groups else 1
         if m not in (0, 1, 2, 3):
             raise self.error(st.block.line, col, f"G{m:g} in a G70-G72 profile (G0-G3 only)")
         if not self.absolute:
