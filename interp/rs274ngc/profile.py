@@ -12,6 +12,7 @@ from dataclasses import dataclass, replace
 
 EPS = 1e-9
 SAMPLES = 16  # points along an arc checked for monotonic travel
+TANGENT = 2e-3  # segments meeting at less than this (sine of the angle) join without a corner
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,11 @@ def offset(segs: list[Seg], d: float, side: float) -> list[Seg]:
         if math.dist(prev.p1, cur.p0) < 1e-7:
             out.append(replace(cur, p0=prev.p1))
             continue
-        turn = cross(segs[i - 1].tangent(True), segs[i].tangent(False))
+        t0, t1 = segs[i - 1].tangent(True), segs[i].tangent(False)
+        turn = cross(t0, t1)
+        if abs(turn) < TANGENT and t0[0] * t1[0] + t0[1] * t1[1] > 0:  # tangent but for rounding
+            out.append(cur)
+            continue
         if turn * side < 0:
             out.append(Seg(prev.p1, cur.p0, corner, turn > 0))
             out.append(cur)

@@ -276,7 +276,59 @@ class Gen:
             self.emit(f"o{label} while [#<_d{depth}> lt 2]")
 
 
-def program(rng: random.Random, statements: int = 25) -> str:
+def lathe_cycle(rng: random.Random) -> list[str]:
+    """A G70-G71.2 block on a profile o9001 of Z runs and X steps (straight, tapered, convex and
+    concave quarter arcs), outside or (mirrored in X) a bore, with G7 at times: its own modes set
+    first (G18 G21 G90 G94 G8)."""
+    bore = rng.random() < 0.3
+    x, z = rng.uniform(2, 6), 0.0
+    pts = [(x, z, "G1", "")]
+    for _ in range(rng.randint(2, 4)):
+        z -= rng.uniform(1.5, 8)
+        pts.append((x, z, "G1", ""))
+        h, kind = rng.uniform(1, 4), rng.randrange(4)
+        if kind == 0:
+            x += h
+            pts.append((x, z, "G1", ""))
+        elif kind == 1:
+            x, z = x + h, z - rng.uniform(0.5, 3)
+            pts.append((x, z, "G1", ""))
+        elif kind == 2:
+            x, z = x + h, z - h
+            pts.append((x, z, "G3", f" K{-h:.4f}"))
+        else:
+            x, z = x + h, z - h
+            pts.append((x, z, "G2", f" I{h:.4f}"))
+    z -= rng.uniform(1, 5)
+    pts.append((x, z, "G1", ""))
+    top = x + rng.uniform(0.5, 3)
+
+    def xw(v: float) -> float:
+        return 30 - v if bore else v
+
+    lines = ["G18 G21 G90 G94 G8 G40 G80 F" + num(rng, 50, 500, 1), "o9001 sub"]
+    for px, pz, code, centre in pts:
+        if bore and code != "G1":
+            code, centre = ("G2" if code == "G3" else "G3"), (centre.replace("I", "I-") if "I" in centre else centre)
+        lines.append(f"{code} X{xw(px):.4f} Z{pz:.4f}{centre}")
+    lines.append("o9001 endsub")
+    diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
+    scale = 2.0 if diameter else 1.0
+    lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
+    code = rng.choice(["G71", "G71.1", "G71.2", "G70"])
+    words = [f"Q9001", f"D{num(rng, 0, 0.5)}"]
+    if code == "G70":
+        words += [f"E{num(rng, 0, 0.1)}", f"P{rng.randint(1, 3)}"]
+    else:
+        words += [f"I{num(rng, 0.5, 2.5)}", f"R{num(rng, 0.1, 1)}"]
+    lines.append(f"{code} " + " ".join(words))
+    if code != "G70" and rng.random() < 0.5:
+        lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")
+    lines.append("G8 G0 X40 Z40")
+    return lines
+
+
+def program(rng: random.Random, statements: int = 25, lathe: bool = False) -> str:
     g = Gen(rng)
     g.emit("(random program)")
     g.emit(rng.choice(["G21", "G20"]) + " G17 G90 G94 G40 G49 G54 G80 G91.1 G8")
@@ -307,4 +359,7 @@ def program(rng: random.Random, statements: int = 25) -> str:
         g.emit(f"G91 G1 X#<k> Y{num(rng, -5, 5)}")
         g.emit("#2 = [#2 + 0.5]")
         g.emit("M99")
+    if lathe and rng.random() < 0.2:  # drawn last: the rest of each program is what it was without it
+        end = g.out.index("M2")
+        g.out[end:end] = lathe_cycle(random.Random(rng.random()))
     return "\n".join(g.out) + "\n"
