@@ -71,6 +71,22 @@ def cycle(m, st: Step) -> None:
         m.motion = 1
 
 
+def check_profile(m, st: Step, has_axes: bool) -> None:
+    """A block of a G70-G72 profile: straight moves and arcs only, absolute (LinuxCNC's
+    incremental profiles are not simulated)."""
+    col = st.groups[MOTION].col if MOTION in st.groups else 1
+    for letter, what in (("A", "fillet"), ("C", "chamfer")):
+        if letter in st.words:
+            raise m.error(st.block.line, st.words[letter].col,
+                             f"{letter} ({what}) in a G70-G72 profile is not simulated")
+    if not has_axes:
+        return
+    if m.motion not in (0, 1, 2, 3):
+        raise m.error(st.block.line, col, f"G{m.motion:g} in a G70-G72 profile (G0-G3 only)")
+    if not m.absolute:
+        raise m.error(st.block.line, col, "G91 in a G70-G72 profile is not simulated")
+
+
 def _num(w, default: float) -> float:
     return default if w is None else w.value
 

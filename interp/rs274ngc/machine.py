@@ -247,7 +247,7 @@ class Ngc(Interpreter):
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
         has_axes = any(a in st.words for a in "XYZ") or (self.motion in (2, 3) and any(a in st.words for a in "IJK"))
         if self.profile is not None:
-            self.check_profile(st, self.motion, has_axes)
+            lathe.check_profile(self, st, has_axes)
         if any(a in st.words for a in "ABCUVW"):
             a = next(st.words[a] for a in "ABCUVW" if a in st.words)
             raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")
@@ -282,42 +282,19 @@ class Ngc(Interpreter):
             self.rigid_tap(st)
         self.check_left(st)
 
-    def check_profile(self, st: Step, m, has_axes: bool) -> None:
-        """A block of a G70-G72 profile: straight moves and arcs only, absolute (LinuxCNC's
-        incremental profiles are not simulated)."""
-        col = st.groups[MOTION].col if MOTION in st.groups else 1
-        for letter, what in (("A", "fillet"), ("C", "chamfer")):
-            if letter in st.words:
-                raise self.error(st.block.line, st.words[letter].col,
-                                 f"{letter} ({what}) in a G70-G72 profile is not simulated")
-        if not has_axes:
-            return
-        if m not in (0, 1, 2, 3):
-            raise self.error(st.block.line, col, f"G{m:g} in a G70-G72 profile (G0-G3 only)")
-        if not self.absolute:
-            raise self.error(st.block.line, col, "G91 in a G70-G72 profile is not simulated")
-
     # -- a profile collects its moves instead of cutting them (lathe.capture) -----------------------
     def rapid(self, src: Src, end) -> None:
-        if self.profile is None:
-            super().rapid(src, end)
-        else:
-            self.profile.append((self.start_point(), tuple(end), None, False))
-            self.moved(end)
+        _ = super().rapid(src, end) if self.profile is None else self.collect(end, None, False)
 
     def linear(self, src: Src, end) -> None:
-        if self.profile is None:
-            super().linear(src, end)
-        else:
-            self.profile.append((self.start_point(), tuple(end), None, False))
-            self.moved(end)
+        _ = super().linear(src, end) if self.profile is None else self.collect(end, None, False)
 
     def arc(self, src: Src, end, center, clockwise: bool) -> None:
-        if self.profile is None:
-            super().arc(src, end, center, clockwise)
-        else:
-            self.profile.append((self.start_point(), tuple(end), tuple(center), clockwise))
-            self.moved(end)
+        _ = super().arc(src, end, center, clockwise) if self.profile is None else self.collect(end, center, clockwise)
+
+    def collect(self, end, center, clockwise: bool) -> None:
+        self.profile.append((self.start_point(), tuple(end), None if center is None else tuple(center), clockwise))
+        self.moved(end)
 
     def check_left(self, st: Step) -> None:
         """A word the block did not use is refused at its column (LinuxCNC: "... word with no G code
