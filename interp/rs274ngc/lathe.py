@@ -29,6 +29,7 @@ from .profile import EPS, Seg, crossings, offset, side_of
 
 LATHE_CYCLES = (70, 71, 71.1, 71.2, 72, 72.1, 72.2)
 Z, X = 0, 1  # the profile's (z, x) coordinates
+SMALL = 0.01  # program units: a convex corner whose offset d x sin(turn) is no more gets no arc (rs274 2.9)
 
 
 def cycle(m, st: Step) -> None:
@@ -164,7 +165,7 @@ def finish(m, st, src, y, segs, start, d, e, passes) -> None:
     side = side_of(segs[0], levelled) or side_of(segs[0], start)
     start = levelled
     for k in range(1, passes + 1):
-        prof = offset(segs, e + (d - e) * (passes - k) / passes, side)
+        prof = offset(segs, e + (d - e) * (passes - k) / passes, side, SMALL * m.scale)
         path.rapid(start)
         path.rapid(prof[0].p0)
         path.follow(prof)
@@ -192,7 +193,7 @@ def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
     if vdir == 0:
         raise ValueError("the profile ends where it starts along the cut")
     s = level_start(path, start, segs[0].p0, v, vdir)
-    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start))
+    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale)
     p0, pe = prof[0].p0, prof[-1].p1
     su = _sign(p0[u] - s[u])
     monotonic(segs, u, v, su, vdir)

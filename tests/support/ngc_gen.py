@@ -281,39 +281,43 @@ def lathe_cycle(rng: random.Random) -> list[str]:
     concave quarter arcs), outside or (mirrored in X) a bore, with G7 at times: its own modes set
     first (G18 G21 G90 G94 G8)."""
     bore = rng.random() < 0.3
-    x, z = rng.uniform(2, 6), 0.0
+
+    def r4(lo: float, hi: float) -> float:  # 4 decimals, so an arc's printed end lies on its circle
+        return round(rng.uniform(lo, hi), 4)
+
+    x, z = r4(2, 6), 0.0
     pts = [(x, z, "G1", "")]
     for _ in range(rng.randint(2, 4)):
-        z -= rng.uniform(1.5, 8)
+        z = round(z - r4(1.5, 8), 4)
         pts.append((x, z, "G1", ""))
-        h, kind = rng.uniform(1, 4), rng.randrange(4)
+        h, kind = r4(1, 4), rng.randrange(4)
         if kind == 0:
-            x += h
+            x = round(x + h, 4)
             pts.append((x, z, "G1", ""))
         elif kind == 1:
-            x, z = x + h, z - rng.uniform(0.5, 3)
+            x, z = round(x + h, 4), round(z - r4(0.5, 3), 4)
             pts.append((x, z, "G1", ""))
         elif kind == 2:
-            x, z = x + h, z - h
+            x, z = round(x + h, 4), round(z - h, 4)
             pts.append((x, z, "G3", f" K{-h:.4f}"))
         else:
-            x, z = x + h, z - h
+            x, z = round(x + h, 4), round(z - h, 4)
             pts.append((x, z, "G2", f" I{h:.4f}"))
-    z -= rng.uniform(1, 5)
+    z = round(z - r4(1, 5), 4)
     pts.append((x, z, "G1", ""))
-    top = x + rng.uniform(0.5, 3)
+    top = round(x + r4(0.5, 3), 4)
 
     def xw(v: float) -> float:
         return 30 - v if bore else v
 
     lines = ["G18 G21 G90 G94 G8 G40 G80 F" + num(rng, 50, 500, 1), "o9001 sub"]
+    diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
+    scale = 2.0 if diameter else 1.0  # G7: every X word a diameter (the profile's too)
     for px, pz, code, centre in pts:
         if bore and code != "G1":
             code, centre = ("G2" if code == "G3" else "G3"), (centre.replace("I", "I-") if "I" in centre else centre)
-        lines.append(f"{code} X{xw(px):.4f} Z{pz:.4f}{centre}")
+        lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}")
     lines.append("o9001 endsub")
-    diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
-    scale = 2.0 if diameter else 1.0
     lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
     code = rng.choice(["G71", "G71.1", "G71.2", "G70"])
     words = [f"Q9001", f"D{num(rng, 0, 0.5)}"]
