@@ -16,7 +16,9 @@ rectangle X20..50 Y30..50 with corner radius 1 (40 x 30, radius 6, minus the 5 m
 Every other Sinumerik example has one too: POCKET4 (PRAD 15, 10 mm tool, FAL 0.2) roughs the
 circles of radius 4.5 (0.9 tool radii) and 9.8 and finishes on radius 10 about (40, 40); CYCLE71
 (80 x 50, _MIDA 7) cuts ceil(50 / 7) + 1 = 9 lines 6.25 apart from X -10 (_FDP 5 + tool radius) to
-87 (_FDP1 2 + tool radius) at Z 1 and Z 0 (_MID 1 from _RFP 2).
+87 (_FDP1 2 + tool radius) at Z 1 and Z 0 (_MID 1 from _RFP 2). The RS274NGC g71-shaft roughs from
+the line S (16, 2) - P0 + D (6.2, 0): the pass at X14.5 from Z 2 - 2 x 1.5 / 9.8 = 1.693878 to the
+shoulder's offset Z-31.8, back 0.5 (R) in X and Z.
 
 The test programs under tests/data/programs/ that simulate (CNC8x6 and ISG) have golden files
 ``tests_<folder>_<name>.txt`` with the setup their tests use (TEST_PROGRAMS), e.g. mill/slot.nc

@@ -276,10 +276,10 @@ class Gen:
             self.emit(f"o{label} while [#<_d{depth}> lt 2]")
 
 
-def lathe_cycle(rng: random.Random) -> list[str]:
-    """A G70-G71.2 block on a profile o9001 of Z runs and X steps (straight, tapered, convex and
-    concave quarter arcs), outside or (mirrored in X) a bore, with G7 at times: its own modes set
-    first (G18 G21 G90 G94 G8)."""
+def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
+    """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs),
+    outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
+    its own modes set first (G18 G21 G90 G94 G8, then F)."""
     bore = rng.random() < 0.3
 
     def r4(lo: float, hi: float) -> float:  # 4 decimals, so an arc's printed end lies on its circle
@@ -310,7 +310,7 @@ def lathe_cycle(rng: random.Random) -> list[str]:
     def xw(v: float) -> float:
         return 30 - v if bore else v
 
-    lines = ["G18 G21 G90 G94 G8 G40 G80 F" + num(rng, 50, 500, 1), "o9001 sub"]
+    lines = ["o9001 sub"]
     diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
     scale = 2.0 if diameter else 1.0  # G7: every X word a diameter (the profile's too)
     for px, pz, code, centre in pts:
@@ -318,6 +318,7 @@ def lathe_cycle(rng: random.Random) -> list[str]:
             code, centre = ("G2" if code == "G3" else "G3"), (centre.replace("I", "I-") if "I" in centre else centre)
         lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}")
     lines.append("o9001 endsub")
+    sub, lines = lines, ["G18 G21 G90 G94 G8 G40 G80", "F" + num(rng, 50, 500, 1)]  # F after G21 (rs274: F first)
     lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
     code = rng.choice(["G71", "G71.1", "G71.2", "G70"])
     words = [f"Q9001", f"D{num(rng, 0, 0.5)}"]
@@ -329,10 +330,10 @@ def lathe_cycle(rng: random.Random) -> list[str]:
     if code != "G70" and rng.random() < 0.5:
         lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")
     lines.append("G8 G0 X40 Z40")
-    return lines
+    return sub, lines
 
 
-def program(rng: random.Random, statements: int = 25, lathe: bool = False) -> str:
+def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str:
     g = Gen(rng)
     g.emit("(random program)")
     g.emit(rng.choice(["G21", "G20"]) + " G17 G90 G94 G40 G49 G54 G80 G91.1 G8")
@@ -364,6 +365,8 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = False) -> st
         g.emit("#2 = [#2 + 0.5]")
         g.emit("M99")
     if lathe and rng.random() < 0.2:  # drawn last: the rest of each program is what it was without it
+        sub, block = lathe_cycle(random.Random(rng.random()))
         end = g.out.index("M2")
-        g.out[end:end] = lathe_cycle(random.Random(rng.random()))
+        g.out[end:end] = block
+        g.out[1:1] = sub  # defined at the top, as the shape subroutine (rs274 refuses a sub met after M98's O<n>)
     return "\n".join(g.out) + "\n"
