@@ -1,4 +1,4 @@
-"""Canned cycles G73 G81 G82 G83 G85 G86 G89 (with G98/G99 and L) and multi-turn arcs, as LinuxCNC
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G88 G89 (with G98/G99 and L) and multi-turn arcs, as LinuxCNC
 2.9 moves them (checked move by move against its rs274, docs/dialects/rs274ngc.md).
 
 In plane G17 the hole axis is Z and the holes lie in XY; G18: axis Y, holes in ZX; G19: axis X,
@@ -30,6 +30,7 @@ class CycleState:
     depth: float | None = None  # the hole-axis word as programmed (sticky)
     q: float | None = None
     p: float | None = None
+    warned_manual: bool = False  # G88's manual retract warned about
 
 
 def sticky(m, st: Step, letter: str, stored, new_series: bool, what: str):
@@ -56,12 +57,20 @@ def run(m, st: Step) -> None:
         cy.q = sticky(m, st, "Q", cy.q, new_series, "peck depth")
         if cy.q <= 0:
             raise m.error(line, 1, "Q (peck depth) must be more than 0")
-    if code in (82, 86, 89):
+    col = st.groups[MOTION].col if MOTION in st.groups else 1
+    if code in (74, 82, 84, 86, 88, 89):
         pw = st.words.pop("P", None)
+        if code == 88 and pw is None and (new_series or cy.p is None):
+            raise m.error(line, col, "G88 needs the dwell time P")
         cy.p = pw.value if pw is not None else (0.0 if new_series or cy.p is None else cy.p)
     cy.code = code
-    if code == 86 and m.spindle_dir == 0:
-        raise m.error(line, st.groups[MOTION].col if MOTION in st.groups else 1, "spindle not turning in G86")
+    if code in (86, 88) and m.spindle_dir == 0:
+        raise m.error(line, col, f"spindle not turning in G{code:g}")
+    if code in (74, 84) and m.spindle_dir != (1 if code == 84 else -1):
+        turning = {0: "not turning", 1: "turning clockwise", -1: "turning counter-clockwise"}[m.spindle_dir]
+        raise m.error(line, col, f"spindle {turning} in G{code:g} (G84 taps with M3, G74 with M4)")
+    if code == 74 and "L" in st.words:  # rs274 2.9 takes no L with G74 (its check lists the other cycles)
+        raise m.error(line, st.words["L"].col, "G74 takes no repeat count L (LinuxCNC 2.9)")
     lw = st.words.pop("L", None)
     repeats = 1 if lw is None else m.whole(line, lw, "repeat count L")
     # R and Q are lengths in program units, never diameters: only the hole-axis word is an X word
@@ -89,6 +98,12 @@ def run(m, st: Step) -> None:
             m.rapid(src, point(m, {c: r}))
         body(m, st, src, code, c, r, z, clear)
         height = clear
+    if code == 88:  # the operator retracts: rs274 goes on from the clear level after the block, no move
+        if not cy.warned_manual:
+            m.warn(src, "G88: the manual retract is not a move: after the block the tool is at the clear level "
+                   "without having moved there (as LinuxCNC's interpreter goes on)")
+            cy.warned_manual = True
+        m.moved(point(m, {c: clear}))
 
 
 def point(m, values: dict[int, float]) -> tuple:
@@ -131,11 +146,20 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
     elif code == 89:
         feed(z)
         feed(clear)
-    elif code == 86:
+    elif code in (86, 88):  # G88: the manual retract is the operator's: the tool stays down (rs274)
         feed(z)
         direction = m.spindle_dir
         m.spindle(src, 0, None)
-        rapid(clear)
+        if code == 86:
+            rapid(clear)
+        m.spindle(src, direction, None)
+    elif code in (74, 84):  # tap in, the spindle reversed, feed out to the clear level, forward again
+        feed(z)
+        direction = m.spindle_dir
+        m.spindle(src, 0, None)
+        m.spindle(src, -direction, None)
+        feed(clear)
+        m.spindle(src, 0, None)
         m.spindle(src, direction, None)
 
 

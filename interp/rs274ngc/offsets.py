@@ -1,4 +1,4 @@
-"""Coordinate systems, G92, G10, G28/G30 and tool length offsets, kept where LinuxCNC keeps them: in
+"""Coordinate systems, G92 and G52 (its offsets, as LinuxCNC 2.9 keeps them), G10, G28/G30 and tool length offsets, kept where LinuxCNC keeps them: in
 the numbered parameters (mm). G54..G59.3 are systems 1..9 at #5221 + 20 * (n - 1) (X, Y, Z), the
 active one in #5220; G92 at #5211-#5213 (#5210 = 1 while applied); G28 at #5161-#5163 and G30 at
 #5181-#5183 (machine coordinates).
@@ -78,6 +78,12 @@ def nonmodal(m, st: Step, code: float, g: Word) -> None:
             m.params.numbered[first + i] = m.base()[i] + m.tool_len[i]
     elif code == 92:
         set_g92(m, st, g)
+    elif code == 52:  # LinuxCNC 2.9: the G92 offsets of the axes given set to their values (G90 or G91)
+        for i, w in axis_words(st).items():
+            m.g92[i] = w.value * m.unit(i)
+        m.params.numbered[5210] = 1.0
+        for i in range(3):
+            m.params.numbered[5211 + i] = m.g92[i]
     elif code in (92.1, 92.2):
         m.g92 = [0.0, 0.0, 0.0]
         if code == 92.1:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from cutsim.interp.core import Code, Group
 
-CYCLES = (73, 81, 82, 83, 85, 86, 89)  # canned cycles simulated
+CYCLES = (73, 74, 81, 82, 83, 84, 85, 86, 88, 89)  # canned cycles simulated
 G_CODES: dict[float, Code] = {
     0: Code(Group.MOTION, "XYZ", "rapid"),
     1: Code(Group.MOTION, "XYZF", "linear feed"),
@@ -17,6 +17,9 @@ G_CODES: dict[float, Code] = {
     33: Code(Group.MOTION, "XYZK", "spindle-synchronised motion"),
     33.1: Code(Group.MOTION, "XYZK", "rigid tapping"),
     73: Code(Group.MOTION, "XYZRQL", "drilling cycle with chip breaking"),
+    74: Code(Group.MOTION, "XYZRLP", "left-hand tapping cycle with dwell"),
+    84: Code(Group.MOTION, "XYZRLP", "right-hand tapping cycle with dwell"),
+    88: Code(Group.MOTION, "XYZRLP", "boring cycle, spindle stop, manual out"),
     76: Code(Group.MOTION, "XYZPIJKRQHEL", "threading cycle"),
     80: Code(Group.MOTION, "", "cancel canned cycle"),
     81: Code(Group.MOTION, "XYZRL", "drilling cycle"),
@@ -35,6 +38,7 @@ G_CODES: dict[float, Code] = {
     30.1: Code(Group.NON_MODAL, "", "store the G30 position"),
     53: Code(Group.NON_MODAL, "XYZ", "move in machine coordinates"),
     92: Code(Group.NON_MODAL, "XYZ", "coordinate system offset"),
+    52: Code(Group.NON_MODAL, "XYZ", "local coordinate system offset"),
     92.1: Code(Group.NON_MODAL, "", "reset G92 offsets and parameters"),
     92.2: Code(Group.NON_MODAL, "", "reset G92 offsets"),
     92.3: Code(Group.NON_MODAL, "", "restore G92 offsets"),
@@ -75,9 +79,7 @@ REFUSED: dict[float, str] = {
     38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
     41: "cutter radius compensation", 42: "cutter radius compensation",
     41.1: "dynamic cutter radius compensation", 42.1: "dynamic cutter radius compensation",
-    52: "local coordinate offset", 74: "left-hand tapping cycle",
-    84: "right-hand tapping cycle", 87: "back boring cycle",
-    88: "boring cycle with manual retract", 96: "constant surface speed",
+    87: "back boring cycle", 96: "constant surface speed",
 }
 M_CODES: dict[int, Code] = {
     0: Code(Group.STOP, "", "program pause"),
