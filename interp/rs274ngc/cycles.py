@@ -1,4 +1,5 @@
-"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G88 G89 (with G98/G99 and L) and multi-turn arcs, as LinuxCNC
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G88 G89 (with G98/G99 and L) and the arcs' geometry
+(multi-turn arcs, R centres, the radius check), as LinuxCNC
 2.9 moves them (checked move by move against its rs274, docs/dialects/rs274ngc.md).
 
 In plane G17 the hole axis is Z and the holes lie in XY; G18: axis Y, holes in ZX; G19: axis X,
@@ -19,6 +20,10 @@ from .tables import CYCLES
 
 CYCLE_CODES = frozenset(CYCLES)
 DELTA_INCH = 0.010  # G73 chip-break retract and G83 re-approach clearance (inch)
+INCH = 25.4
+# LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
+# units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
+ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
 LETTERS = "XYZ"
 
 
@@ -186,3 +191,47 @@ def with_normal(centre, n: int, v: float) -> tuple:
     c = list(centre)
     c[n] = v
     return (c[0], c[1], c[2])
+
+
+def check_radii(m, line: int, start, end, centre, a: int, b: int) -> None:
+    r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
+    r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
+    err = abs(r1 - r0)
+    tol = ARC_ABS_TOL_MM if m.scale == 1.0 else ARC_ABS_TOL_INCH * INCH
+    if err > tol and err > ARC_REL_TOL * max(r0, r1):
+        raise m.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
+
+def radius_centre(m, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:
+    a, b, _ = PLANE_AXES[m.plane]
+    dx, dy = end[a] - start[a], end[b] - start[b]
+    chord = math.hypot(dx, dy)
+    if chord < 1e-9:
+        raise m.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
+    half = chord / 2.0
+    if abs(r) < half:
+        if half - abs(r) > 0.001:
+            raise m.error(st.block.line, col, f"arc radius {abs(r) / m.scale:g} too small to reach the end point")
+        h = 0.0
+    else:
+        h = math.sqrt(r * r - half * half)
+    # centre to the right of start->end for a clockwise arc under 180 degrees (R > 0)
+    side = -1.0 if clockwise else 1.0
+    if r < 0:
+        side = -side
+    mx, my = start[a] + dx / 2.0, start[b] + dy / 2.0
+    centre = list(start)
+    centre[a] = mx - side * h * dy / chord
+    centre[b] = my + side * h * dx / chord
+    return centre
+
+def arc_length(m, start, end, centre, clockwise: bool, turns: int) -> float:
+    a, b, n = PLANE_AXES[m.plane]
+    r = math.hypot(start[a] - centre[a], start[b] - centre[b])
+    a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
+    a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
+    sweep = (a0 - a1) if clockwise else (a1 - a0)
+    sweep %= 2 * math.pi
+    if sweep < 1e-12:
+        sweep = 2 * math.pi
+    sweep += 2 * math.pi * (turns - 1)
+    return math.hypot(r * sweep, end[n] - start[n])

@@ -20,9 +20,6 @@ from .values import Parameters
 
 INCH = 25.4
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
-# LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
-# units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
-ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
 
 
 class Ngc(Interpreter):
@@ -50,6 +47,7 @@ class Ngc(Interpreter):
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
         self.feed_scale = 1.0  # mm per unit of F (the units when F was programmed)
+        self.surface_speed = self.warned_css = False  # G96 in effect; its warning given
         self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
         offsets.load(self)
@@ -135,6 +133,12 @@ class Ngc(Interpreter):
             self.retract_old = code == 98
         elif group == Group.ZERO_OFFSET:
             offsets.select(self, code)
+        elif group == Group.SPINDLE_MODE:
+            self.surface_speed = code == 96
+            if self.surface_speed and not self.warned_css:
+                self.warn(self.src(st, g.col), "G96: S is a surface speed (m/min, ft/min in G20), D the spindle's "
+                          "limit; the tool path is unchanged, the spindle speed is recorded as written (not in rpm)")
+                self.warned_css = True
         else:
             st.g[group] = g
 
@@ -149,6 +153,10 @@ class Ngc(Interpreter):
                 raise self.error(line, f.col, "negative feed rate F")
             self.feed_units = f.value
             self.feed_scale = self.scale
+        if Group.SPINDLE_MODE in st.groups and self.surface_speed and "D" in words:
+            d = words.pop("D")  # G96's speed limit (rpm): no effect on the path
+            if d.value < 0:
+                raise self.error(line, d.col, "negative spindle speed limit D")
         if "S" in words:
             s = words.pop("S")
             if s.value < 0:
@@ -351,7 +359,7 @@ class Ngc(Interpreter):
         if r is not None:
             if letters[a] in st.words or letters[b] in st.words:
                 raise self.error(line, r.col, "an arc takes either R or I/J/K, not both")
-            centre = self.radius_centre(st, start, end, r.value * self.scale, clockwise, r.col)
+            centre = cycles.radius_centre(self, st, start, end, r.value * self.scale, clockwise, r.col)
         else:
             if letters[a] not in st.words and letters[b] not in st.words:
                 raise self.error(line, st.groups.get(MOTION, Word("G", 2, "2", 1)).col,
@@ -363,55 +371,12 @@ class Ngc(Interpreter):
                     centre[i] = (w.value * self.scale + self.shift(i)) if w is not None else self.shift(i)
                 elif w is not None:
                     centre[i] = start[i] + w.value * self.scale
-            self.check_radii(line, start, end, centre, a, b)
+            cycles.check_radii(self, line, start, end, centre, a, b)
         if self.profile is not None and turns != 1:
             raise self.error(line, p.col, "an arc of more than one turn in a G70-G72 profile is not simulated")
         if self.profile is None:
-            self.feed = self.feed_for(st, self.arc_length(start, end, centre, clockwise, turns))
+            self.feed = self.feed_for(st, cycles.arc_length(self, start, end, centre, clockwise, turns))
         cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
-
-    def check_radii(self, line: int, start, end, centre, a: int, b: int) -> None:
-        r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
-        r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
-        err = abs(r1 - r0)
-        tol = ARC_ABS_TOL_MM if self.scale == 1.0 else ARC_ABS_TOL_INCH * INCH
-        if err > tol and err > ARC_REL_TOL * max(r0, r1):
-            raise self.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
-
-    def radius_centre(self, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:
-        a, b, _ = PLANE_AXES[self.plane]
-        dx, dy = end[a] - start[a], end[b] - start[b]
-        chord = math.hypot(dx, dy)
-        if chord < 1e-9:
-            raise self.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
-        half = chord / 2.0
-        if abs(r) < half:
-            if half - abs(r) > 0.001:
-                raise self.error(st.block.line, col, f"arc radius {abs(r) / self.scale:g} too small to reach the end point")
-            h = 0.0
-        else:
-            h = math.sqrt(r * r - half * half)
-        # centre to the right of start->end for a clockwise arc under 180 degrees (R > 0)
-        side = -1.0 if clockwise else 1.0
-        if r < 0:
-            side = -side
-        mx, my = start[a] + dx / 2.0, start[b] + dy / 2.0
-        centre = list(start)
-        centre[a] = mx - side * h * dy / chord
-        centre[b] = my + side * h * dx / chord
-        return centre
-
-    def arc_length(self, start, end, centre, clockwise: bool, turns: int) -> float:
-        a, b, n = PLANE_AXES[self.plane]
-        r = math.hypot(start[a] - centre[a], start[b] - centre[b])
-        a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
-        a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
-        sweep = (a0 - a1) if clockwise else (a1 - a0)
-        sweep %= 2 * math.pi
-        if sweep < 1e-12:
-            sweep = 2 * math.pi
-        sweep += 2 * math.pi * (turns - 1)
-        return math.hypot(r * sweep, end[n] - start[n])
 
     def convert_end(self, st: Step) -> None:
         st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, Group.STOP))

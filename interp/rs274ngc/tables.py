@@ -68,6 +68,7 @@ G_CODES: dict[float, Code] = {
     93: Code(Group.FEED, "", "inverse time"),
     94: Code(Group.FEED, "", "units per minute"),
     95: Code(Group.FEED, "", "units per revolution"),
+    96: Code(Group.SPINDLE_MODE, "DS", "constant surface speed"),
     97: Code(Group.SPINDLE_MODE, "", "constant spindle speed"),
     98: Code(Group.RETRACT, "", "retract to the initial level"),
     99: Code(Group.RETRACT, "", "retract to R"),
@@ -79,7 +80,7 @@ REFUSED: dict[float, str] = {
     38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
     41: "cutter radius compensation", 42: "cutter radius compensation",
     41.1: "dynamic cutter radius compensation", 42.1: "dynamic cutter radius compensation",
-    87: "back boring cycle", 96: "constant surface speed",
+    87: "back boring cycle",
 }
 M_CODES: dict[int, Code] = {
     0: Code(Group.STOP, "", "program pause"),
