@@ -16,6 +16,7 @@ from cutsim.interp.canon import Src
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.core.lexer import Block, Word, iter_lines
 
+from . import context
 from .syntax import Line, parse_line
 
 MAX_CALL_DEPTH = 100
@@ -219,6 +220,7 @@ class Runner:
             self.m.params.globals["_value_returned"] = 1.0 if args else 0.0
             if args:
                 self.m.params.globals["_value"] = self.value(line, args[0])
+            context.returned(self.m, Src(unit.name, line.lineno, col, "", frame.calls))  # M73
             self.frames.pop()
             self.m.params.pop()
             return self.frames[-1].unit if frame.return_pc >= 0 else unit, frame.return_pc

@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import cycles, lathe, offsets, threading
+from . import context, cycles, lathe, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
@@ -48,6 +48,9 @@ class Ngc(Interpreter):
         self.feed_units = None  # F as programmed (program units), converted when used
         self.feed_scale = 1.0  # mm per unit of F (the units when F was programmed)
         self.surface_speed = self.warned_css = False  # G96 in effect; its warning given
+        self.tlo_mode = 49  # the tool length offset's code (G43, G43.1, G43.2, G49)
+        self.contexts: dict = {}  # call level -> the state M70/M73 saved there (context.py)
+        self.context_m: list = []  # the block's M70-M73
         self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
         offsets.load(self)
@@ -169,6 +172,14 @@ class Ngc(Interpreter):
         self.tool_m(st)
         if st.direction is not None:
             self.spindle(self.src(st), st.direction, None)
+        for code, m in self.context_m:  # M70-M73 after the spindle, before the modes (LinuxCNC's order)
+            if code in (70, 73):
+                context.save(self, code == 73)
+            elif code == 72:
+                context.restore(self, self.src(st, m.col), line, m.col)
+            else:
+                context.invalidate(self)
+        self.context_m = []
         offsets.tool_length(self, st)
         if Group.PATH_CONTROL in st.g:
             for letter in "PQ":
@@ -190,6 +201,12 @@ class Ngc(Interpreter):
             code = int(m.value) if m.value == int(m.value) else None
             if code in REFUSED_M:
                 raise self.error(st.block.line, m.col, f"M{m.raw} ({REFUSED_M[code]}) is not simulated")
+            if code in (70, 71, 72, 73):
+                if self.context_m:
+                    raise self.error(st.block.line, m.col, f"M{m.raw} and M{self.context_m[0][0]}: two M codes of "
+                                     "one modal group in a block")
+                self.context_m.append((code, m))
+                continue
             if code is not None and 100 <= code <= 199 and code in self.cfg.m_functions:
                 continue
             keep.append(m)

@@ -32,9 +32,13 @@ def load(m) -> None:
 
 
 def select(m, code: float) -> None:
-    m.coord = SYSTEMS[code]
-    m.params.numbered[5220] = float(m.coord)
-    m.g5x = [m.params.numbered.get(base(m.coord) + i, 0.0) for i in range(3)]
+    select_system(m, SYSTEMS[code])
+
+
+def select_system(m, n: int) -> None:
+    m.coord = n
+    m.params.numbered[5220] = float(n)
+    m.g5x = [m.params.numbered.get(base(n) + i, 0.0) for i in range(3)]
 
 
 def tool_length(m, st: Step) -> None:
@@ -44,6 +48,7 @@ def tool_length(m, st: Step) -> None:
         return
     code, line = round(g.value, 4), st.block.line
     words = st.words
+    m.tlo_mode = code
     if code == 49:
         m.set_tlo([0.0, 0.0, 0.0])
         return

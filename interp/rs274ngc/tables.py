@@ -99,7 +99,4 @@ M_CODES: dict[int, Code] = {
     **{m: Code(Group.OVERRIDE, "P", f"override switch M{m}") for m in range(48, 54)},
     **{m: Code(Group.IO, "PEQL", f"digital/analog output M{m}") for m in range(62, 69)},
 }
-REFUSED_M: dict[int, str] = {
-    19: "spindle orientation", 70: "saving the modal state", 71: "invalidating the saved modal state",
-    72: "restoring the modal state", 73: "auto-restoring the modal state",
-}
+REFUSED_M: dict[int, str] = {19: "spindle orientation"}  # M70-M73: machine.check_m, context.py

@@ -2,8 +2,9 @@
 
 ``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
 circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
-offsets (G10 L2/L20, G54-G59.3, G92 and its resets), G28/G30, G53, tool changes with tool length
-offsets, canned cycles with G98/G99 and L, G33/G33.1, G76 (never with G7 in
+offsets (G10 L2/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
+offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L), G96, G33/G33.1, G76
+and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) (G76 never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
@@ -21,7 +22,10 @@ FUNCS = ("abs", "acos", "asin", "cos", "exp", "fix", "fup", "ln", "round", "sin"
 OPS = ("+", "-", "*", "/", "mod", "**", "eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor")
 # Tool length offsets are changed in G21 only (the "G21 " before them): in G20 rs274's position after
 # a change differs from cutsim's by amounts not yet explained (docs/dialects/rs274ngc.md).
-CYCLE_CODES = ("G81", "G82", "G83", "G73", "G85", "G89", "G86")
+CYCLE_CODES = ("G81", "G82", "G83", "G73", "G85", "G89", "G86", "G84", "G74")
+# rs274 2.9 feeds G84/G74 along permuted axes in G18 (docs/dialects/rs274ngc.md): they tap in G17 only.
+# No G88: after it rs274 goes on from the clear level without printing a move, which the comparison
+# (following printed moves) cannot see (docs/dialects/rs274ngc.md)
 PLANE_LETTERS = {"G17": ("X", "Y", "Z", "I", "J"), "G18": ("Z", "X", "Y", "K", "I"), "G19": ("Y", "Z", "X", "J", "K")}
 
 
@@ -113,13 +117,17 @@ class Gen:
         rng = self.rng
         a, b, n, _, _ = PLANE_LETTERS[self.plane]
         code = rng.choice(CYCLE_CODES)
+        if code in ("G84", "G74"):
+            self.plane = "G17"
+            a, b, n, _, _ = PLANE_LETTERS["G17"]
+            self.emit(f"G17 S{rng.randint(100, 2000)} M{4 if code == 'G74' else 3}")
         retract = rng.choice(["G98", "G99", ""])
         extra = ""
         if code in ("G83", "G73"):
             extra += f" Q{num(rng, 0.5, 4, 2)}"
-        if code in ("G82", "G89", "G86"):
+        if code in ("G82", "G89", "G86", "G84", "G74"):
             extra += f" P{num(rng, 0, 1, 1)}"
-        if rng.random() < 0.3:
+        if rng.random() < 0.3 and code != "G74":  # rs274 2.9 takes no L with G74
             extra += f" L{rng.randint(1, 3)}"
         if rng.random() < 0.5:
             top = rng.uniform(-5, 10)
@@ -137,8 +145,10 @@ class Gen:
 
     def offsets(self) -> None:
         rng = self.rng
-        choice = rng.randrange(9)
-        if choice == 0:
+        choice = rng.randrange(10)
+        if choice == 9:
+            self.emit(f"{rng.choice(['', 'G90 ', 'G91 '])}G52 {self.axes(span=10)}")
+        elif choice == 0:
             self.emit(f"G10 L2 P{rng.randint(0, 9)} {self.axes(span=40)}")
         elif choice == 1:
             self.emit(rng.choice(["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"]))
@@ -184,6 +194,8 @@ class Gen:
             self.emit(f"G4 P{num(rng, 0, 2, 2)}")
         elif choice == 5:
             self.emit(f"S{rng.randint(100, 3000)} M{rng.choice([3, 4])}")
+            if rng.random() < 0.2:
+                self.emit(f"G96 S{rng.randint(50, 300)}" + (f" D{rng.randint(500, 4000)}" if rng.random() < 0.5 else ""))
             r = rng.random()
             if r < 0.4:
                 self.emit(f"G33 {self.axes('XZ', 10)} K{num(rng, 0.5, 3, 2)}")
@@ -191,7 +203,7 @@ class Gen:
                 self.emit(f"G33.1 Z{num(rng, -20, 0)} K{num(rng, 0.5, 2, 2)}")
             else:
                 self.threading()
-            self.emit("G1 F300")
+            self.emit("G97 G1 F300")
         else:
             self.emit(rng.choice(["G7", "G8", "G61", "G64", "G64 P0.01", "M7", "M8", "M9", "M5", "M0", "M1"]))
 

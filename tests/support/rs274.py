@@ -117,7 +117,8 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
 def parse(text: str, tools: dict, returncode: int = 0) -> Outcome:
     st = _State(tools)
     errors = []
-    for raw in text.replace("executing", "\n").splitlines():
+    # rs274 writes "executing" into its output without a line break; a MESSAGE may hold the word too
+    for raw in re.sub(r'(?<![ "\w])executing', "\n", text).splitlines():
         m = CALL.match(raw)
         if m is None:
             if raw.strip():

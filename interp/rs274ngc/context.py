@@ -1,0 +1,66 @@
+"""M70-M73: the modal state saved and restored, as LinuxCNC 2.9 does it (move for move the same as
+rs274, docs/dialects/rs274ngc.md).
+
+M70 saves the state at the current call level, M72 restores it (the saved copy stays), M71
+invalidates it, M73 saves it to be restored when the subroutine returns (endsub or return). The state:
+units, plane, distance and arc distance modes, feed mode and F, S and the spindle's direction, G96/G97,
+the coordinate system, the retract mode, G7/G8; G92 offsets applied since an M70 made without
+them are cleared (others stay); a saved G49 clears the tool length offset, a saved G43 over a G49
+applies the loaded tool's (G43.1, G43.2 are neither saved nor undone: measured with rs274).
+"""
+from __future__ import annotations
+
+from cutsim.interp.errors import CutsimError
+
+from . import offsets
+
+FIELDS = ("scale", "plane", "absolute", "arc_abs", "feed_mode", "per_rev", "feed_units", "feed_scale",
+          "retract_old", "lathe_diameter", "surface_speed")
+
+
+def level(m) -> int:
+    return len(m.params.frames)
+
+
+def save(m, auto: bool) -> None:
+    state = {f: getattr(m, f) for f in FIELDS}
+    state.update(coord=m.coord, tlo_mode=m.tlo_mode, speed=m.speed, spindle_dir=m.spindle_dir, auto=auto,
+                 g92_on=m.params.numbered.get(5210, 0.0) != 0.0)
+    m.contexts[level(m)] = state
+
+
+def restore(m, src, line: int, col: int) -> None:
+    state = m.contexts.get(level(m))
+    if state is None:
+        raise CutsimError(m.name, line, col, "cannot restore the modal state: no M70 or M73 at this call level")
+    apply(m, src, state)
+
+
+def invalidate(m) -> None:
+    m.contexts.pop(level(m), None)
+
+
+def returned(m, src) -> None:
+    """A subroutine returns: an M73 state of its level is restored; its level's state goes."""
+    state = m.contexts.pop(level(m), None)
+    if state is not None and state["auto"]:
+        apply(m, src, state)
+
+
+def apply(m, src, state: dict) -> None:
+    for f in FIELDS:
+        setattr(m, f, state[f])
+    if state["coord"] != m.coord:
+        offsets.select_system(m, state["coord"])
+    if (state["spindle_dir"], state["speed"]) != (m.spindle_dir, m.speed):
+        m.spindle(src, state["spindle_dir"], state["speed"])
+    if not state["g92_on"] and m.params.numbered.get(5210, 0.0) != 0.0:  # G92 applied since: off again
+        m.g92 = [0.0, 0.0, 0.0]
+        m.params.numbered[5210] = 0.0
+    if state["tlo_mode"] == 49 and m.tlo_mode != 49:
+        m.set_tlo([0.0, 0.0, 0.0])
+        m.tlo_mode = 49
+    elif state["tlo_mode"] == 43 and m.tlo_mode == 49:  # G43.1/G43.2 since are kept (rs274 2.9)
+        entry = m.tools.get(m.tool_no, {})
+        m.set_tlo([entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)])
+        m.tlo_mode = 43
