@@ -46,7 +46,7 @@ class Ngc(Interpreter):
         self.coord = 1
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
-        self.feed_scale = 1.0  # mm per unit of F (the units when F was programmed)
+        self.feed_scale = self.block_scale = 1.0  # mm per unit of F (the units when F was read); of the block's start
         self.surface_speed = self.warned_css = False  # G96 in effect; its warning given
         self.tlo_mode = 49  # the tool length offset's code (G43, G43.1, G43.2, G49)
         self.contexts: dict = {}  # call level -> the state M70/M73 saved there (context.py)
@@ -98,6 +98,7 @@ class Ngc(Interpreter):
     # -- G codes -----------------------------------------------------------------------------------
     def check_g(self, st: Step, gs: list[Word]) -> None:
         line = st.block.line
+        self.block_scale = self.scale  # F counts in the units before the block's G20/G21 (LinuxCNC's order)
         codes = []
         for g in gs:
             code = round(g.value, 4)
@@ -155,7 +156,7 @@ class Ngc(Interpreter):
             if f.value < 0:
                 raise self.error(line, f.col, "negative feed rate F")
             self.feed_units = f.value
-            self.feed_scale = self.scale
+            self.feed_scale = self.block_scale
         if Group.SPINDLE_MODE in st.groups and self.surface_speed and "D" in words:
             d = words.pop("D")  # G96's speed limit (rpm): no effect on the path
             if d.value < 0:
