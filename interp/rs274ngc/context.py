@@ -14,8 +14,8 @@ from cutsim.interp.errors import CutsimError
 
 from . import offsets
 
-FIELDS = ("scale", "plane", "absolute", "arc_abs", "feed_mode", "per_rev", "feed_units", "feed_scale",
-          "retract_old", "lathe_diameter", "surface_speed")
+FIELDS = ("scale", "plane", "absolute", "arc_abs", "feed_mode", "per_rev", "feed_units", "retract_old",
+          "lathe_diameter", "surface_speed")
 
 
 def level(m) -> int:
@@ -48,8 +48,11 @@ def returned(m, src) -> None:
 
 
 def apply(m, src, state: dict) -> None:
+    feed = m.feed_units
     for f in FIELDS:
         setattr(m, f, state[f])
+    # rs274 sets F's number again only when it changed, in the restored units; else the feed stays
+    m.feed_scale = m.scale if state["feed_units"] != feed else m.feed_scale
     if state["coord"] != m.coord:
         offsets.select_system(m, state["coord"])
     if (state["spindle_dir"], state["speed"]) != (m.spindle_dir, m.speed):

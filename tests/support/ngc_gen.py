@@ -4,7 +4,7 @@
 circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
 offsets (G10 L2/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
 offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L), G96, G33/G33.1, G76
-and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) (G76 never with G7 in
+and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) M70-M73 (M73 in the subroutine) (G76 never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
@@ -66,6 +66,7 @@ class Gen:
         self.no_do = False
         self.loaded = False  # a T M6 ran: rs274 loads tool 1 on G10 L1 P1 into an empty spindle (rs274.py)
         self.in_do = 0  # open do loops: a while in one holds no break (rs274 would run the do once)
+        self.saved = False  # an M70 ran (M72 and M71 may follow)
 
     def emit(self, s: str) -> None:
         self.out.append(s)
@@ -179,8 +180,16 @@ class Gen:
 
     def modes(self) -> None:
         rng = self.rng
-        choice = rng.randrange(7)
-        if choice == 0:
+        choice = rng.randrange(8)
+        if choice == 7:  # M70-M72 at the top level, in G21: M72 may change the tool length offset (see G21 above)
+            self.emit("G21")
+            self.emit("M72" if self.saved and rng.random() < 0.7 else "M71" if self.saved else "M70")
+            self.saved = self.out[-1] != "M71"
+            self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
+            self.plane = "G17" if self.out[-2] == "M72" else self.plane  # unknown: set it again below
+            if self.out[-2] == "M72":
+                self.emit("G17")
+        elif choice == 0:
             self.plane = rng.choice(["G17", "G18", "G19"])
             self.emit(self.plane)
         elif choice == 1:
@@ -356,7 +365,7 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str
     g.emit("#<_d1> = 0")
     subs = []
     if rng.random() < 0.5:
-        subs = ["o<shape> sub", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
+        subs = ["o<shape> sub", "M73", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
                 "o<shape> endsub [#1 * 2]"]
         g.out[1:1] = subs
     numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
