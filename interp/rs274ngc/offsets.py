@@ -137,15 +137,11 @@ def g10(m, st: Step, g: Word) -> None:
         raise m.error(line, lw.col, f"G10 L{L} needs P")
     if "R" in words:
         raise m.error(line, words["R"].col, "G10 R (a rotation of the coordinate system) is not simulated")
-    if L == 1:
-        tool = m.whole(line, pw, "tool number P")
-        entry = m.tools.setdefault(tool, {})
-        for a in "XZ":
-            if a in words:
-                entry[a] = words.pop(a).value * m.scale
+    if L in (1, 10, 11):
+        tool_entry(m, st, L, m.whole(line, pw, "tool number P"))
         return
     if L not in (2, 20):
-        raise m.error(line, lw.col, f"G10 L{L} is not simulated (L1, L2 and L20 are)")
+        raise m.error(line, lw.col, f"G10 L{L} is not simulated (L1, L2, L10, L11 and L20 are)")
     n = m.whole(line, pw, "coordinate system P")
     if n > 9:
         raise m.error(line, pw.col, f"coordinate system P{pw.raw} must be 0 (the active one) to 9")
@@ -158,3 +154,19 @@ def g10(m, st: Step, g: Word) -> None:
         m.params.numbered[base(n) + i] = v
     if n == m.coord:
         m.g5x = [m.params.numbered.get(base(n) + i, 0.0) for i in range(3)]
+
+
+def tool_entry(m, st: Step, L: int, tool: int) -> None:
+    """G10 L1: tool ``tool``'s X and Z lengths as given; L10: such that the spindle's position would read
+    the given coordinates with that length applied in the current system (G5x, G92); L11: in a
+    system of G59.3's offsets (LinuxCNC 2.9, measured). The offset in effect changes at the next G43."""
+    entry = m.tools.setdefault(tool, {})
+    for i, a in ((0, "X"), (2, "Z")):
+        if a not in st.words:
+            continue
+        w = st.words.pop(a)
+        if L == 1:
+            entry[a] = w.value * m.scale
+            continue
+        shift = m.g5x[i] + m.g92[i] if L == 10 else m.params.numbered.get(base(9) + i, 0.0)
+        entry[a] = m.base()[i] + m.tool_len[i] - shift - w.value * m.unit(i)

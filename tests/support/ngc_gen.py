@@ -2,7 +2,7 @@
 
 ``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
 circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
-offsets (G10 L2/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
+offsets (G10 L1/L2/L10/L11/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
 offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L), G96, G33/G33.1, G76
 and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) M70-M73 (M73 in the subroutine) (G76 never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
@@ -67,6 +67,7 @@ class Gen:
         self.loaded = False  # a T M6 ran: rs274 loads tool 1 on G10 L1 P1 into an empty spindle (rs274.py)
         self.in_do = 0  # open do loops: a while in one holds no break (rs274 would run the do once)
         self.saved = False  # an M70 ran (M72 and M71 may follow)
+        self.no_context = False  # an M98 L0 was written: no M70-M72 after it
 
     def emit(self, s: str) -> None:
         self.out.append(s)
@@ -173,15 +174,18 @@ class Gen:
             self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
         else:
             self.emit("G21 " + rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
-                                  f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
-            if not self.loaded and self.out[-1].startswith("G21 G10 L1 P1 "):
+                                  f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}",
+                                  f"G10 L{rng.choice([10, 11])} P{rng.randint(1, 4)} Z{num(rng, -20, 20)}"]))
+            if not self.loaded and self.out[-1].startswith(("G21 G10 L1 P1 ", "G21 G10 L10 P1 ", "G21 G10 L11 P1 ")):
                 self.out[-1] = self.out[-1].replace(" P1 ", " P2 ")
             self.emit("G91 G0 X0 Y0 Z0")
 
     def modes(self) -> None:
         rng = self.rng
         choice = rng.randrange(8)
-        if choice == 7:  # M70-M72 at the top level, in G21: M72 may change the tool length offset (see G21 above)
+        if choice == 7 and self.no_context:
+            self.emit("G21")  # after M98 L0 rs274's M72 finds no state (docs/dialects/rs274ngc.md)
+        elif choice == 7:  # M70-M72 at the top level, in G21: M72 may change the tool length offset (see G21 above)
             self.emit("G21")
             self.emit("M72" if self.saved and rng.random() < 0.7 else "M71" if self.saved else "M70")
             self.saved = self.out[-1] != "M71"
@@ -378,6 +382,7 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str
             g.emit("#3 = #<_value>")
         if numbered is not None and rng.random() < 0.1:
             g.emit(f"M98 P{numbered}" + (f" L{rng.randint(0, 3)}" if rng.random() < 0.5 else ""))
+            g.no_context = g.no_context or g.out[-1].endswith(" L0")
     g.emit("M2")
     if numbered is not None:  # after the end, as Fanuc-style programs keep them; #1-#5 are shared
         g.emit(f"O{numbered}")
