@@ -51,12 +51,15 @@ def apply(m, src, state: dict) -> None:
     feed = m.feed_units
     for f in FIELDS:
         setattr(m, f, state[f])
-    # rs274 sets F's number again only when it changed, in the restored units; else the feed stays
-    m.feed_scale = m.scale if state["feed_units"] != feed else m.feed_scale
+    # rs274 sets F again only when it changed, to one decimal ("F%.1f"), in the restored units
+    if state["feed_units"] != feed:
+        m.feed_units = None if state["feed_units"] is None else float(f"{state['feed_units']:.1f}")
+        m.feed_scale = m.scale
     if state["coord"] != m.coord:
         offsets.select_system(m, state["coord"])
-    if (state["spindle_dir"], state["speed"]) != (m.spindle_dir, m.speed):
-        m.spindle(src, state["spindle_dir"], state["speed"])
+    speed = m.speed if state["speed"] == m.speed else float(f"{state['speed']:.0f}")  # S to a whole number
+    if (state["spindle_dir"], speed) != (m.spindle_dir, m.speed):
+        m.spindle(src, state["spindle_dir"], speed)
     if not state["g92_on"] and m.params.numbered.get(5210, 0.0) != 0.0:  # G92 applied since: off again
         m.g92 = [0.0, 0.0, 0.0]
         m.params.numbered[5210] = 0.0

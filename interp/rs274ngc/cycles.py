@@ -14,8 +14,10 @@ from dataclasses import dataclass
 
 from cutsim.interp.canon import Src
 from cutsim.interp.core import MOTION, Step
+from cutsim.interp.core.lexer import Word
 from cutsim.interp.core.modal import PLANE_AXES
 
+from . import polar
 from .tables import CYCLES
 
 CYCLE_CODES = frozenset(CYCLES)
@@ -85,6 +87,7 @@ def run(m, st: Step) -> None:
     z = (cy.depth * unit + m.shift(c)) if m.absolute else r + cy.depth * unit
     if z > r:
         raise m.error(line, 1, "the hole bottom lies above R in the canned cycle")
+    rounds = polar.take(m, st) if polar.present(st) else None  # @ ^: each repeat from where the tool is
     words = {i: st.words.pop(LETTERS[i]) for i in (a, b) if LETTERS[i] in st.words}
     src = m.src(st)
     if cy.initial < r:
@@ -95,6 +98,10 @@ def run(m, st: Step) -> None:
     height = m.base()[c] if m.base()[c] > r else clear
     for _ in range(repeats):
         hole = {c: height}
+        if rounds is not None:
+            x, y = polar.target(m, line, *rounds)
+            words = {0: Word("X", x, "", 1), 1: Word("Y", y, "", 1)} if m.absolute else \
+                {0: Word("X", x - m.program_value(0), "", 1), 1: Word("Y", y - m.program_value(1), "", 1)}
         for i, w in words.items():
             hole[i] = (w.value * m.unit(i) + m.shift(i)) if m.absolute else m.base()[i] + w.value * m.unit(i)
         m.check_position(line, point(m, hole), {i: w.col for i, w in words.items()})

@@ -16,7 +16,7 @@ to its start. Then the tool goes to P0 (rapid; a feed when no pass was cut) and 
 offset profile and the closing line at feed. G7x.1 and G7x.2 differ from G7x only in pockets,
 which cutsim refuses: G7x.2 cuts the finishing contour alone.
 
-G70: P passes, pass k (1..P) at distance E + (D - E)(P - k)/P from the profile: rapid to S
+G70: P passes, pass k (1..P) at distance D - (D - E) k / P from the profile: rapid to S
 (after the first), rapid to the start, the profile at feed; no closing line.
 """
 from __future__ import annotations
@@ -165,7 +165,7 @@ def finish(m, st, src, y, segs, start, d, e, passes) -> None:
     side = side_of(segs[0], levelled) or side_of(segs[0], start)
     start = levelled
     for k in range(1, passes + 1):
-        prof = offset(segs, e + (d - e) * (passes - k) / passes, side, SMALL * m.scale)
+        prof = offset(segs, d - (d - e) * k / passes, side, SMALL * m.scale)  # rs274's rounding at the 0.01 rule
         path.rapid(start)
         path.rapid(prof[0].p0)
         path.follow(prof)

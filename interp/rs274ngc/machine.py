@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import context, cycles, lathe, offsets, threading
+from . import context, cycles, lathe, offsets, polar, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
@@ -99,6 +99,7 @@ class Ngc(Interpreter):
     def check_g(self, st: Step, gs: list[Word]) -> None:
         line = st.block.line
         self.block_scale = self.scale  # F counts in the units before the block's G20/G21 (LinuxCNC's order)
+        self.block_plane = self.plane  # polar words need G17 before the block (polar.py)
         codes = []
         for g in gs:
             code = round(g.value, 4)
@@ -271,7 +272,10 @@ class Ngc(Interpreter):
         if g53 is not None and round(g53.value, 4) == 53:
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
-        has_axes = any(a in st.words for a in "XYZ") or (self.motion in (2, 3) and any(a in st.words for a in "IJK"))
+        if polar.present(st) and self.motion not in cycles.CYCLE_CODES:
+            polar.as_xy(self, st, *polar.take(self, st))
+        has_axes = (any(a in st.words for a in "XYZ@^")
+                    or (self.motion in (2, 3) and any(a in st.words for a in "IJK")))
         if self.profile is not None:
             lathe.check_profile(self, st, has_axes)
         if any(a in st.words for a in "ABCUVW"):

@@ -99,7 +99,7 @@ def offset(segs: list[Seg], d: float, side: float, small: float) -> list[Seg]:
         if abs(turn) < TANGENT and t0[0] * t1[0] + t0[1] * t1[1] > 0:  # tangent but for rounding
             out.append(cur)
             continue
-        p = None if turn * side < 0 and d * abs(turn) > small + 1e-12 else meet(prev, cur, corner)
+        p = None if turn * side < 0 and d * abs(turn) > small else meet(prev, cur, corner)
         if p is None and turn * side < 0:
             out.append(Seg(prev.p1, cur.p0, corner, turn > 0))
             out.append(cur)

@@ -1,7 +1,7 @@
 """Random RS274NGC programs for the differential run against LinuxCNC's rs274.
 
 ``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
-circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
+circles, helices with P turns, G90.1 centres from ``#<_x>``; polar @ ^ in G17), units and distance modes, work
 offsets (G10 L1/L2/L10/L11/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
 offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L), G96, G33/G33.1, G76
 and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) M70-M73 (M73 in the subroutine) (G76 never with G7 in
@@ -87,6 +87,15 @@ class Gen:
         rng = self.rng
         g = rng.choice(["G0", "G1", "G1"])
         dist = rng.choice(["", "", "G90 ", "G91 "])
+        if rng.random() < 0.15:  # polar @ ^ (G17 before the block, G8: X words are no diameters)
+            self.plane = "G17"
+            self.emit("G17 G8")
+            words = rng.choice([f"@{num(rng, -20, 20)} ^{num(rng, -360, 360)}", f"@{num(rng, -10, 10)}",
+                                f"^{num(rng, -180, 180)}", f"^{num(rng, -90, 90)} Z{num(rng, -10, 10)}"])
+            if rng.random() < 0.5:  # mostly G90 with both words: at the XY origin G91 (and G90 without ^) fail
+                dist, words = "G90 ", f"@{num(rng, -20, 20)} ^{num(rng, -360, 360)}"
+            self.emit(f"{dist}{g} {words}" + (f" F{num(rng, 10, 900, 1)}" if rng.random() < 0.2 else ""))
+            return
         self.emit(f"{dist}{g} {self.axes()}" + (f" F{num(rng, 10, 900, 1)}" if rng.random() < 0.2 else ""))
 
     def arc(self) -> None:
@@ -138,6 +147,9 @@ class Gen:
             for _ in range(rng.randint(0, 2)):
                 self.emit(f"{rng.choice(['', 'G98 ', 'G99 '])}{a}{num(rng, -20, 20)}"
                           + (f" R{num(rng, -3, 12)}" if rng.random() < 0.3 else ""))
+        elif self.plane == "G17" and rng.random() < 0.2:  # a bolt circle by ^ (the generator writes G8 before)
+            self.emit("G8")
+            self.emit(f"G91 {retract} {code} ^{num(rng, -120, 120)} R{num(rng, -4, 8)} {n}{-rng.uniform(1, 12):.3f}{extra}")
         else:
             self.emit(f"G91 {retract} {code} {a}{num(rng, -10, 10)} {b}{num(rng, -10, 10)} "
                       f"R{num(rng, -4, 8)} {n}{-rng.uniform(1, 12):.3f}{extra}")
@@ -189,7 +201,10 @@ class Gen:
             self.emit("G21")
             self.emit("M72" if self.saved and rng.random() < 0.7 else "M71" if self.saved else "M70")
             self.saved = self.out[-1] != "M71"
-            self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
+            # an M72 that restores G43/G49 leaves rs274's program position stale (as after M6, rs274.py):
+            # an absolute move to all three axes ends where cutsim's does
+            self.emit(f"G90 G0 X{num(rng, -20, 20)} Y{num(rng, -20, 20)} Z{num(rng, 0, 30)}" if self.out[-1] == "M72"
+                      else "G91 G0 X0 Y0 Z0")
             self.plane = "G17" if self.out[-2] == "M72" else self.plane  # unknown: set it again below
             if self.out[-2] == "M72":
                 self.emit("G17")
@@ -346,9 +361,10 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
     sub, lines = lines, ["G18 G21 G90 G94 G8 G40 G80", "F" + num(rng, 50, 500, 1)]  # F after G21 (rs274: F first)
     lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
     code = rng.choice(["G71", "G71.1", "G71.2", "G70"])
-    words = [f"Q9001", f"D{num(rng, 0, 0.5)}"]
+    # D and E clear of 0.01: at d sin(turn) = 0.01 rs274's rounding decides a corner's arc (docs)
+    words = ["Q9001", f"D{num(rng, 0.02, 0.5)}" if rng.random() < 0.8 else "D0"]
     if code == "G70":
-        words += [f"E{num(rng, 0, 0.1)}", f"P{rng.randint(1, 3)}"]
+        words += [f"E{num(rng, 0.02, 0.1)}" if rng.random() < 0.7 else "E0", f"P{rng.randint(1, 3)}"]
     else:
         words += [f"I{num(rng, 0.5, 2.5)}", f"R{num(rng, 0.1, 1)}"]
     lines.append(f"{code} " + " ".join(words))

@@ -33,8 +33,7 @@ REFUSED_SAMPLES = {
     "comp-g1.ngc": "G41", "comp.ngc": "G42", "comp311.ngc": "G41", "comp311_2.ngc": "G41", "g76.ngc": "G41",
     "lathe-g76.ngc": "G41", "gmoccapy_2_tools_with_cutter_radius_compensation.ngc": "G41", "lathecomp.ngc": "G42",
     "mmount.ngc": "G41", "useful-subroutines.ngc": "G41", "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
-    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "hole-circle.ngc": "polar", "polar.ngc": "polar",
-    "spiral.ngc": "polar", "lathe_g70_71_demo.ngc": "fillet",
+    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "fillet",
     "systems.ngc": "G5.1",
 }
 BOTH_REFUSE = {"increment.ngc", "probe-hole.ngc", "nestedcall.ngc"}  # files meant to be called, a bad call

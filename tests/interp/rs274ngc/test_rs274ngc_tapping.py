@@ -3,6 +3,8 @@ worked out by hand from docs/dialects/rs274ngc.md; test_rs274ngc_oracle.py compa
 (tests/data/programs/rs274ngc/cycles2.ngc)."""
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from cutsim.interp import interpret
@@ -50,3 +52,20 @@ def test_g96_changes_no_move_and_warns_once():
     prog = run("S500 M3\nG0 X0 Y0 Z5\nG96 D2000 S120\nG1 X10\nG96 S100\nG1 X20")
     assert [r.end for r in moves(prog)] == [r.end for r in plain]
     assert sum("G96" in message for _, message in prog.warnings) == 1
+
+
+def test_polar_words_name_x_and_y_from_the_origin_and_from_the_point_in_g91():
+    # @5 ^30 from the XY zero: (5 cos 30, 5 sin 30); ^90 keeps the distance 5: (0, 5); G91 @2 adds to it: (0, 7)
+    ends = [r.end for r in moves(run("G0 X1 Y1 Z0\nG0 @5 ^30\nG1 ^90\nG91 G1 @2"))]
+    assert ends[1] == pytest.approx((5 * math.cos(math.radians(30)), 2.5, 0))
+    assert ends[2] == pytest.approx((0, 5, 0), abs=1e-12)
+    assert ends[3] == pytest.approx((0, 7, 0), abs=1e-12)
+
+
+def test_a_bolt_circle_by_incremental_angle_and_l_repeats():
+    # from (1.5, 0): G91 G81 ^60 L6 drills six holes 60 degrees apart on radius 1.5
+    prog = run("G0 X1.5 Y0 Z1\nG91 G81 R0.1 Z-0.5 ^60 L6")
+    holes = [r.end for r in prog.records if isinstance(r, Feed)]
+    assert len(holes) == 6
+    for k, h in enumerate(holes, start=1):
+        assert (h[0], h[1]) == pytest.approx((1.5 * math.cos(math.radians(60 * k)), 1.5 * math.sin(math.radians(60 * k))))
