@@ -4,9 +4,10 @@ rs274, docs/dialects/rs274ngc.md).
 M70 saves the state at the current call level, M72 restores it (the saved copy stays), M71
 invalidates it, M73 saves it to be restored when the subroutine returns (endsub or return). The state:
 units, plane, distance and arc distance modes, feed mode and F, S and the spindle's direction, G96/G97,
-the coordinate system, the retract mode, G7/G8; G92 offsets applied since an M70 made without
-them are cleared (others stay); a saved G49 clears the tool length offset, a saved G43 over a G49
-applies the loaded tool's (G43.1, G43.2 are neither saved nor undone: measured with rs274).
+the coordinate system, the retract mode, G7/G8; whether G92 offsets apply (#5210: cleared as by
+G92.2, or the stored ones applied again as by G92.3; changed values stay); a saved G49 clears the
+tool length offset, a saved G43 over a G49 applies the loaded tool's (G43.1, G43.2 are neither
+saved nor undone: measured with rs274).
 """
 from __future__ import annotations
 
@@ -60,9 +61,13 @@ def apply(m, src, state: dict) -> None:
     speed = m.speed if state["speed"] == m.speed else float(f"{state['speed']:.0f}")  # S to a whole number
     if (state["spindle_dir"], speed) != (m.spindle_dir, m.speed):
         m.spindle(src, state["spindle_dir"], speed)
-    if not state["g92_on"] and m.params.numbered.get(5210, 0.0) != 0.0:  # G92 applied since: off again
+    on = m.params.numbered.get(5210, 0.0) != 0.0
+    if on and not state["g92_on"]:  # G92 applied since: off again (as G92.2)
         m.g92 = [0.0, 0.0, 0.0]
         m.params.numbered[5210] = 0.0
+    elif state["g92_on"] and not on:  # G92 taken off since: its stored offsets again (as G92.3)
+        m.g92 = [m.params.numbered.get(5211 + i, 0.0) for i in range(3)]
+        m.params.numbered[5210] = 1.0
     if state["tlo_mode"] == 49 and m.tlo_mode != 49:
         m.set_tlo([0.0, 0.0, 0.0])
         m.tlo_mode = 49

@@ -89,13 +89,13 @@ def nonmodal(m, st: Step, code: float, g: Word) -> None:
         m.params.numbered[5210] = 1.0
         for i in range(3):
             m.params.numbered[5211 + i] = m.g92[i]
-    elif code in (92.1, 92.2):
+    elif code in (92.1, 92.2):  # #5210 (G92 applied) 0 after both; G92.1 clears the stored offsets too
         m.g92 = [0.0, 0.0, 0.0]
-        if code == 92.1:
-            for i in range(5210, 5214):
-                m.params.numbered[i] = 0.0
-    elif code == 92.3:
+        for i in range(5210, 5214 if code == 92.1 else 5211):
+            m.params.numbered[i] = 0.0
+    elif code == 92.3:  # the stored offsets applied again: #5210 1 (rs274 2.9, measured)
         m.g92 = [m.params.numbered.get(5211 + i, 0.0) for i in range(3)]
+        m.params.numbered[5210] = 1.0
 
 
 def axis_words(st: Step) -> dict[int, Word]:
