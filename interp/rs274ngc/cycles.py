@@ -90,7 +90,7 @@ def run(m, st: Step) -> None:
     rounds = polar.take(m, st) if polar.present(st) else None  # @ ^: each repeat from where the tool is
     words = {i: st.words.pop(LETTERS[i]) for i in (a, b) if LETTERS[i] in st.words}
     src = m.src(st)
-    if cy.initial < r:
+    if cy.initial < r - 1e-9:  # not for the last bits of a tool change's arithmetic (rs274: equal)
         m.rapid(src, point(m, {c: r}))
     clear = r if not m.retract_old else max(cy.initial, r)
     # the first hole is approached where the tool is when that is above R, else at the retract level
@@ -134,13 +134,17 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
         m.rapid(src, point(m, {c: v}))
 
     if code in (73, 83):
-        q = m.cycle.q * m.scale
+        # the pecks counted in program units, as rs274 counts them (a last peck a hair above the bottom
+        # and the bottom itself, where millimetres would round to the bottom at once)
+        unit, shift = m.unit(c), m.shift(c)
+        q, zu = m.cycle.q * m.scale / unit, (z - shift) / unit
         delta = DELTA_INCH * 25.4
-        depth = r
+        du = (r - shift) / unit
         while True:
-            depth = max(depth - q, z)
+            du = max(du - q, zu)
+            depth = z if du <= zu else du * unit + shift
             feed(depth)
-            if depth <= z:
+            if du <= zu:
                 break
             if code == 83:
                 rapid(r)
