@@ -284,3 +284,12 @@ def test_rs274_roughs_a_pocket_that_cutsim_refuses(rs274, tmp_path):
     assert "pocket" in cutsim_moves(str(path), kind="lathe").error
     theirs = run_rs274(str(path))
     assert theirs.error is None and len(theirs.moves) > 10
+
+
+def test_a_position_beyond_the_simulators_range_is_a_documented_difference(rs274, tmp_path):
+    # 729 000 in is 18 516 600 mm: beyond cutsim's ±99 999.9999 mm, which rs274 does not have
+    path = tmp_path / "far.ngc"
+    path.write_text("G20 G90 F100\nG1 X[abs[atan[1]/[0]] ** 3]\nM2\n")
+    assert "exceeds the permitted range" in cutsim_moves(str(path)).error
+    assert run_rs274(str(path)).error is None
+    assert compare(str(path)).startswith("documented difference")
