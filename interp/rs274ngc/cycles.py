@@ -1,4 +1,5 @@
-"""Canned cycles G73 G81 G82 G83 G85 G86 G89 (with G98/G99 and L) and multi-turn arcs, as LinuxCNC
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G88 G89 (with G98/G99 and L) and the arcs' geometry
+(multi-turn arcs, R centres, the radius check), as LinuxCNC
 2.9 moves them (checked move by move against its rs274, docs/dialects/rs274ngc.md).
 
 In plane G17 the hole axis is Z and the holes lie in XY; G18: axis Y, holes in ZX; G19: axis X,
@@ -13,12 +14,18 @@ from dataclasses import dataclass
 
 from cutsim.interp.canon import Src
 from cutsim.interp.core import MOTION, Step
+from cutsim.interp.core.lexer import Word
 from cutsim.interp.core.modal import PLANE_AXES
 
+from . import polar
 from .tables import CYCLES
 
 CYCLE_CODES = frozenset(CYCLES)
 DELTA_INCH = 0.010  # G73 chip-break retract and G83 re-approach clearance (inch)
+INCH = 25.4
+# LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
+# units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
+ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
 LETTERS = "XYZ"
 
 
@@ -30,6 +37,7 @@ class CycleState:
     depth: float | None = None  # the hole-axis word as programmed (sticky)
     q: float | None = None
     p: float | None = None
+    warned_manual: bool = False  # G88's manual retract warned about
 
 
 def sticky(m, st: Step, letter: str, stored, new_series: bool, what: str):
@@ -56,12 +64,20 @@ def run(m, st: Step) -> None:
         cy.q = sticky(m, st, "Q", cy.q, new_series, "peck depth")
         if cy.q <= 0:
             raise m.error(line, 1, "Q (peck depth) must be more than 0")
-    if code in (82, 86, 89):
+    col = st.groups[MOTION].col if MOTION in st.groups else 1
+    if code in (74, 82, 84, 86, 88, 89):
         pw = st.words.pop("P", None)
+        if code == 88 and pw is None and (new_series or cy.p is None):
+            raise m.error(line, col, "G88 needs the dwell time P")
         cy.p = pw.value if pw is not None else (0.0 if new_series or cy.p is None else cy.p)
     cy.code = code
-    if code == 86 and m.spindle_dir == 0:
-        raise m.error(line, st.groups[MOTION].col if MOTION in st.groups else 1, "spindle not turning in G86")
+    if code in (86, 88) and m.spindle_dir == 0:
+        raise m.error(line, col, f"spindle not turning in G{code:g}")
+    if code in (74, 84) and m.spindle_dir != (1 if code == 84 else -1):
+        turning = {0: "not turning", 1: "turning clockwise", -1: "turning counter-clockwise"}[m.spindle_dir]
+        raise m.error(line, col, f"spindle {turning} in G{code:g} (G84 taps with M3, G74 with M4)")
+    if code == 74 and "L" in st.words:  # rs274 2.9 takes no L with G74 (its check lists the other cycles)
+        raise m.error(line, st.words["L"].col, "G74 takes no repeat count L (LinuxCNC 2.9)")
     lw = st.words.pop("L", None)
     repeats = 1 if lw is None else m.whole(line, lw, "repeat count L")
     # R and Q are lengths in program units, never diameters: only the hole-axis word is an X word
@@ -71,9 +87,10 @@ def run(m, st: Step) -> None:
     z = (cy.depth * unit + m.shift(c)) if m.absolute else r + cy.depth * unit
     if z > r:
         raise m.error(line, 1, "the hole bottom lies above R in the canned cycle")
+    rounds = polar.take(m, st) if polar.present(st) else None  # @ ^: each repeat from where the tool is
     words = {i: st.words.pop(LETTERS[i]) for i in (a, b) if LETTERS[i] in st.words}
     src = m.src(st)
-    if cy.initial < r:
+    if cy.initial < r - 1e-9:  # not for the last bits of a tool change's arithmetic (rs274: equal)
         m.rapid(src, point(m, {c: r}))
     clear = r if not m.retract_old else max(cy.initial, r)
     # the first hole is approached where the tool is when that is above R, else at the retract level
@@ -81,6 +98,10 @@ def run(m, st: Step) -> None:
     height = m.base()[c] if m.base()[c] > r else clear
     for _ in range(repeats):
         hole = {c: height}
+        if rounds is not None:
+            x, y = polar.target(m, line, *rounds)
+            words = {0: Word("X", x, "", 1), 1: Word("Y", y, "", 1)} if m.absolute else \
+                {0: Word("X", x - m.program_value(0), "", 1), 1: Word("Y", y - m.program_value(1), "", 1)}
         for i, w in words.items():
             hole[i] = (w.value * m.unit(i) + m.shift(i)) if m.absolute else m.base()[i] + w.value * m.unit(i)
         m.check_position(line, point(m, hole), {i: w.col for i, w in words.items()})
@@ -89,6 +110,12 @@ def run(m, st: Step) -> None:
             m.rapid(src, point(m, {c: r}))
         body(m, st, src, code, c, r, z, clear)
         height = clear
+    if code == 88:  # the operator retracts: rs274 goes on from the clear level after the block, no move
+        if not cy.warned_manual:
+            m.warn(src, "G88: the manual retract is not a move: after the block the tool is at the clear level "
+                   "without having moved there (as LinuxCNC's interpreter goes on)")
+            cy.warned_manual = True
+        m.moved(point(m, {c: clear}))
 
 
 def point(m, values: dict[int, float]) -> tuple:
@@ -107,13 +134,17 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
         m.rapid(src, point(m, {c: v}))
 
     if code in (73, 83):
-        q = m.cycle.q * m.scale
+        # the pecks counted in program units, as rs274 counts them (a last peck a hair above the bottom
+        # and the bottom itself, where millimetres would round to the bottom at once)
+        unit, shift = m.unit(c), m.shift(c)
+        q, zu = m.cycle.q * m.scale / unit, (z - shift) / unit
         delta = DELTA_INCH * 25.4
-        depth = r
+        du = (r - shift) / unit
         while True:
-            depth = max(depth - q, z)
+            du = max(du - q, zu)
+            depth = z if du <= zu else du * unit + shift
             feed(depth)
-            if depth <= z:
+            if du <= zu:
                 break
             if code == 83:
                 rapid(r)
@@ -131,11 +162,20 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
     elif code == 89:
         feed(z)
         feed(clear)
-    elif code == 86:
+    elif code in (86, 88):  # G88: the manual retract is the operator's: the tool stays down (rs274)
         feed(z)
         direction = m.spindle_dir
         m.spindle(src, 0, None)
-        rapid(clear)
+        if code == 86:
+            rapid(clear)
+        m.spindle(src, direction, None)
+    elif code in (74, 84):  # tap in, the spindle reversed, feed out to the clear level, forward again
+        feed(z)
+        direction = m.spindle_dir
+        m.spindle(src, 0, None)
+        m.spindle(src, -direction, None)
+        feed(clear)
+        m.spindle(src, 0, None)
         m.spindle(src, direction, None)
 
 
@@ -162,3 +202,47 @@ def with_normal(centre, n: int, v: float) -> tuple:
     c = list(centre)
     c[n] = v
     return (c[0], c[1], c[2])
+
+
+def check_radii(m, line: int, start, end, centre, a: int, b: int) -> None:
+    r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
+    r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
+    err = abs(r1 - r0)
+    tol = ARC_ABS_TOL_MM if m.scale == 1.0 else ARC_ABS_TOL_INCH * INCH
+    if err > tol and err > ARC_REL_TOL * max(r0, r1):
+        raise m.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
+
+def radius_centre(m, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:
+    a, b, _ = PLANE_AXES[m.plane]
+    dx, dy = end[a] - start[a], end[b] - start[b]
+    chord = math.hypot(dx, dy)
+    if chord < 1e-9:
+        raise m.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
+    half = chord / 2.0
+    if abs(r) < half:
+        if half - abs(r) > 0.001:
+            raise m.error(st.block.line, col, f"arc radius {abs(r) / m.scale:g} too small to reach the end point")
+        h = 0.0
+    else:
+        h = math.sqrt(r * r - half * half)
+    # centre to the right of start->end for a clockwise arc under 180 degrees (R > 0)
+    side = -1.0 if clockwise else 1.0
+    if r < 0:
+        side = -side
+    mx, my = start[a] + dx / 2.0, start[b] + dy / 2.0
+    centre = list(start)
+    centre[a] = mx - side * h * dy / chord
+    centre[b] = my + side * h * dx / chord
+    return centre
+
+def arc_length(m, start, end, centre, clockwise: bool, turns: int) -> float:
+    a, b, n = PLANE_AXES[m.plane]
+    r = math.hypot(start[a] - centre[a], start[b] - centre[b])
+    a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
+    a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
+    sweep = (a0 - a1) if clockwise else (a1 - a0)
+    sweep %= 2 * math.pi
+    if sweep < 1e-12:
+        sweep = 2 * math.pi
+    sweep += 2 * math.pi * (turns - 1)
+    return math.hypot(r * sweep, end[n] - start[n])

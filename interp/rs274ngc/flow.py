@@ -16,6 +16,7 @@ from cutsim.interp.canon import Src
 from cutsim.interp.errors import CutsimError
 from cutsim.interp.core.lexer import Block, Word, iter_lines
 
+from . import context
 from .syntax import Line, parse_line
 
 MAX_CALL_DEPTH = 100
@@ -133,8 +134,25 @@ class Runner:
         return self.ev.value(node, line.lineno, line.oword[3] if line.oword else 1)
 
     def run(self) -> None:
-        unit, pc = self.frames[0].unit, 0
-        while True:
+        self.m.run_profile = self.run_profile
+        self.loop(self.frames[0].unit, 0, 1)
+
+    def run_profile(self, number: float, lineno: int, col: int) -> None:
+        """Run subroutine o<number> (a G70-G72 profile, Q) to its end now, as LinuxCNC 2.9 does: the
+        subroutine of the current file, else of the main program."""
+        label = f"{number:g}"
+        unit = next((u for u in (self.frames[-1].unit, self.frames[0].unit) if label in u.subs), None)
+        if unit is None:
+            raise CutsimError(self.frames[-1].unit.name, lineno, col, f"the profile subroutine o{label} (Q) is not defined")
+        if len(self.frames) > MAX_CALL_DEPTH:
+            raise CutsimError(unit.name, lineno, col, f"subroutine calls nested more than {MAX_CALL_DEPTH} deep")
+        self.frames.append(Frame(unit, -2, lineno, self.frames[-1].calls + ((self.frames[-1].unit.name, lineno),)))
+        self.m.params.push([])
+        self.loop(unit, unit.subs[label] + 1, len(self.frames))
+
+    def loop(self, unit: Unit, pc: int, depth: int) -> None:
+        """Run lines from ``pc`` until the program ends or the call level ``depth`` returns."""
+        while len(self.frames) >= depth:
             if pc >= len(unit.lines) or pc == unit.percent_end:
                 if len(self.frames) > 1:
                     raise CutsimError(unit.name, len(unit.lines), 1, "file ended inside a subroutine call")
@@ -202,6 +220,7 @@ class Runner:
             self.m.params.globals["_value_returned"] = 1.0 if args else 0.0
             if args:
                 self.m.params.globals["_value"] = self.value(line, args[0])
+            context.returned(self.m, Src(unit.name, line.lineno, col, "", frame.calls))  # M73
             self.frames.pop()
             self.m.params.pop()
             return self.frames[-1].unit if frame.return_pc >= 0 else unit, frame.return_pc

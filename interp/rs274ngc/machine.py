@@ -14,15 +14,12 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import cycles, offsets, threading
+from . import context, cycles, lathe, offsets, polar, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
 INCH = 25.4
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
-# LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
-# units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
-ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
 
 
 class Ngc(Interpreter):
@@ -49,6 +46,13 @@ class Ngc(Interpreter):
         self.coord = 1
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
+        self.feed_scale = self.block_scale = 1.0  # mm per unit of F (the units when F was read); of the block's start
+        self.surface_speed = self.warned_css = False  # G96 in effect; its warning given
+        self.tlo_mode = 49  # the tool length offset's code (G43, G43.1, G43.2, G49)
+        self.contexts: dict = {}  # call level -> the state M70/M73 saved there (context.py)
+        self.context_m: list = []  # the block's M70-M73
+        self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
+        self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
         offsets.load(self)
 
     # -- program coordinates -----------------------------------------------------------------------
@@ -94,6 +98,8 @@ class Ngc(Interpreter):
     # -- G codes -----------------------------------------------------------------------------------
     def check_g(self, st: Step, gs: list[Word]) -> None:
         line = st.block.line
+        self.block_scale = self.scale  # F counts in the units before the block's G20/G21 (LinuxCNC's order)
+        self.block_plane = self.plane  # polar words need G17 before the block (polar.py)
         codes = []
         for g in gs:
             code = round(g.value, 4)
@@ -132,6 +138,12 @@ class Ngc(Interpreter):
             self.retract_old = code == 98
         elif group == Group.ZERO_OFFSET:
             offsets.select(self, code)
+        elif group == Group.SPINDLE_MODE:
+            self.surface_speed = code == 96
+            if self.surface_speed and not self.warned_css:
+                self.warn(self.src(st, g.col), "G96: S is a surface speed (m/min, ft/min in G20), D the spindle's "
+                          "limit; the tool path is unchanged, the spindle speed is recorded as written (not in rpm)")
+                self.warned_css = True
         else:
             st.g[group] = g
 
@@ -145,7 +157,11 @@ class Ngc(Interpreter):
             if f.value < 0:
                 raise self.error(line, f.col, "negative feed rate F")
             self.feed_units = f.value
-            self.feed_scale = self.scale
+            self.feed_scale = self.block_scale
+        if Group.SPINDLE_MODE in st.groups and self.surface_speed and "D" in words:
+            d = words.pop("D")  # G96's speed limit (rpm): no effect on the path
+            if d.value < 0:
+                raise self.error(line, d.col, "negative spindle speed limit D")
         if "S" in words:
             s = words.pop("S")
             if s.value < 0:
@@ -158,6 +174,14 @@ class Ngc(Interpreter):
         self.tool_m(st)
         if st.direction is not None:
             self.spindle(self.src(st), st.direction, None)
+        for code, m in self.context_m:  # M70-M73 after the spindle, before the modes (LinuxCNC's order)
+            if code in (70, 73):
+                context.save(self, code == 73)
+            elif code == 72:
+                context.restore(self, self.src(st, m.col), line, m.col)
+            else:
+                context.invalidate(self)
+        self.context_m = []
         offsets.tool_length(self, st)
         if Group.PATH_CONTROL in st.g:
             for letter in "PQ":
@@ -179,6 +203,12 @@ class Ngc(Interpreter):
             code = int(m.value) if m.value == int(m.value) else None
             if code in REFUSED_M:
                 raise self.error(st.block.line, m.col, f"M{m.raw} ({REFUSED_M[code]}) is not simulated")
+            if code in (70, 71, 72, 73):
+                if self.context_m:
+                    raise self.error(st.block.line, m.col, f"M{m.raw} and M{self.context_m[0][0]}: two M codes of "
+                                     "one modal group in a block")
+                self.context_m.append((code, m))
+                continue
             if code is not None and 100 <= code <= 199 and code in self.cfg.m_functions:
                 continue
             keep.append(m)
@@ -242,14 +272,21 @@ class Ngc(Interpreter):
         if g53 is not None and round(g53.value, 4) == 53:
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
-        has_axes = any(a in st.words for a in "XYZ") or (self.motion in (2, 3) and any(a in st.words for a in "IJK"))
+        if polar.present(st) and self.motion not in cycles.CYCLE_CODES:
+            polar.as_xy(self, st, *polar.take(self, st))
+        has_axes = (any(a in st.words for a in "XYZ@^")
+                    or (self.motion in (2, 3) and any(a in st.words for a in "IJK")))
+        if self.profile is not None:
+            lathe.check_profile(self, st, has_axes)
         if any(a in st.words for a in "ABCUVW"):
             a = next(st.words[a] for a in "ABCUVW" if a in st.words)
             raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")
         m = self.motion
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
-        if m in cycles.CYCLE_CODES and has_axes:
+        if m in lathe.LATHE_CYCLES and st.motion == m:
+            lathe.cycle(self, st)
+        elif m in cycles.CYCLE_CODES and has_axes:
             cycles.run(self, st)
         elif not has_axes:
             if st.motion not in (None, 0, 1, 80) and Group.NON_MODAL not in st.g:
@@ -275,6 +312,20 @@ class Ngc(Interpreter):
             self.rigid_tap(st)
         self.check_left(st)
 
+    # -- a profile collects its moves instead of cutting them (lathe.capture) -----------------------
+    def rapid(self, src: Src, end) -> None:
+        _ = super().rapid(src, end) if self.profile is None else self.collect(end, None, False)
+
+    def linear(self, src: Src, end) -> None:
+        _ = super().linear(src, end) if self.profile is None else self.collect(end, None, False)
+
+    def arc(self, src: Src, end, center, clockwise: bool) -> None:
+        _ = super().arc(src, end, center, clockwise) if self.profile is None else self.collect(end, center, clockwise)
+
+    def collect(self, end, center, clockwise: bool) -> None:
+        self.profile.append((self.start_point(), tuple(end), None if center is None else tuple(center), clockwise))
+        self.moved(end)
+
     def check_left(self, st: Step) -> None:
         """A word the block did not use is refused at its column (LinuxCNC: "... word with no G code
         that uses it"), so no value is silently ignored."""
@@ -284,9 +335,8 @@ class Ngc(Interpreter):
             raise self.error(st.block.line, w.col, f"{letter} word with nothing that uses it in this block")
 
     def linear_to(self, st: Step, end) -> None:
-        length = math.dist(self.pos, end)
-        feed = self.feed_for(st, length)
-        self.feed = feed
+        if self.profile is None:
+            self.feed = self.feed_for(st, math.dist(self.pos, end))
         self.linear(self.src(st), end)
 
     def thread(self, st: Step) -> None:
@@ -331,7 +381,7 @@ class Ngc(Interpreter):
         if r is not None:
             if letters[a] in st.words or letters[b] in st.words:
                 raise self.error(line, r.col, "an arc takes either R or I/J/K, not both")
-            centre = self.radius_centre(st, start, end, r.value * self.scale, clockwise, r.col)
+            centre = cycles.radius_centre(self, st, start, end, r.value * self.scale, clockwise, r.col)
         else:
             if letters[a] not in st.words and letters[b] not in st.words:
                 raise self.error(line, st.groups.get(MOTION, Word("G", 2, "2", 1)).col,
@@ -343,53 +393,12 @@ class Ngc(Interpreter):
                     centre[i] = (w.value * self.scale + self.shift(i)) if w is not None else self.shift(i)
                 elif w is not None:
                     centre[i] = start[i] + w.value * self.scale
-            self.check_radii(line, start, end, centre, a, b)
-        length = self.arc_length(start, end, centre, clockwise, turns)
-        self.feed = self.feed_for(st, length)
+            cycles.check_radii(self, line, start, end, centre, a, b)
+        if self.profile is not None and turns != 1:
+            raise self.error(line, p.col, "an arc of more than one turn in a G70-G72 profile is not simulated")
+        if self.profile is None:
+            self.feed = self.feed_for(st, cycles.arc_length(self, start, end, centre, clockwise, turns))
         cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
-
-    def check_radii(self, line: int, start, end, centre, a: int, b: int) -> None:
-        r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])
-        r1 = math.hypot(end[a] - centre[a], end[b] - centre[b])
-        err = abs(r1 - r0)
-        tol = ARC_ABS_TOL_MM if self.scale == 1.0 else ARC_ABS_TOL_INCH * INCH
-        if err > tol and err > ARC_REL_TOL * max(r0, r1):
-            raise self.error(line, 1, f"radius to end of arc differs from radius to start ({r0:.4f} mm, {r1:.4f} mm)")
-
-    def radius_centre(self, st: Step, start, end, r: float, clockwise: bool, col: int) -> list:
-        a, b, _ = PLANE_AXES[self.plane]
-        dx, dy = end[a] - start[a], end[b] - start[b]
-        chord = math.hypot(dx, dy)
-        if chord < 1e-9:
-            raise self.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
-        half = chord / 2.0
-        if abs(r) < half:
-            if half - abs(r) > 0.001:
-                raise self.error(st.block.line, col, f"arc radius {abs(r) / self.scale:g} too small to reach the end point")
-            h = 0.0
-        else:
-            h = math.sqrt(r * r - half * half)
-        # centre to the right of start->end for a clockwise arc under 180 degrees (R > 0)
-        side = -1.0 if clockwise else 1.0
-        if r < 0:
-            side = -side
-        mx, my = start[a] + dx / 2.0, start[b] + dy / 2.0
-        centre = list(start)
-        centre[a] = mx - side * h * dy / chord
-        centre[b] = my + side * h * dx / chord
-        return centre
-
-    def arc_length(self, start, end, centre, clockwise: bool, turns: int) -> float:
-        a, b, n = PLANE_AXES[self.plane]
-        r = math.hypot(start[a] - centre[a], start[b] - centre[b])
-        a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
-        a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
-        sweep = (a0 - a1) if clockwise else (a1 - a0)
-        sweep %= 2 * math.pi
-        if sweep < 1e-12:
-            sweep = 2 * math.pi
-        sweep += 2 * math.pi * (turns - 1)
-        return math.hypot(r * sweep, end[n] - start[n])
 
     def convert_end(self, st: Step) -> None:
         st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, Group.STOP))

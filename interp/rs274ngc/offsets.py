@@ -1,4 +1,4 @@
-"""Coordinate systems, G92, G10, G28/G30 and tool length offsets, kept where LinuxCNC keeps them: in
+"""Coordinate systems, G92 and G52 (its offsets, as LinuxCNC 2.9 keeps them), G10, G28/G30 and tool length offsets, kept where LinuxCNC keeps them: in
 the numbered parameters (mm). G54..G59.3 are systems 1..9 at #5221 + 20 * (n - 1) (X, Y, Z), the
 active one in #5220; G92 at #5211-#5213 (#5210 = 1 while applied); G28 at #5161-#5163 and G30 at
 #5181-#5183 (machine coordinates).
@@ -32,9 +32,13 @@ def load(m) -> None:
 
 
 def select(m, code: float) -> None:
-    m.coord = SYSTEMS[code]
-    m.params.numbered[5220] = float(m.coord)
-    m.g5x = [m.params.numbered.get(base(m.coord) + i, 0.0) for i in range(3)]
+    select_system(m, SYSTEMS[code])
+
+
+def select_system(m, n: int) -> None:
+    m.coord = n
+    m.params.numbered[5220] = float(n)
+    m.g5x = [m.params.numbered.get(base(n) + i, 0.0) for i in range(3)]
 
 
 def tool_length(m, st: Step) -> None:
@@ -44,6 +48,7 @@ def tool_length(m, st: Step) -> None:
         return
     code, line = round(g.value, 4), st.block.line
     words = st.words
+    m.tlo_mode = code
     if code == 49:
         m.set_tlo([0.0, 0.0, 0.0])
         return
@@ -78,13 +83,19 @@ def nonmodal(m, st: Step, code: float, g: Word) -> None:
             m.params.numbered[first + i] = m.base()[i] + m.tool_len[i]
     elif code == 92:
         set_g92(m, st, g)
-    elif code in (92.1, 92.2):
+    elif code == 52:  # LinuxCNC 2.9: the G92 offsets of the axes given set to their values (G90 or G91)
+        for i, w in axis_words(st).items():
+            m.g92[i] = w.value * m.unit(i)
+        m.params.numbered[5210] = 1.0
+        for i in range(3):
+            m.params.numbered[5211 + i] = m.g92[i]
+    elif code in (92.1, 92.2):  # #5210 (G92 applied) 0 after both; G92.1 clears the stored offsets too
         m.g92 = [0.0, 0.0, 0.0]
-        if code == 92.1:
-            for i in range(5210, 5214):
-                m.params.numbered[i] = 0.0
-    elif code == 92.3:
+        for i in range(5210, 5214 if code == 92.1 else 5211):
+            m.params.numbered[i] = 0.0
+    elif code == 92.3:  # the stored offsets applied again: #5210 1 (rs274 2.9, measured)
         m.g92 = [m.params.numbered.get(5211 + i, 0.0) for i in range(3)]
+        m.params.numbered[5210] = 1.0
 
 
 def axis_words(st: Step) -> dict[int, Word]:
@@ -126,15 +137,11 @@ def g10(m, st: Step, g: Word) -> None:
         raise m.error(line, lw.col, f"G10 L{L} needs P")
     if "R" in words:
         raise m.error(line, words["R"].col, "G10 R (a rotation of the coordinate system) is not simulated")
-    if L == 1:
-        tool = m.whole(line, pw, "tool number P")
-        entry = m.tools.setdefault(tool, {})
-        for a in "XZ":
-            if a in words:
-                entry[a] = words.pop(a).value * m.scale
+    if L in (1, 10, 11):
+        tool_entry(m, st, L, m.whole(line, pw, "tool number P"))
         return
     if L not in (2, 20):
-        raise m.error(line, lw.col, f"G10 L{L} is not simulated (L1, L2 and L20 are)")
+        raise m.error(line, lw.col, f"G10 L{L} is not simulated (L1, L2, L10, L11 and L20 are)")
     n = m.whole(line, pw, "coordinate system P")
     if n > 9:
         raise m.error(line, pw.col, f"coordinate system P{pw.raw} must be 0 (the active one) to 9")
@@ -147,3 +154,19 @@ def g10(m, st: Step, g: Word) -> None:
         m.params.numbered[base(n) + i] = v
     if n == m.coord:
         m.g5x = [m.params.numbered.get(base(n) + i, 0.0) for i in range(3)]
+
+
+def tool_entry(m, st: Step, L: int, tool: int) -> None:
+    """G10 L1: tool ``tool``'s X and Z lengths as given; L10: such that the spindle's position would read
+    the given coordinates with that length applied in the current system (G5x, G92); L11: in a
+    system of G59.3's offsets (LinuxCNC 2.9, measured). The offset in effect changes at the next G43."""
+    entry = m.tools.setdefault(tool, {})
+    for i, a in ((0, "X"), (2, "Z")):
+        if a not in st.words:
+            continue
+        w = st.words.pop(a)
+        if L == 1:
+            entry[a] = w.value * m.scale
+            continue
+        shift = m.g5x[i] + m.g92[i] if L == 10 else m.params.numbered.get(base(9) + i, 0.0)
+        entry[a] = m.base()[i] + m.tool_len[i] - shift - w.value * m.unit(i)

@@ -230,8 +230,9 @@ def parse_line(program: str, lineno: int, raw: str) -> Line | None:
             line.words.append((c.upper(), r.real_value(), col))
         elif c == "n":
             raise r.error("the line number N must open the line")
-        elif c in "@^":
-            raise r.error(f"polar coordinates ('{c}') are not simulated")
+        elif c in "@^":  # polar coordinates (machine.convert_motion, polar.py)
+            r.i += 1
+            line.words.append((c, r.real_value(), col))
         else:
             raise r.error(f"unexpected character '{c}'")
     return line

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from cutsim.interp.core import Code, Group
 
-CYCLES = (73, 81, 82, 83, 85, 86, 89)  # canned cycles simulated
+CYCLES = (73, 74, 81, 82, 83, 84, 85, 86, 88, 89)  # canned cycles simulated
 G_CODES: dict[float, Code] = {
     0: Code(Group.MOTION, "XYZ", "rapid"),
     1: Code(Group.MOTION, "XYZF", "linear feed"),
@@ -17,6 +17,9 @@ G_CODES: dict[float, Code] = {
     33: Code(Group.MOTION, "XYZK", "spindle-synchronised motion"),
     33.1: Code(Group.MOTION, "XYZK", "rigid tapping"),
     73: Code(Group.MOTION, "XYZRQL", "drilling cycle with chip breaking"),
+    74: Code(Group.MOTION, "XYZRLP", "left-hand tapping cycle with dwell"),
+    84: Code(Group.MOTION, "XYZRLP", "right-hand tapping cycle with dwell"),
+    88: Code(Group.MOTION, "XYZRLP", "boring cycle, spindle stop, manual out"),
     76: Code(Group.MOTION, "XYZPIJKRQHEL", "threading cycle"),
     80: Code(Group.MOTION, "", "cancel canned cycle"),
     81: Code(Group.MOTION, "XYZRL", "drilling cycle"),
@@ -25,6 +28,8 @@ G_CODES: dict[float, Code] = {
     85: Code(Group.MOTION, "XYZRL", "boring cycle, feed out"),
     86: Code(Group.MOTION, "XYZRLP", "boring cycle, spindle stop, rapid out"),
     89: Code(Group.MOTION, "XYZRLP", "boring cycle, dwell, feed out"),
+    70: Code(Group.MOTION, "XZQDEP", "lathe finishing cycle"),
+    **{c: Code(Group.MOTION, "XZQDIR", "lathe roughing cycle") for c in (71, 71.1, 71.2, 72, 72.1, 72.2)},
     4: Code(Group.NON_MODAL, "P", "dwell"),
     10: Code(Group.NON_MODAL, "LPXYZR", "set offsets"),
     28: Code(Group.NON_MODAL, "XYZ", "go to the G28 position"),
@@ -33,6 +38,7 @@ G_CODES: dict[float, Code] = {
     30.1: Code(Group.NON_MODAL, "", "store the G30 position"),
     53: Code(Group.NON_MODAL, "XYZ", "move in machine coordinates"),
     92: Code(Group.NON_MODAL, "XYZ", "coordinate system offset"),
+    52: Code(Group.NON_MODAL, "XYZ", "local coordinate system offset"),
     92.1: Code(Group.NON_MODAL, "", "reset G92 offsets and parameters"),
     92.2: Code(Group.NON_MODAL, "", "reset G92 offsets"),
     92.3: Code(Group.NON_MODAL, "", "restore G92 offsets"),
@@ -62,6 +68,7 @@ G_CODES: dict[float, Code] = {
     93: Code(Group.FEED, "", "inverse time"),
     94: Code(Group.FEED, "", "units per minute"),
     95: Code(Group.FEED, "", "units per revolution"),
+    96: Code(Group.SPINDLE_MODE, "DS", "constant surface speed"),
     97: Code(Group.SPINDLE_MODE, "", "constant spindle speed"),
     98: Code(Group.RETRACT, "", "retract to the initial level"),
     99: Code(Group.RETRACT, "", "retract to R"),
@@ -73,11 +80,7 @@ REFUSED: dict[float, str] = {
     38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
     41: "cutter radius compensation", 42: "cutter radius compensation",
     41.1: "dynamic cutter radius compensation", 42.1: "dynamic cutter radius compensation",
-    52: "local coordinate offset", 70: "lathe finishing cycle", 71: "lathe roughing cycle",
-    71.1: "lathe roughing cycle", 71.2: "lathe roughing cycle", 72: "lathe facing cycle",
-    72.1: "lathe facing cycle", 72.2: "lathe facing cycle", 74: "left-hand tapping cycle",
-    84: "right-hand tapping cycle", 87: "back boring cycle",
-    88: "boring cycle with manual retract", 96: "constant surface speed",
+    87: "back boring cycle",
 }
 M_CODES: dict[int, Code] = {
     0: Code(Group.STOP, "", "program pause"),
@@ -96,7 +99,4 @@ M_CODES: dict[int, Code] = {
     **{m: Code(Group.OVERRIDE, "P", f"override switch M{m}") for m in range(48, 54)},
     **{m: Code(Group.IO, "PEQL", f"digital/analog output M{m}") for m in range(62, 69)},
 }
-REFUSED_M: dict[int, str] = {
-    19: "spindle orientation", 70: "saving the modal state", 71: "invalidating the saved modal state",
-    72: "restoring the modal state", 73: "auto-restoring the modal state",
-}
+REFUSED_M: dict[int, str] = {19: "spindle orientation"}  # M70-M73: machine.check_m, context.py

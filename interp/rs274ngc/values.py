@@ -213,10 +213,9 @@ class Evaluator:
                 return math.exp(x)
             except OverflowError:
                 raise self.error(line, col, "EXP argument too large") from None
-        if name == "fix":
-            return float(math.floor(x))
-        if name == "fup":
-            return float(math.ceil(x))
+        if name in ("fix", "fup"):  # C's floor/ceil keep the sign of a zero (fup[-0.15] is -0: atan sees it)
+            v = float(math.floor(x) if name == "fix" else math.ceil(x))
+            return math.copysign(v, x) if v == 0.0 else v
         if name == "round":
             # LinuxCNC rounds through a 32-bit int: out of its range (or NaN) x86 gives INT_MIN
             r = x + (-0.5 if x < 0.0 else 0.5)

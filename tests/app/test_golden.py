@@ -23,6 +23,8 @@ towards +Z, its chained G33 blocks all starting at 30 degrees (4 and 24 mm are w
 CYCLE95 at radius 20 - 8.8 k / 5 (18.24 first) from Z1.1 (_VRT 1 + FALZ 0.1), cuts the DIN 76
 undercut down the 30 degree flank from (12, -19.5) to (9.8, -23.310512) and round the fillet 1.6
 about (11.4, -28.4), the DIN 509 one from (16, -42.5) to (15.7, -43.619615) and round (16.3, -44.4).
+The RS274NGC g71-shaft roughs from the line S (16, 2) - P0 + D (6.2, 0): the pass at X14.5 from Z 2 - 2 x 1.5 / 9.8 = 1.693878 to the
+shoulder's offset Z-31.8, back 0.5 (R) in X and Z.
 
 The test programs under tests/data/programs/ that simulate (CNC8x6 and ISG) have golden files
 ``tests_<folder>_<name>.txt`` with the setup their tests use (TEST_PROGRAMS), e.g. mill/slot.nc

@@ -1,9 +1,10 @@
 """Random RS274NGC programs for the differential run against LinuxCNC's rs274.
 
 ``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
-circles, helices with P turns, G90.1 centres from ``#<_x>``), units and distance modes, work
-offsets (G10 L2/L20, G54-G59.3, G92 and its resets), G28/G30, G53, tool changes with tool length
-offsets, canned cycles with G98/G99 and L, G33/G33.1, G76 (never with G7 in
+circles, helices with P turns, G90.1 centres from ``#<_x>``; polar @ ^ in G17), units and distance modes, work
+offsets (G10 L1/L2/L10/L11/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
+offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L), G96, G33/G33.1, G76
+and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) M70-M73 (M73 in the subroutine) (G76 never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
@@ -21,7 +22,10 @@ FUNCS = ("abs", "acos", "asin", "cos", "exp", "fix", "fup", "ln", "round", "sin"
 OPS = ("+", "-", "*", "/", "mod", "**", "eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor")
 # Tool length offsets are changed in G21 only (the "G21 " before them): in G20 rs274's position after
 # a change differs from cutsim's by amounts not yet explained (docs/dialects/rs274ngc.md).
-CYCLE_CODES = ("G81", "G82", "G83", "G73", "G85", "G89", "G86")
+CYCLE_CODES = ("G81", "G82", "G83", "G73", "G85", "G89", "G86", "G84", "G74")
+# rs274 2.9 feeds G84/G74 along permuted axes in G18 (docs/dialects/rs274ngc.md): they tap in G17 only.
+# No G88: after it rs274 goes on from the clear level without printing a move, which the comparison
+# (following printed moves) cannot see (docs/dialects/rs274ngc.md)
 PLANE_LETTERS = {"G17": ("X", "Y", "Z", "I", "J"), "G18": ("Z", "X", "Y", "K", "I"), "G19": ("Y", "Z", "X", "J", "K")}
 
 
@@ -62,6 +66,8 @@ class Gen:
         self.no_do = False
         self.loaded = False  # a T M6 ran: rs274 loads tool 1 on G10 L1 P1 into an empty spindle (rs274.py)
         self.in_do = 0  # open do loops: a while in one holds no break (rs274 would run the do once)
+        self.saved = False  # an M70 ran (M72 and M71 may follow)
+        self.no_context = False  # an M98 L0 was written: no M70-M72 after it
 
     def emit(self, s: str) -> None:
         self.out.append(s)
@@ -81,6 +87,15 @@ class Gen:
         rng = self.rng
         g = rng.choice(["G0", "G1", "G1"])
         dist = rng.choice(["", "", "G90 ", "G91 "])
+        if rng.random() < 0.15:  # polar @ ^ (G17 before the block, G8: X words are no diameters)
+            self.plane = "G17"
+            self.emit("G17 G8")
+            words = rng.choice([f"@{num(rng, -20, 20)} ^{num(rng, -360, 360)}", f"@{num(rng, -10, 10)}",
+                                f"^{num(rng, -180, 180)}", f"^{num(rng, -90, 90)} Z{num(rng, -10, 10)}"])
+            if rng.random() < 0.5:  # mostly G90 with both words: at the XY origin G91 (and G90 without ^) fail
+                dist, words = "G90 ", f"@{num(rng, -20, 20)} ^{num(rng, -360, 360)}"
+            self.emit(f"{dist}{g} {words}" + (f" F{num(rng, 10, 900, 1)}" if rng.random() < 0.2 else ""))
+            return
         self.emit(f"{dist}{g} {self.axes()}" + (f" F{num(rng, 10, 900, 1)}" if rng.random() < 0.2 else ""))
 
     def arc(self) -> None:
@@ -113,13 +128,17 @@ class Gen:
         rng = self.rng
         a, b, n, _, _ = PLANE_LETTERS[self.plane]
         code = rng.choice(CYCLE_CODES)
+        if code in ("G84", "G74"):
+            self.plane = "G17"
+            a, b, n, _, _ = PLANE_LETTERS["G17"]
+            self.emit(f"G17 S{rng.randint(100, 2000)} M{4 if code == 'G74' else 3}")
         retract = rng.choice(["G98", "G99", ""])
         extra = ""
         if code in ("G83", "G73"):
             extra += f" Q{num(rng, 0.5, 4, 2)}"
-        if code in ("G82", "G89", "G86"):
+        if code in ("G82", "G89", "G86", "G84", "G74"):
             extra += f" P{num(rng, 0, 1, 1)}"
-        if rng.random() < 0.3:
+        if rng.random() < 0.3 and code != "G74":  # rs274 2.9 takes no L with G74
             extra += f" L{rng.randint(1, 3)}"
         if rng.random() < 0.5:
             top = rng.uniform(-5, 10)
@@ -128,6 +147,9 @@ class Gen:
             for _ in range(rng.randint(0, 2)):
                 self.emit(f"{rng.choice(['', 'G98 ', 'G99 '])}{a}{num(rng, -20, 20)}"
                           + (f" R{num(rng, -3, 12)}" if rng.random() < 0.3 else ""))
+        elif self.plane == "G17" and rng.random() < 0.2:  # a bolt circle by ^ (the generator writes G8 before)
+            self.emit("G8")
+            self.emit(f"G91 {retract} {code} ^{num(rng, -120, 120)} R{num(rng, -4, 8)} {n}{-rng.uniform(1, 12):.3f}{extra}")
         else:
             self.emit(f"G91 {retract} {code} {a}{num(rng, -10, 10)} {b}{num(rng, -10, 10)} "
                       f"R{num(rng, -4, 8)} {n}{-rng.uniform(1, 12):.3f}{extra}")
@@ -137,8 +159,10 @@ class Gen:
 
     def offsets(self) -> None:
         rng = self.rng
-        choice = rng.randrange(9)
-        if choice == 0:
+        choice = rng.randrange(10)
+        if choice == 9:
+            self.emit(f"{rng.choice(['', 'G90 ', 'G91 '])}G52 {self.axes(span=10)}")
+        elif choice == 0:
             self.emit(f"G10 L2 P{rng.randint(0, 9)} {self.axes(span=40)}")
         elif choice == 1:
             self.emit(rng.choice(["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"]))
@@ -162,15 +186,29 @@ class Gen:
             self.emit("G91 G0 X0 Y0 Z0")  # see rs274.py: an M6 after an offset change reads a stale position
         else:
             self.emit("G21 " + rng.choice(["G43", f"G43 H{rng.randint(1, 4)}", f"G43.1 Z{num(rng, -3, 3)}", "G49",
-                                  f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}"]))
-            if not self.loaded and self.out[-1].startswith("G21 G10 L1 P1 "):
+                                  f"G43.2 H{rng.randint(1, 4)}", f"G10 L1 P{rng.randint(1, 4)} Z{num(rng, -5, 40)}",
+                                  f"G10 L{rng.choice([10, 11])} P{rng.randint(1, 4)} Z{num(rng, -20, 20)}"]))
+            if not self.loaded and self.out[-1].startswith(("G21 G10 L1 P1 ", "G21 G10 L10 P1 ", "G21 G10 L11 P1 ")):
                 self.out[-1] = self.out[-1].replace(" P1 ", " P2 ")
             self.emit("G91 G0 X0 Y0 Z0")
 
     def modes(self) -> None:
         rng = self.rng
-        choice = rng.randrange(7)
-        if choice == 0:
+        choice = rng.randrange(8)
+        if choice == 7 and self.no_context:
+            self.emit("G21")  # after M98 L0 rs274's M72 finds no state (docs/dialects/rs274ngc.md)
+        elif choice == 7:  # M70-M72 at the top level, in G21: M72 may change the tool length offset (see G21 above)
+            self.emit("G21")
+            self.emit("M72" if self.saved and rng.random() < 0.7 else "M71" if self.saved else "M70")
+            self.saved = self.out[-1] != "M71"
+            # an M72 that restores G43/G49 leaves rs274's program position stale (as after M6, rs274.py):
+            # an absolute move to all three axes ends where cutsim's does
+            self.emit(f"G90 G0 X{num(rng, -20, 20)} Y{num(rng, -20, 20)} Z{num(rng, 0, 30)}" if self.out[-1] == "M72"
+                      else "G91 G0 X0 Y0 Z0")
+            self.plane = "G17" if self.out[-2] == "M72" else self.plane  # unknown: set it again below
+            if self.out[-2] == "M72":
+                self.emit("G17")
+        elif choice == 0:
             self.plane = rng.choice(["G17", "G18", "G19"])
             self.emit(self.plane)
         elif choice == 1:
@@ -184,6 +222,8 @@ class Gen:
             self.emit(f"G4 P{num(rng, 0, 2, 2)}")
         elif choice == 5:
             self.emit(f"S{rng.randint(100, 3000)} M{rng.choice([3, 4])}")
+            if rng.random() < 0.2:
+                self.emit(f"G96 S{rng.randint(50, 300)}" + (f" D{rng.randint(500, 4000)}" if rng.random() < 0.5 else ""))
             r = rng.random()
             if r < 0.4:
                 self.emit(f"G33 {self.axes('XZ', 10)} K{num(rng, 0.5, 3, 2)}")
@@ -191,7 +231,7 @@ class Gen:
                 self.emit(f"G33.1 Z{num(rng, -20, 0)} K{num(rng, 0.5, 2, 2)}")
             else:
                 self.threading()
-            self.emit("G1 F300")
+            self.emit("G97 G1 F300")
         else:
             self.emit(rng.choice(["G7", "G8", "G61", "G64", "G64 P0.01", "M7", "M8", "M9", "M5", "M0", "M1"]))
 
@@ -276,7 +316,65 @@ class Gen:
             self.emit(f"o{label} while [#<_d{depth}> lt 2]")
 
 
-def program(rng: random.Random, statements: int = 25) -> str:
+def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
+    """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs),
+    outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
+    its own modes set first (G18 G21 G90 G94 G8, then F)."""
+    bore = rng.random() < 0.3
+
+    def r4(lo: float, hi: float) -> float:  # 4 decimals, so an arc's printed end lies on its circle
+        return round(rng.uniform(lo, hi), 4)
+
+    x, z = r4(2, 6), 0.0
+    pts = [(x, z, "G1", "")]
+    for _ in range(rng.randint(2, 4)):
+        z = round(z - r4(1.5, 8), 4)
+        pts.append((x, z, "G1", ""))
+        h, kind = r4(1, 4), rng.randrange(4)
+        if kind == 0:
+            x = round(x + h, 4)
+            pts.append((x, z, "G1", ""))
+        elif kind == 1:
+            x, z = round(x + h, 4), round(z - r4(0.5, 3), 4)
+            pts.append((x, z, "G1", ""))
+        elif kind == 2:
+            x, z = round(x + h, 4), round(z - h, 4)
+            pts.append((x, z, "G3", f" K{-h:.4f}"))
+        else:
+            x, z = round(x + h, 4), round(z - h, 4)
+            pts.append((x, z, "G2", f" I{h:.4f}"))
+    z = round(z - r4(1, 5), 4)
+    pts.append((x, z, "G1", ""))
+    top = round(x + r4(0.5, 3), 4)
+
+    def xw(v: float) -> float:
+        return 30 - v if bore else v
+
+    lines = ["o9001 sub"]
+    diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
+    scale = 2.0 if diameter else 1.0  # G7: every X word a diameter (the profile's too)
+    for px, pz, code, centre in pts:
+        if bore and code != "G1":
+            code, centre = ("G2" if code == "G3" else "G3"), (centre.replace("I", "I-") if "I" in centre else centre)
+        lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}")
+    lines.append("o9001 endsub")
+    sub, lines = lines, ["G18 G21 G90 G94 G8 G40 G80", "F" + num(rng, 50, 500, 1)]  # F after G21 (rs274: F first)
+    lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
+    code = rng.choice(["G71", "G71.1", "G71.2", "G70"])
+    # D and E clear of 0.01: at d sin(turn) = 0.01 rs274's rounding decides a corner's arc (docs)
+    words = ["Q9001", f"D{num(rng, 0.02, 0.5)}" if rng.random() < 0.8 else "D0"]
+    if code == "G70":
+        words += [f"E{num(rng, 0.02, 0.1)}" if rng.random() < 0.7 else "E0", f"P{rng.randint(1, 3)}"]
+    else:
+        words += [f"I{num(rng, 0.5, 2.5)}", f"R{num(rng, 0.1, 1)}"]
+    lines.append(f"{code} " + " ".join(words))
+    if code != "G70" and rng.random() < 0.5:
+        lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")
+    lines.append("G8 G0 X40 Z40")
+    return sub, lines
+
+
+def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str:
     g = Gen(rng)
     g.emit("(random program)")
     g.emit(rng.choice(["G21", "G20"]) + " G17 G90 G94 G40 G49 G54 G80 G91.1 G8")
@@ -287,7 +385,7 @@ def program(rng: random.Random, statements: int = 25) -> str:
     g.emit("#<_d1> = 0")
     subs = []
     if rng.random() < 0.5:
-        subs = ["o<shape> sub", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
+        subs = ["o<shape> sub", "M73", f"G91 G1 X[#1] Y{num(rng, -5, 5)}", "G91 G2 X0 Y0 I[#2] J0",
                 "o<shape> endsub [#1 * 2]"]
         g.out[1:1] = subs
     numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
@@ -300,6 +398,7 @@ def program(rng: random.Random, statements: int = 25) -> str:
             g.emit("#3 = #<_value>")
         if numbered is not None and rng.random() < 0.1:
             g.emit(f"M98 P{numbered}" + (f" L{rng.randint(0, 3)}" if rng.random() < 0.5 else ""))
+            g.no_context = g.no_context or g.out[-1].endswith(" L0")
     g.emit("M2")
     if numbered is not None:  # after the end, as Fanuc-style programs keep them; #1-#5 are shared
         g.emit(f"O{numbered}")
@@ -307,4 +406,9 @@ def program(rng: random.Random, statements: int = 25) -> str:
         g.emit(f"G91 G1 X#<k> Y{num(rng, -5, 5)}")
         g.emit("#2 = [#2 + 0.5]")
         g.emit("M99")
+    if lathe and rng.random() < 0.2:  # drawn last: the rest of each program is what it was without it
+        sub, block = lathe_cycle(random.Random(rng.random()))
+        end = g.out.index("M2")
+        g.out[end:end] = block
+        g.out[1:1] = sub  # defined at the top, as the shape subroutine (rs274 refuses a sub met after M98's O<n>)
     return "\n".join(g.out) + "\n"

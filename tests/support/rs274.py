@@ -44,6 +44,8 @@ PLANES = {"CANON_PLANE_XY": ("XY", 0, 1, 2), "CANON_PLANE_XZ": ("ZX", 2, 0, 1), 
 # the shared arc check's refusal of an arc whose end is off its circle by more than max(0.005 mm, 0.01 %),
 # which LinuxCNC cuts as a spiral up to 0.028 mm (0.072 mm in G20) or 0.1 %: a documented limit
 SPIRAL = "arc end point is not on the circle"
+# the shared range of positions (core.lexer.COORD_LIMIT), which LinuxCNC does not have: a documented limit
+RANGE = "exceeds the permitted range"
 ZERO_MOVE = 0.003  # mm: a straight move shorter than rs274's printing resolution (4 decimals of an inch) is none
 LENGTH_PARAMS = {5161, 5162, 5163, 5181, 5182, 5183, 5211, 5212, 5213,
                  *(5221 + 20 * n + i for n in range(9) for i in range(3))}
@@ -117,7 +119,8 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
 def parse(text: str, tools: dict, returncode: int = 0) -> Outcome:
     st = _State(tools)
     errors = []
-    for raw in text.replace("executing", "\n").splitlines():
+    # rs274 writes "executing" into its output without a line break; a MESSAGE may hold the word too
+    for raw in re.sub(r'(?<![ "\w])executing', "\n", text).splitlines():
         m = CALL.match(raw)
         if m is None:
             if raw.strip():
@@ -299,6 +302,9 @@ def compare(program: str, tool_table: str | None = None, parameter_file: str | N
     if ours.error and not theirs.error and SPIRAL in ours.error:
         return (f"documented difference: an arc LinuxCNC cuts as a spiral, cutsim refuses (docs/dialects/rs274ngc.md, "
                 f"Limits)\n  cutsim: {ours.error}\n  rs274:  {len(theirs.moves)} moves")
+    if ours.error and not theirs.error and RANGE in ours.error:
+        return (f"documented difference: a position beyond cutsim's range, which rs274 reaches (docs/dialects/"
+                f"rs274ngc.md, Limits)\n  cutsim: {ours.error}\n  rs274:  {len(theirs.moves)} moves")
     if ours.error or theirs.error:
         return (f"divergence: only {'cutsim' if ours.error else 'rs274'} refuses the program\n"
                 f"  cutsim: {ours.error or f'{len(ours.moves)} moves'}\n  rs274:  {theirs.error or f'{len(theirs.moves)} moves'}")

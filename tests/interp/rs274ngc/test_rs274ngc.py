@@ -44,6 +44,8 @@ def x_of(expr: str) -> float:
     ("[[acos[0.8] - 36.86989764584401] * 10000000000000000]", 0.0),
     ("[[4 ** atan[7.17]/[2]] mod 20]", 4.0),  # a 6e44 power: the last bit decides the remainder
     ("[cos[90] * 100000000000000000000]", -2.508278806334166),
+    # C's ceil/floor keep a zero's sign: fup[-0.15] is -0, and atan of -0 over a negative is -180
+    ("atan[fup[-0.15]]/[-1]", -180.0), ("atan[fix[0.5]]/[-1]", 180.0),
 ])
 def test_expressions(expr, value):
     assert x_of(expr) == pytest.approx(value, abs=1e-9)

@@ -33,9 +33,7 @@ REFUSED_SAMPLES = {
     "comp-g1.ngc": "G41", "comp.ngc": "G42", "comp311.ngc": "G41", "comp311_2.ngc": "G41", "g76.ngc": "G41",
     "lathe-g76.ngc": "G41", "gmoccapy_2_tools_with_cutter_radius_compensation.ngc": "G41", "lathecomp.ngc": "G42",
     "mmount.ngc": "G41", "useful-subroutines.ngc": "G41", "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
-    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "hole-circle.ngc": "polar", "polar.ngc": "polar",
-    "spiral.ngc": "polar", "lathe_g70_71_demo.ngc": "G71.1", "lathe_g7x_face_boring.ngc": "G72",
-    "lathe_g7x_quadrants.ngc": "G70", "m70m72-demo.ngc": "M70", "toplevel.ngc": "M70", "m73-demo.ngc": "M73",
+    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "fillet",
     "systems.ngc": "G5.1",
 }
 BOTH_REFUSE = {"increment.ngc", "probe-hole.ngc", "nestedcall.ngc"}  # files meant to be called, a bad call
@@ -241,3 +239,57 @@ def test_rs274_cuts_an_arc_off_its_circle_as_a_spiral_cutsim_refuses_it(rs274, t
         path = tmp_path / f"spiral{units}{delta}.ngc"
         path.write_text(f"{units} G17 F100\nG0 X1 Y0\nG2 X0 Y-{1 + delta} I-1 J0\nM2\n")
         assert compare(str(path)).startswith(verdict), (units, delta)
+
+
+def test_rs274_feeds_g84_along_permuted_axes_in_g18(rs274, tmp_path):
+    # G18: the hole axis is Y. From (1, 1, 5): R1 on Y, the hole at X3 Z2 down to Y-1: cutsim feeds to
+    # (3, -1, 2) and back out to Y1; rs274 2.9 prints the feed as X-1 Y2 Z3 (its axes permuted)
+    path = tmp_path / "g84.ngc"
+    path.write_text("G21 G17 G90 F100\nS500 M3\nG0 X1 Y1 Z5\nG18 G84 X3 Z2 Y-1 R1\nG80\nM2\n")
+    ours = [m.end for m in cutsim_moves(str(path)).moves if m.kind == "FEED"]
+    theirs = [m.end for m in run_rs274(str(path)).moves if m.kind == "FEED"]
+    assert ours == [(3.0, -1.0, 2.0), (3.0, 1.0, 2.0)]
+    assert theirs[0] == pytest.approx((-1.0, 2.0, 3.0))
+
+
+def test_rs274_goes_on_from_the_clear_level_after_g88_without_printing_a_move(rs274, tmp_path):
+    # G88 to Z-3, G99: clear level R2. Then G80 and G0 X0: both go to (0, 2, 2) - from the clear level,
+    # reached without a printed move (cutsim records it alike, with one warning)
+    path = tmp_path / "g88.ngc"
+    path.write_text("G21 G17 G90 F100\nS500 M3\nG0 X0 Y0 Z5\nG88 X2 Y2 Z-3 R2 P1\nG80\nG0 X0\nM2\n")
+    ours, theirs = cutsim_moves(str(path)).moves, run_rs274(str(path)).moves
+    assert [m.end for m in ours] == [m.end for m in theirs]
+    assert ours[-1].start == (2.0, 2.0, 2.0) and theirs[-1].start == (2.0, 2.0, -3.0)  # rs274: seen from the bottom
+
+
+def test_rs274_m72_finds_no_state_after_an_m98_l0(rs274, tmp_path):
+    # M70, then M98 P100 L0 (the subprogram not run), then M72: rs274 2.9 refuses it as if its call level
+    # stayed one deeper; with L1 it restores G21, and so does cutsim in both cases
+    results = {}
+    for repeats in ("L0", "L1"):
+        path = tmp_path / f"m98{repeats}.ngc"
+        path.write_text(f"G21 G17 G90 F100\nG0 X0 Y0 Z0\nM70\nG20\nM98 P100 {repeats}\nM72\nG1 X1\nM2\n"
+                        "O100\nG91 G1 X1\nM99\n")
+        results[repeats] = (cutsim_moves(str(path)), run_rs274(str(path)))
+    assert results["L0"][0].moves[-1].end[0] == pytest.approx(1.0) and results["L0"][1].error
+    assert results["L1"][0].moves[-1].end[0] == pytest.approx(1.0)
+    assert results["L1"][1].moves[-1].end[0] == pytest.approx(1.0)
+
+
+def test_rs274_roughs_a_pocket_that_cutsim_refuses(rs274, tmp_path):
+    # a profile stepping back down (X6 -> X5 -> X10): rs274 cuts it, cutsim refuses pockets
+    path = tmp_path / "pocket.ngc"
+    path.write_text("G21 G18 F100\nG0 X11 Z2\no100 sub\nG1 X6 Z0\nG1 Z-10 X5\nG1 X10 Z-12\no100 endsub\n"
+                    "G71.1 Q100 I2\nM2\n")
+    assert "pocket" in cutsim_moves(str(path), kind="lathe").error
+    theirs = run_rs274(str(path))
+    assert theirs.error is None and len(theirs.moves) > 10
+
+
+def test_a_position_beyond_the_simulators_range_is_a_documented_difference(rs274, tmp_path):
+    # 729 000 in is 18 516 600 mm: beyond cutsim's ±99 999.9999 mm, which rs274 does not have
+    path = tmp_path / "far.ngc"
+    path.write_text("G20 G90 F100\nG1 X[abs[atan[1]/[0]] ** 3]\nM2\n")
+    assert "exceeds the permitted range" in cutsim_moves(str(path)).error
+    assert run_rs274(str(path)).error is None
+    assert compare(str(path)).startswith("documented difference")

@@ -1,0 +1,231 @@
+"""G70 (finishing) and G71/G71.1/G71.2, G72/G72.1/G72.2 (roughing) as LinuxCNC 2.9 moves them
+(move for move the same as its rs274, docs/dialects/rs274ngc.md).
+
+The profile is subroutine o<Q>, run when the cycle block is: its G0-G3 moves are collected, not
+cut (G0 counts as G1; feeds and speeds in it do not act). Its first move goes to the profile's
+start P0; the rest is the profile. D moves the profile towards the cycle's start point S (the
+block's X Z, else where the tool is): each segment shifted by D, an arc of radius D about each
+corner the offset goes round, neighbours cut back where they meet at the others.
+
+Roughing (G71 along Z, passes stepping in X; G72 along X, passes stepping in Z; u the stepping
+axis, v the cutting one): if S lies beyond P0 in the cutting direction it first moves (rapid)
+level with P0. Pass k runs at u = S + k I towards P0 while short of P0: from the line S-P0 at
+feed to the first point of the offset profile or the closing line (the profile's end to S's u),
+then rapid back r = min(R, half the pass) in both axes, along v back to r past its start, and
+to its start. Then the tool goes to P0 (rapid; a feed when no pass was cut) and follows the
+offset profile and the closing line at feed. G7x.1 and G7x.2 differ from G7x only in pockets,
+which cutsim refuses: G7x.2 cuts the finishing contour alone.
+
+G70: P passes, pass k (1..P) at distance D - (D - E) k / P from the profile: rapid to S
+(after the first), rapid to the start, the profile at feed; no closing line.
+"""
+from __future__ import annotations
+
+import math
+
+from cutsim.interp.core import MOTION, Step
+
+from .profile import EPS, Seg, crossings, offset, side_of
+
+LATHE_CYCLES = (70, 71, 71.1, 71.2, 72, 72.1, 72.2)
+Z, X = 0, 1  # the profile's (z, x) coordinates
+SMALL = 0.01  # program units: a convex corner whose offset d x sin(turn) is no more gets no arc (rs274 2.9)
+
+
+def cycle(m, st: Step) -> None:
+    code, line = m.motion, st.block.line
+    col = st.groups[MOTION].col if MOTION in st.groups else 1
+    if m.plane != "ZX":
+        raise m.error(line, col, f"G{code:g} can only be used in the ZX plane (G18)")
+    q = st.words.pop("Q", None)
+    if q is None:
+        raise m.error(line, col, f"G{code:g} needs the profile subroutine number Q")
+    vals = {k: st.words.pop(k, None) for k in "DIREP"}
+    allowed = "DEP" if code == 70 else "DIR"
+    for k, w in vals.items():
+        if w is not None and k not in allowed:
+            raise m.error(line, w.col, f"{k} word with nothing that uses it in this block")
+    start, _ = m.goal(st, letters=("X", "Z"))
+    m.check_left(st)
+    src = m.src(st)
+    y = start[1]
+    m.rapid(src, start) if math.dist(m.pos, start) > 0 else None
+    segs = capture(m, st, q, col)
+    s2 = (start[2], start[0])
+    mm = m.scale
+    try:
+        if code == 70:
+            passes = 1 if vals["P"] is None else m.whole(line, vals["P"], "G70 passes")
+            if passes < 1:
+                raise m.error(line, vals["P"].col, "G70 needs P of 1 or more passes")
+            d = _num(vals["D"], 0.0) * mm
+            e = _num(vals["E"], 0.0) * mm
+            finish(m, st, src, y, segs, s2, d, e, passes)
+        else:
+            inc = _num(vals["I"], 1.0)
+            if inc <= 0:
+                raise m.error(line, col, "G7x: I (the cutting increment) must be more than 0")
+            rough(m, st, src, y, segs, s2, code, _num(vals["D"], 0.0) * mm, inc * mm, _num(vals["R"], 0.5) * mm)
+    except ValueError as e:
+        raise m.error(line, col, f"G{code:g}: {e}") from None
+    if m.motion == 0:  # the profile's last motion mode stays, G0 read as G1 (LinuxCNC 2.9)
+        m.motion = 1
+
+
+def check_profile(m, st: Step, has_axes: bool) -> None:
+    """A block of a G70-G72 profile: straight moves and arcs only, absolute (LinuxCNC's
+    incremental profiles are not simulated)."""
+    col = st.groups[MOTION].col if MOTION in st.groups else 1
+    for letter, what in (("A", "fillet"), ("C", "chamfer")):
+        if letter in st.words:
+            raise m.error(st.block.line, st.words[letter].col,
+                             f"{letter} ({what}) in a G70-G72 profile is not simulated")
+    if not has_axes:
+        return
+    if m.motion not in (0, 1, 2, 3):
+        raise m.error(st.block.line, col, f"G{m.motion:g} in a G70-G72 profile (G0-G3 only)")
+    if not m.absolute:
+        raise m.error(st.block.line, col, "G91 in a G70-G72 profile is not simulated")
+
+
+def _num(w, default: float) -> float:
+    return default if w is None else w.value
+
+
+def capture(m, st: Step, q, col: int) -> list[Seg]:
+    """Run the profile subroutine collecting its moves; the tool, the feed and the motion mode it
+    leaves are restored, except the motion mode (LinuxCNC keeps the profile's)."""
+    pos, feed, scale = tuple(m.pos), m.feed_units, m.feed_scale
+    m.profile = []
+    try:
+        m.run_profile(q.value, st.block.line, q.col)
+        moves = m.profile
+    finally:
+        m.profile = None
+    m.moved(pos)
+    m.feed_units, m.feed_scale = feed, scale
+    if len(moves) < 2:
+        raise m.error(st.block.line, col, f"the profile o{q.value:g} needs a move to its start and at least one more")
+    segs = []
+    for p0, p1, centre, clockwise in moves[1:]:
+        a, b = (p0[2], p0[0]), (p1[2], p1[0])
+        if centre is None and math.dist(a, b) < 1e-7:
+            continue
+        segs.append(Seg(a, b, None if centre is None else (centre[2], centre[0]), not clockwise))
+    if not segs:
+        raise m.error(st.block.line, col, f"the profile o{q.value:g} has no moves after its start")
+    return segs
+
+
+class Path:
+    """Moves of a cycle in the machine frame (the profile's (z, x) with the block's Y)."""
+
+    def __init__(self, m, st: Step, src, y: float):
+        self.m, self.st, self.src, self.y = m, st, src, y
+
+    def at(self, p) -> tuple:
+        return (p[X], self.y, p[Z])
+
+    def rapid(self, p) -> None:
+        end = self.at(p)
+        if math.dist(self.m.pos, end) > EPS:
+            self.m.rapid(self.src, end)
+
+    def feed(self, p) -> None:
+        end = self.at(p)
+        if math.dist(self.m.pos, end) > EPS:
+            self.m.feed = self.m.feed_for(self.st, math.dist(self.m.pos, end))
+            self.m.linear(self.src, end)
+
+    def follow(self, segs: list[Seg]) -> None:
+        for s in segs:
+            if s.centre is None:
+                self.feed(s.p1)
+                continue
+            _, sweep = s.angles()
+            self.m.feed = self.m.feed_for(self.st, abs(sweep) * s.radius)
+            self.m.arc(self.src, self.at(s.p1), self.at(s.centre), not s.ccw)
+
+
+def level_start(path: Path, start, p0, v: int, vdir: int) -> list:
+    """S beyond the profile's start P0 (not offset) along the cut: the tool first goes level with P0
+    (rapid), and the cycle starts there."""
+    s = list(start)
+    if (s[v] - p0[v]) * vdir > 0:
+        s[v] = p0[v]
+        path.rapid(s)
+    return s
+
+
+def finish(m, st, src, y, segs, start, d, e, passes) -> None:
+    path = Path(m, st, src, y)
+    # G70 levels S with P0 along Z when the profile runs along Z away from S (rs274 2.9); the offset
+    # goes to the side of the levelled start, of S where that lies on the first segment's line
+    levelled = level_start(path, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
+    side = side_of(segs[0], levelled) or side_of(segs[0], start)
+    start = levelled
+    for k in range(1, passes + 1):
+        prof = offset(segs, d - (d - e) * k / passes, side, SMALL * m.scale)  # rs274's rounding at the 0.01 rule
+        path.rapid(start)
+        path.rapid(prof[0].p0)
+        path.follow(prof)
+
+
+def _sign(v: float) -> int:
+    return 0 if abs(v) < 1e-7 else (1 if v > 0 else -1)
+
+
+def monotonic(segs: list[Seg], u: int, v: int, su: int, sv: int) -> None:
+    """The profile steps back towards the start in u and runs one way in v (no pockets)."""
+    for s in segs:
+        pts = s.points()
+        for a, b in zip(pts, pts[1:]):
+            if (b[u] - a[u]) * su > 1e-7:
+                raise ValueError("a profile stepping away from the start point (a pocket) is not simulated")
+            if (b[v] - a[v]) * sv < -1e-7:
+                raise ValueError("the profile is not monotonic along the cut")
+
+
+def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
+    path = Path(m, st, src, y)
+    u, v = (X, Z) if code < 72 else (Z, X)
+    vdir = _sign(segs[-1].p1[v] - segs[0].p0[v])
+    if vdir == 0:
+        raise ValueError("the profile ends where it starts along the cut")
+    s = level_start(path, start, segs[0].p0, v, vdir)
+    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale)
+    p0, pe = prof[0].p0, prof[-1].p1
+    su = _sign(p0[u] - s[u])
+    monotonic(segs, u, v, su, vdir)
+    close = [0.0, 0.0]
+    close[u], close[v] = s[u], pe[v]
+    # the closing line back to S's u (none when S is level with P0: rs274 2.9)
+    contour = prof + ([Seg(pe, tuple(close))] if su and math.dist(pe, close) > 1e-7 else [])
+    cut = False
+    if su and code not in (71.2, 72.2):
+        k = 0
+        while (p0[u] - (s[u] + k * inc * su)) * su > 1e-7:
+            level = s[u] + k * inc * su
+            vs = s[v] + (p0[v] - s[v]) * (level - s[u]) / (p0[u] - s[u])
+            ahead = [w for seg in contour for w in crossings(seg, u, level) if (w - vs) * vdir > 1e-9]
+            if not ahead:
+                raise ValueError("a roughing pass meets no profile (not simulated)")
+            ve = min(ahead, key=lambda w: (w - vs) * vdir)
+            one_pass(path, u, v, level, vs, ve, su, vdir, min(retract, abs(ve - vs) / 2))
+            cut = True
+            k += 1
+    (path.rapid if cut or code in (71.2, 72.2) else path.feed)(p0)
+    path.follow(contour)
+
+
+def one_pass(path: Path, u, v, level, vs, ve, su, vdir, r) -> None:
+    def pt(a, b):
+        p = [0.0, 0.0]
+        p[u], p[v] = a, b
+        return p
+
+    path.rapid(pt(level, vs))
+    path.feed(pt(level, ve))
+    path.rapid(pt(level - su * r, ve - vdir * r))
+    path.rapid(pt(level - su * r, vs + vdir * r))
+    path.rapid(pt(level, vs))

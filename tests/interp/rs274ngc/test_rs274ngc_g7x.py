@@ -1,0 +1,141 @@
+"""G70, G71, G72 (LinuxCNC's lathe cycles) against positions worked out by hand from their rules
+(docs/dialects/rs274ngc.md, "G70, G71, G72"); test_rs274ngc_oracle.py compares them with rs274
+move by move (tests/data/programs/rs274ngc/lathe-g7x.ngc and the random programs)."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from cutsim.cli import main
+from cutsim.interp import interpret
+from cutsim.interp.canon import Arc, Feed, Rapid
+from cutsim.interp.errors import CutsimError
+from cutsim.interp.core.modal import InterpConfig
+
+# a shaft profile: diameter-free radii, P0 (5, 0), a 45 degree taper from (5, -10) to (10, -15)
+PROFILE = "o100 sub\nG1 X5 Z0\nG1 Z-10\nG1 X10 Z-15\nG1 Z-25\nG1 X20\no100 endsub\n"
+START = "G18 G21 G90 G8\nF100\n"
+
+
+def moves(text: str):
+    prog = interpret("t.ngc", START + text + "\nM2\n", InterpConfig(dialect="rs274ngc", machine_kind="lathe"))
+    return [r for r in prog.records if isinstance(r, (Rapid, Feed, Arc)) and math.dist(r.start, r.end) > 1e-9]
+
+
+def xz(r):
+    return (round(r.end[0], 6), round(r.end[2], 6))
+
+
+def test_g71_passes_step_i_from_s_and_run_from_the_line_s_p0_to_the_profile():
+    ms = moves(PROFILE + "G0 X22 Z3\nG71 Q100 I2 R0.5")
+    feeds = [r for r in ms if isinstance(r, Feed)]
+    # pass at X = 22 - 2k while X > 5 (P0): 22, 20, ..., 6 (9 passes), then the profile (4 feeds) and
+    # the closing line from its end (20, -25) out to S's X 22
+    assert [round(r.end[0], 6) for r in feeds[:9]] == [22, 20, 18, 16, 14, 12, 10, 8, 6]
+    for r in feeds[:9]:
+        x = r.end[0]
+        assert r.start[2] == pytest.approx(3 - 3 * (22 - x) / 17)  # on the line S (22, 3) - P0 (5, 0)
+        # the end: Z-25 (profile end, closing line) above X10, the taper z = -10 - (x - 5) below
+        assert r.end[2] == pytest.approx(-25 if x > 10 else -10 - (x - 5))
+    assert [xz(r) for r in feeds[9:]] == [(5, -10), (10, -15), (10, -25), (20, -25), (22, -25)]
+    # after each pass: back R in both axes, along Z to R past its start, to its start
+    first = ms.index(feeds[0])
+    assert [xz(r) for r in ms[first + 1:first + 4]] == [(22.5, -24.5), (22.5, 2.5), (22, 3)]
+
+
+def test_g71_d_offsets_the_profile_with_an_arc_about_the_convex_corner():
+    ms = moves(PROFILE + "G0 X20 Z2\nG71 Q100 D0.5 I2 R0.5")
+    arcs = [r for r in ms if isinstance(r, Arc)]
+    assert len(arcs) == 1  # the corner (10, -15) the offset goes round; (5, -10) is concave
+    a = arcs[0]
+    assert (a.center[0], a.center[2]) == pytest.approx((10, -15))
+    s = 0.5 / math.sqrt(2)  # the taper's offset ends 0.5 along its normal (1, 1)/sqrt 2
+    assert (a.start[0], a.start[2]) == pytest.approx((10 + s, -15 + s))
+    assert (a.end[0], a.end[2]) == pytest.approx((10.5, -15))
+    feeds = [r for r in ms if isinstance(r, Feed)]
+    # the concave corner: X5.5 meets the taper's offset x - 5 = -(z + 10) + 0.5 sqrt 2
+    contour = feeds[-4:]  # to the taper, along it, Z-run, out at Z-24.5 (the arc between)
+    assert xz(contour[0]) == pytest.approx((5.5, -10 - 0.5 + 0.5 * math.sqrt(2)))
+    # the pass at X10 ends on the taper's offset: z = -10 - 5 + 0.5 sqrt 2
+    at10 = next(r for r in feeds if abs(r.end[0] - 10) < 1e-9 and abs(r.start[0] - 10) < 1e-9)
+    assert at10.end[2] == pytest.approx(-15 + 0.5 * math.sqrt(2))
+
+
+def test_a_short_pass_retracts_half_its_length():
+    # a convex arc about (4, -4) of radius 4, offset 0.4: radius 4.4; the pass at X5 starts on the line
+    # S (11, 2) - P0' (4, 0.4) and ends on the arc at z = -4 + sqrt(4.4^2 - 1)
+    prof = "o101 sub\nG0 X4 Z0\nG3 X8 Z-4 K-4\nG1 Z-10\nG1 X11\no101 endsub\n"
+    ms = moves(prof + "G0 X11 Z2\nG71 Q101 I1.5 R0.3 D0.4")
+    i = next(k for k, r in enumerate(ms) if isinstance(r, Feed) and abs(r.end[0] - 5) < 1e-9)
+    zs, ze = ms[i].start[2], ms[i].end[2]
+    assert zs == pytest.approx(2 - 1.6 * 6 / 7)
+    assert ze == pytest.approx(-4 + math.sqrt(4.4 ** 2 - 1))
+    r = (zs - ze) / 2  # less than R0.3
+    assert xz(ms[i + 1]) == pytest.approx((5 + r, ze + r))
+
+
+def test_g72_steps_in_z_and_cuts_along_x():
+    prof = "o103 sub\nG1 X13 Z-7\nG1 X8\nG1 X6 Z-3\nG1 X0\no103 endsub\n"
+    ms = moves(prof + "G0 X14 Z1\nG72 Q103 I2 R0.3")
+    feeds = [r for r in ms if isinstance(r, Feed)]
+    # passes at Z 1, -1, -3, -5 (above P0's Z-7), from the line S (14, 1) - P0 (13, -7) to X0 (the
+    # closing line) at Z1 and Z-1, to the corner (6, -3), to the taper x = 8 - (z + 7) / 2 at Z-5
+    assert [(round(r.end[2], 6), round(r.end[0], 6)) for r in feeds[:4]] == [(1, 0), (-1, 0), (-3, 6), (-5, 7)]
+    assert [round(r.start[0], 6) for r in feeds[:4]] == [14, 13.75, 13.5, 13.25]
+
+
+def test_g70_passes_at_the_distances_e_plus_d_minus_e_times_passes_left():
+    prof = "o100 sub\nG1 X6 Z0\nG1 Z-10\nG1 X10 Z-12\no100 endsub\n"
+    ms = moves(prof + "G0 X11 Z2\nG70 Q100 D1 E0.2 P3")
+    starts = [r.end[0] for r in ms if isinstance(r, Rapid) and abs(r.end[2]) < 1e-9]
+    assert starts == pytest.approx([6 + 0.2 + 0.8 * 2 / 3, 6 + 0.2 + 0.8 / 3, 6.2])
+
+
+@pytest.mark.parametrize("d, arc", [(0.0101, True), (0.01, False)])
+def test_a_corner_gets_its_arc_only_when_d_sin_turn_is_over_a_hundredth(d, arc):
+    # a square convex corner at (5, -5): sin 90 = 1
+    prof = "o100 sub\nG1 X2 Z0\nG1 Z-5\nG1 X5\nG1 Z-12\nG1 X8\no100 endsub\n"
+    ms = moves(prof + f"G0 X11 Z2\nG71.2 Q100 D{d}")
+    assert any(isinstance(r, Arc) for r in ms) == arc
+    if not arc:  # the two offset lines meet at (5 + d, -5 + d)
+        assert any(xz(r) == pytest.approx((5 + d, -5 + d)) for r in ms)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("G0 X11 Z2\nG71 I2", "subroutine number Q"),
+    ("G17 G0 X11 Z2\nG71 Q100", "ZX plane"),
+    ("G0 X22 Z3\nG71 Q100 I0", "more than 0"),
+    ("G0 X22 Z3\nG71 Q100 I1 E2", "E word"),
+    ("G0 X22 Z3\nG72 Q100 I1", "pocket"),  # a G71 profile runs away from S along Z
+    ("G0 X22 Z3\nG71 Q7", "not defined"),
+])
+def test_refused_blocks(text, message):
+    with pytest.raises(CutsimError, match=message):
+        moves(PROFILE + text)
+
+
+def test_the_motion_mode_after_the_cycle_is_the_profiles_last_g0_as_g1():
+    ms = moves(PROFILE + "G0 X22 Z3\nG71 Q100 I2\nX30")
+    assert isinstance(ms[-1], Feed) and xz(ms[-1]) == (30, -25)
+
+
+EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "rs274ngc" / "g71-shaft"
+
+
+def test_the_example_fails_its_checks_without_the_finishing_pass(tmp_path):
+    # the example's own checks pass (tests/app/test_examples.py); without G70 the roughing leaves
+    # D0.2 on the profile: every turned diameter and the volume fail, the bar beyond stays
+    text = EXAMPLE.with_suffix(".nc").read_text().replace("G70 Q100 X32 Z2", "")
+    prog = tmp_path / "g71-shaft.nc"
+    prog.write_text(text)
+    setup = tmp_path / "g71-shaft.toml"
+    setup.write_text(EXAMPLE.with_suffix(".toml").read_text()
+                     .replace('"tools-turn.tbl"', f'"{EXAMPLE.parent / "tools-turn.tbl"}"'))
+    res = CliRunner().invoke(main, ["simulate", str(prog), "--setup", str(setup), "--out", str(tmp_path / "out"), "-q"])
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    failed = {c["name"] for c in report["checks"] if not c["passed"]}
+    assert failed == {"journal 12", "taper", "journal 20", "quarter round", "collar 26", "volume #7"}, res.output
