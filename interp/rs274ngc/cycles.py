@@ -140,9 +140,15 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
 
 
 def arc_turns(m, src: Src, start, end, centre, clockwise: bool, turns: int) -> None:
-    """An arc (helix) of ``turns`` (LinuxCNC's P): whole turns first, then the rest, the axis
-    normal to the plane moving in proportion to the angle turned."""
-    a, b, n = PLANE_AXES[m.plane]
+    """An arc (helix) of ``turns`` (LinuxCNC's P) as arcs of one turn at most (``turn_ends``)."""
+    for e, c in turn_ends(start, end, centre, clockwise, turns, m.plane):
+        m.arc(src, e, c, clockwise)
+
+
+def turn_ends(start, end, centre, clockwise: bool, turns: int, plane: str) -> list:
+    """An arc of ``turns`` turns as (end, centre) of its pieces: whole turns first, then the rest, the
+    axis normal to the plane moving in proportion to the angle turned (each centre at its piece's start)."""
+    a, b, n = PLANE_AXES[plane]
     a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
     a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
     sweep = ((a0 - a1) if clockwise else (a1 - a0)) % (2 * math.pi)
@@ -151,11 +157,14 @@ def arc_turns(m, src: Src, start, end, centre, clockwise: bool, turns: int) -> N
         sweep = 2 * math.pi
     total = sweep + 2 * math.pi * (turns - 1)
     centre_t = (centre[0], centre[1], centre[2])
+    pieces, at = [], start
     for k in range(turns - 1):
-        mid = list(m.pos)
+        mid = list(start)
         mid[n] = start[n] + (end[n] - start[n]) * 2 * math.pi * (k + 1) / total
-        m.arc(src, (mid[0], mid[1], mid[2]), with_normal(centre_t, n, m.pos[n]), clockwise)
-    m.arc(src, end, with_normal(centre_t, n, m.pos[n]), clockwise)
+        pieces.append(((mid[0], mid[1], mid[2]), with_normal(centre_t, n, at[n])))
+        at = pieces[-1][0]
+    pieces.append((end, with_normal(centre_t, n, at[n])))
+    return pieces
 
 
 def with_normal(centre, n: int, v: float) -> tuple:

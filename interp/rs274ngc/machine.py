@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import math
 
+from cutsim.interp import canon
 from cutsim.interp.canon import Src
 from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import cycles, offsets, threading
+from . import compensation, cycles, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters
 
@@ -49,7 +50,15 @@ class Ngc(Interpreter):
         self.coord = 1
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
+        self.comp_side = 0  # cutter radius compensation (interp/rs274ngc/compensation.py)
+        self.comp = None
+        self.comp_exit = None
+        self.comp_memory: dict = {}
         offsets.load(self)
+
+    def emit(self, rec) -> None:
+        if (self.comp is None and self.comp_exit is None) or not compensation.route(self, rec):
+            self.program.records.append(rec)
 
     # -- program coordinates -----------------------------------------------------------------------
     def shift(self, i: int) -> float:
@@ -110,6 +119,8 @@ class Ngc(Interpreter):
         for code, row, g in codes:
             if row.group == MOTION:
                 st.motion = code if st.motion in (None, 80) else st.motion
+            elif row.group == Group.PLANE and self.comp_side and row.meaning != f"plane {self.plane}":
+                raise self.error(line, g.col, f"G{g.raw}: cannot change the plane with cutter radius compensation on")
             elif row.group in (Group.DISTANCE, Group.PLANE):
                 self.common_g(int(code))
             else:
@@ -118,6 +129,7 @@ class Ngc(Interpreter):
     def g_code(self, st: Step, code, row, g: Word) -> None:
         group = row.group
         if group == Group.UNITS:
+            self.scale_before = self.scale  # LinuxCNC takes the block's F before its G20/G21
             self.scale = INCH if code == 20 else 1.0
         elif group == Group.ARC_DISTANCE:
             self.arc_abs = code == 90.1
@@ -129,8 +141,10 @@ class Ngc(Interpreter):
         elif group == Group.DIAMETER:
             self.lathe_diameter = code == 7
         elif group == Group.RETRACT:
+            compensation.refuse(self, st, g, f"G{g.raw}: cannot change the retract mode")
             self.retract_old = code == 98
         elif group == Group.ZERO_OFFSET:
+            compensation.refuse(self, st, g, f"G{g.raw}: cannot change the coordinate system")
             offsets.select(self, code)
         else:
             st.g[group] = g
@@ -145,7 +159,7 @@ class Ngc(Interpreter):
             if f.value < 0:
                 raise self.error(line, f.col, "negative feed rate F")
             self.feed_units = f.value
-            self.feed_scale = self.scale
+            self.feed_scale = self.scale_before if Group.UNITS in st.groups else self.scale
         if "S" in words:
             s = words.pop("S")
             if s.value < 0:
@@ -158,8 +172,11 @@ class Ngc(Interpreter):
         self.tool_m(st)
         if st.direction is not None:
             self.spindle(self.src(st), st.direction, None)
+        compensation.select(self, st)
         offsets.tool_length(self, st)
         if Group.PATH_CONTROL in st.g:
+            compensation.refuse(self, st, st.g[Group.PATH_CONTROL], f"G{st.g[Group.PATH_CONTROL].raw}: cannot change "
+                                "the path control mode")
             for letter in "PQ":
                 w = st.words.pop(letter, None)
                 if w is not None and w.value < 0:
@@ -199,9 +216,14 @@ class Ngc(Interpreter):
                 if q is None:
                     raise self.error(st.block.line, m.col, "M61 needs the tool number Q")
                 self.selected = self.whole(st.block.line, q, "tool number")
+            if code == 6:
+                compensation.refuse(self, st, m, "M6: cannot change tools", after=False)
             if code == 6 and self.spindle_dir != 0:  # LinuxCNC stops the spindle for a tool change
                 self.spindle(self.src(st, m.col), 0, None)
             self.known_tool(st, self.selected, m)
+            if code == 6 and self.comp_exit is not None:  # LinuxCNC re-reads where the tool is after M6
+                self.moved(self.comp_exit)
+                self.comp_exit = None
             self.tool_no = self.selected
             entry = self.tools.get(self.tool_no, {})
             length = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
@@ -242,6 +264,7 @@ class Ngc(Interpreter):
         if g53 is not None and round(g53.value, 4) == 53:
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
+            compensation.refuse(self, st, g53, "G53: cannot move in machine coordinates")
         has_axes = any(a in st.words for a in "XYZ") or (self.motion in (2, 3) and any(a in st.words for a in "IJK"))
         if any(a in st.words for a in "ABCUVW"):
             a = next(st.words[a] for a in "ABCUVW" if a in st.words)
@@ -249,6 +272,10 @@ class Ngc(Interpreter):
         m = self.motion
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
+        if has_axes and self.comp_side and m not in (0, 1, 2, 3, 80):
+            w = st.groups.get(MOTION) or next(st.words[a] for a in "XYZ" if a in st.words)
+            what = "canned cycles" if m in cycles.CYCLE_CODES else f"G{m:g}"
+            raise self.error(line, w.col, f"{what}: not simulated with cutter radius compensation on (G40 first)")
         if m in cycles.CYCLE_CODES and has_axes:
             cycles.run(self, st)
         elif not has_axes:
@@ -346,6 +373,16 @@ class Ngc(Interpreter):
             self.check_radii(line, start, end, centre, a, b)
         length = self.arc_length(start, end, centre, clockwise, turns)
         self.feed = self.feed_for(st, length)
+        if self.comp_exit is not None:
+            raise self.error(line, st.groups.get(MOTION, Word("G", 2, "2", 1)).col,
+                             "the move after G40 must be straight (G0 or G1), not an arc")
+        if self.comp is not None:
+            full = all(abs(end[i] - start[i]) < 1e-9 for i in (a, b))
+            rec = canon.Arc(self.src(st), start, end, self.diameter, tuple(centre), self.plane, clockwise, full,
+                            self.feed, self.per_rev)
+            compensation.arc(self, rec, centre, clockwise, turns)
+            self.moved(end)
+            return
         cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
 
     def check_radii(self, line: int, start, end, centre, a: int, b: int) -> None:
@@ -394,4 +431,6 @@ class Ngc(Interpreter):
     def convert_end(self, st: Step) -> None:
         st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, Group.STOP))
         if st.result:
+            compensation.finish(self, st)
+            self.comp_side, self.comp_exit = 0, None
             self.end(self.src(st))
