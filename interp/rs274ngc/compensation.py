@@ -154,7 +154,10 @@ def _out(m, plane: str, cut, start, end, centre) -> None:
         a, b, _ = PLANE_AXES[plane]
         cw = cut.turn < 0
         s = start
-        for e, c in turn_ends(start, end, centre, cw, abs(cut.turn), plane):
+        # a programmed circle stays whole where its offset ends differ by less than rs274 prints
+        whole = (abs(abs(cut.sweep) - 2 * math.pi * abs(cut.turn)) < 1e-9
+                 and math.hypot(end[a] - start[a], end[b] - start[b]) < 1e-3)
+        for e, c in turn_ends(start, end, centre, cw, abs(cut.turn), plane, whole):
             full = math.isclose(e[a], s[a], abs_tol=1e-9) and math.isclose(e[b], s[b], abs_tol=1e-9)
             m.program.records.append(canon.Arc(rec.src, s, e, rec.diameter, c, plane, cw, full, rec.feed, rec.per_rev))
             s = e

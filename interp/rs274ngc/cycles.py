@@ -145,15 +145,15 @@ def arc_turns(m, src: Src, start, end, centre, clockwise: bool, turns: int) -> N
         m.arc(src, e, c, clockwise)
 
 
-def turn_ends(start, end, centre, clockwise: bool, turns: int, plane: str) -> list:
+def turn_ends(start, end, centre, clockwise: bool, turns: int, plane: str, whole: bool = False) -> list:
     """An arc of ``turns`` turns as (end, centre) of its pieces: whole turns first, then the rest, the
-    axis normal to the plane moving in proportion to the angle turned (each centre at its piece's start)."""
+    axis normal to the plane moving in proportion to the angle turned (each centre at its piece's start).
+    ``whole``: the rest is a whole turn too (a compensated circle whose ends differ by rounding)."""
     a, b, n = PLANE_AXES[plane]
     a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
     a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
     sweep = ((a0 - a1) if clockwise else (a1 - a0)) % (2 * math.pi)
-    full = sweep < 1e-9 or abs(sweep - 2 * math.pi) < 1e-9
-    if full:
+    if sweep < 1e-9 or abs(sweep - 2 * math.pi) < 1e-9 or whole:
         sweep = 2 * math.pi
     total = sweep + 2 * math.pi * (turns - 1)
     centre_t = (centre[0], centre[1], centre[2])

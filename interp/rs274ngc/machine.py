@@ -24,6 +24,8 @@ AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
 # LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
 # units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
 ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
+# and an R arc whose chord is longer than 2 R by up to 0.00005 in (0.00127 mm) in both units, as a half circle
+RADIUS_TOL = 0.00005 * 25.4
 
 
 class Ngc(Interpreter):
@@ -401,7 +403,7 @@ class Ngc(Interpreter):
             raise self.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
         half = chord / 2.0
         if abs(r) < half:
-            if half - abs(r) > 0.001:
+            if half - abs(r) > RADIUS_TOL:
                 raise self.error(st.block.line, col, f"arc radius {abs(r) / self.scale:g} too small to reach the end point")
             h = 0.0
         else:
