@@ -20,12 +20,16 @@ from cutsim.interp.core.compensation import nose_shift
 from cutsim.interp.core.lexer import Word
 from cutsim.interp.core.modal import PLANE_AXES
 
-from .cycles import turn_ends
+from .cycles import CYCLE_CODES, turn_ends
 
 CODES = {40: 0, 41: 1, 42: -1, 41.1: 1, 42.1: -1}
 # LinuxCNC's lathe tool orientations (L, tool table Q) number the tip positions for +X towards the
 # operator; cutsim's cutting edge positions (docs/setup.md) for +X up: the same position mirrored in X
 ORIENTATION_EDGE = {1: 4, 2: 3, 3: 2, 4: 1, 5: 5, 6: 8, 7: 7, 8: 6}
+
+
+def init(m) -> None:
+    m.comp_side, m.comp, m.comp_exit, m.comp_memory = 0, None, None, {}
 
 
 def on_after(m, st: Step) -> bool:
@@ -132,9 +136,35 @@ def route(m, rec) -> bool:
     return True
 
 
-def arc(m, rec, centre, clockwise: bool, turns: int) -> None:
-    """An arc block under compensation: the whole arc (all its turns) is one move."""
+def arc_taken(m, st: Step, start, end, centre, clockwise: bool, turns: int) -> bool:
+    """An arc block under compensation (True: taken): the whole arc (all its turns) is one move. The
+    move after G40 may not be an arc (rs274)."""
+    if m.comp_exit is not None:
+        g = st.groups.get(Group.MOTION)
+        raise m.error(st.block.line, g.col if g else 1, "the move after G40 must be straight (G0 or G1), not an arc")
+    if m.comp is None:
+        return False
+    a, b, _ = PLANE_AXES[m.plane]
+    full = abs(end[a] - start[a]) < 1e-9 and abs(end[b] - start[b]) < 1e-9
+    rec = canon.Arc(m.src(st), start, end, m.diameter, tuple(centre), m.plane, clockwise, full, m.feed, m.per_rev)
     m.comp.arc(rec, centre, -turns if clockwise else turns, m.scale == 1.0, _error(m, rec.src.line))
+    m.moved(end)
+    return True
+
+
+def refuse_motion(m, st: Step, code: float) -> None:
+    """Canned cycles, G33, G33.1 and G76 with compensation on (rs274 refuses all but some G33s)."""
+    w = st.groups.get(Group.MOTION) or next(st.words[a] for a in "XYZ" if a in st.words)
+    what = "canned cycles" if code in CYCLE_CODES else f"G{code:g}"
+    raise m.error(st.block.line, w.col, f"{what}: not simulated with cutter radius compensation on (G40 first)")
+
+
+def tool_change(m, st: Step, w: Word) -> None:
+    """M6: refused while compensation is on; after G40 LinuxCNC re-reads where the tool is."""
+    refuse(m, st, w, "M6: cannot change tools", after=False)
+    if m.comp_exit is not None:
+        m.moved(m.comp_exit)
+        m.comp_exit = None
 
 
 def _with_start(rec, start):

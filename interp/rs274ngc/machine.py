@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 
-from cutsim.interp import canon
 from cutsim.interp.canon import Src
 from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
@@ -17,7 +16,7 @@ from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
 from . import compensation, cycles, offsets, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
-from .values import Parameters
+from .values import Parameters, Unreadable
 
 INCH = 25.4
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
@@ -52,10 +51,7 @@ class Ngc(Interpreter):
         self.coord = 1
         self.cycle = cycles.CycleState()
         self.feed_units = None  # F as programmed (program units), converted when used
-        self.comp_side = 0  # cutter radius compensation (interp/rs274ngc/compensation.py)
-        self.comp = None
-        self.comp_exit = None
-        self.comp_memory: dict = {}
+        compensation.init(self)
         offsets.load(self)
 
     def emit(self, rec) -> None:
@@ -72,7 +68,10 @@ class Ngc(Interpreter):
 
     def program_value(self, i: int) -> float:
         """The position in program units (#5420-#5422, #<_x>...): X a radius in G7 too, as
-        LinuxCNC 2.9 reads it (G7 halves X words, not the position it reports)."""
+        LinuxCNC 2.9 reads it (G7 halves X words, not the position it reports). Not while cutter
+        radius compensation is on (rs274 refuses it)."""
+        if self.comp_side:
+            raise Unreadable("cannot read the current position with cutter radius compensation on")
         return (self.base()[i] - self.shift(i)) / self.scale
 
     def goal(self, st: Step, letters=("X", "Y", "Z"), machine: bool = False) -> tuple[tuple, dict]:
@@ -219,13 +218,10 @@ class Ngc(Interpreter):
                     raise self.error(st.block.line, m.col, "M61 needs the tool number Q")
                 self.selected = self.whole(st.block.line, q, "tool number")
             if code == 6:
-                compensation.refuse(self, st, m, "M6: cannot change tools", after=False)
+                compensation.tool_change(self, st, m)
             if code == 6 and self.spindle_dir != 0:  # LinuxCNC stops the spindle for a tool change
                 self.spindle(self.src(st, m.col), 0, None)
             self.known_tool(st, self.selected, m)
-            if code == 6 and self.comp_exit is not None:  # LinuxCNC re-reads where the tool is after M6
-                self.moved(self.comp_exit)
-                self.comp_exit = None
             self.tool_no = self.selected
             entry = self.tools.get(self.tool_no, {})
             length = [entry.get("X", 0.0), 0.0, entry.get("Z", 0.0)]
@@ -275,9 +271,7 @@ class Ngc(Interpreter):
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
         if has_axes and self.comp_side and m not in (0, 1, 2, 3, 80):
-            w = st.groups.get(MOTION) or next(st.words[a] for a in "XYZ" if a in st.words)
-            what = "canned cycles" if m in cycles.CYCLE_CODES else f"G{m:g}"
-            raise self.error(line, w.col, f"{what}: not simulated with cutter radius compensation on (G40 first)")
+            compensation.refuse_motion(self, st, m)
         if m in cycles.CYCLE_CODES and has_axes:
             cycles.run(self, st)
         elif not has_axes:
@@ -375,17 +369,8 @@ class Ngc(Interpreter):
             self.check_radii(line, start, end, centre, a, b)
         length = self.arc_length(start, end, centre, clockwise, turns)
         self.feed = self.feed_for(st, length)
-        if self.comp_exit is not None:
-            raise self.error(line, st.groups.get(MOTION, Word("G", 2, "2", 1)).col,
-                             "the move after G40 must be straight (G0 or G1), not an arc")
-        if self.comp is not None:
-            full = all(abs(end[i] - start[i]) < 1e-9 for i in (a, b))
-            rec = canon.Arc(self.src(st), start, end, self.diameter, tuple(centre), self.plane, clockwise, full,
-                            self.feed, self.per_rev)
-            compensation.arc(self, rec, centre, clockwise, turns)
-            self.moved(end)
-            return
-        cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
+        if not compensation.arc_taken(self, st, start, end, centre, clockwise, turns):
+            cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
 
     def check_radii(self, line: int, start, end, centre, a: int, b: int) -> None:
         r0 = math.hypot(start[a] - centre[a], start[b] - centre[b])

@@ -7,6 +7,7 @@ offsets, canned cycles with G98/G99 and L, G33/G33.1, G76 (never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
+Between the statements, from their own draws (``Comp``), cutter radius compensation sequences.
 Arcs are built to end on their circle (to 4 decimals); everything else is left to chance, so
 both interpreters may refuse a program (division by zero, a peck depth of 0 ...): then both must.
 """

@@ -261,3 +261,16 @@ def test_rs274_cuts_an_arc_off_its_circle_as_a_spiral_cutsim_refuses_it(rs274, t
         path = tmp_path / f"spiral{units}{delta}.ngc"
         path.write_text(f"{units} G17 F100\nG0 X1 Y0\nG2 X0 Y-{1 + delta} I-1 J0\nM2\n")
         assert compare(str(path)).startswith(verdict), (units, delta)
+
+
+def test_rs274_runs_some_g33_under_compensation_cutsim_refuses_them(rs274, tmp_path):
+    # G41.1 D10 then a line along X: a G33 straight on is cut by rs274 as a plain feed (r = 5 to the
+    # left: Y5); one turning down (a convex corner, which needs an arc) it refuses; cutsim refuses both
+    for end, refused in (("X100 Y0", False), ("X50 Y-50", True)):
+        path = tmp_path / "g33.ngc"
+        path.write_text(f"G21 G17 F100\nS500 M3\nG41.1 D10\nG1 X50 Y0\nG33 {end} K2\nG1 X0\nM2\n")
+        assert "G33: not simulated with cutter radius compensation on" in cutsim_moves(str(path)).error
+        theirs = run_rs274(str(path))
+        assert (theirs.error is not None) == refused
+        if not refused:
+            assert theirs.moves[1].end[:2] == pytest.approx((100, 5)) and theirs.moves[1].kind == "FEED"
