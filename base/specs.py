@@ -68,6 +68,7 @@ class ToolSpec:
     chamfer: float = 0.0  # tap: length of the chamfered lead (from the tip), mm
     bar_diameter: float = 0.0  # inside thread/turning/grooving tool: its boring bar's diameter, mm (0: no bar)
     bar_reach: float = 0.0  # inside, with a bar: from the bar's axis to the tool point, mm (0: 0.7 x bar_diameter)
+    shank: float = 0.0  # outside/face thread/turning/grooving tool: its holder's square shank, mm (0: no holder)
     name: str = field(default="", compare=False)  # [[tool]] name (T="DRILL 8.5"); not part of the shape
     # where the tool is defined: the setup file and the line/column of its [[tool]] header, for
     # errors about the tool's shape found when it is built (not part of the tool's identity)

@@ -145,30 +145,61 @@ def _stock_words(stock, setup_dir: str) -> str:
 
 
 def _tool_geometry(t) -> str:
-    where = "" if t.side == "outside" else f", {t.side}"
-    if t.kind == "turning" and t.insert:
-        from cutsim.stock.inserts import approach_of
-
-        return (f"ISO insert {t.insert} {t.size:g} mm, nose radius {t.tip_radius:g} mm, approach "
-                f"{approach_of(t):g}\u00b0, hand {t.hand}{where}")
-    if t.kind == "thread" and t.form == "full":
-        return f"full-profile ISO metric insert P {t.pitch:g} mm, root radius {t.tip_radius:g} mm{where}"
-    if t.kind == "grooving":
-        return f"grooving insert {t.width:g} mm wide, corner radius {t.corner_radius:g} mm, hand {t.hand}{where}"
-    if t.kind in ("thread", "turning"):
-        return f"included angle {t.angle:g}\u00b0, nose radius {t.tip_radius:g} mm{where}"
-    if t.kind == "profile":
-        return f"profile of {len(t.points)} points"
-    out = f"\u00d8{t.diameter:g} mm"
-    if t.length:
-        out += f", flute length {t.length:g} mm"
-    if t.corner_radius and t.kind != "ballmill":
-        out += f", corner radius {t.corner_radius:g} mm"
-    if t.kind == "drill":
-        out += f", point angle {t.point_angle:g}\u00b0"
+    """The tools table's description of a tool: a lathe tool's insert (and its holder or boring
+    bar), an axial tool's kind and sizes (``_axial_geometry``), a mill's diameter and flutes."""
+    if t.kind in ("drill", "centredrill", "tap"):
+        out = _axial_geometry(t)
+    elif t.kind in ("thread", "turning", "grooving", "profile"):
+        out = _lathe_geometry(t)
+    else:
+        out = f"\u00d8{t.diameter:g} mm"
+        if t.length:
+            out += f", flute length {t.length:g} mm"
+        if t.corner_radius and t.kind != "ballmill":
+            out += f", corner radius {t.corner_radius:g} mm"
     if t.name:
         out += f", name \u201c{t.name}\u201d"
     return out
+
+
+def _lathe_geometry(t) -> str:
+    where = "" if t.side == "outside" else f", {t.side}"
+    if t.kind == "profile":
+        return f"profile of {len(t.points)} points"
+    if t.kind == "turning" and t.insert:
+        from cutsim.stock.inserts import approach_of
+
+        out = (f"ISO insert {t.insert} {t.size:g} mm, nose radius {t.tip_radius:g} mm, approach "
+               f"{approach_of(t):g}\u00b0, hand {t.hand}{where}")
+    elif t.kind == "thread" and t.form == "full":
+        out = f"full-profile ISO metric insert P {t.pitch:g} mm, root radius {t.tip_radius:g} mm{where}"
+    elif t.kind == "grooving":
+        out = f"grooving insert {t.width:g} mm wide, corner radius {t.corner_radius:g} mm, hand {t.hand}{where}"
+    else:
+        out = f"included angle {t.angle:g}\u00b0, nose radius {t.tip_radius:g} mm{where}"
+    if t.shank:
+        out += f"; holder shank {t.shank:g} \u00d7 {t.shank:g} mm"
+        if t.kind == "thread" and t.hand != "R":  # the insert is neutral: its hand is the holder's
+            out += f", hand {t.hand}"
+    if t.bar_diameter:
+        from cutsim.stock.inserts import bar_reach
+
+        out += f"; boring bar \u00d8{t.bar_diameter:g} mm, its axis {bar_reach(t):g} mm from the tool point"
+    return out
+
+
+def _axial_geometry(t) -> str:
+    """A twist drill (diameter, point angle, flute length), a centre drill (pilot, its point and
+    length, countersink angle up to the body's diameter) or a tap (its ISO designation M d x P, the
+    thread length and the chamfered lead)."""
+    point = "flat end" if t.point_angle >= 180.0 else f"point angle {t.point_angle:g}\u00b0"
+    if t.kind == "drill":
+        return f"twist drill \u00d8{t.diameter:g} mm, {point}, flute length {t.length:g} mm"
+    if t.kind == "centredrill":
+        return (f"centre drill, pilot \u00d8{t.diameter:g} mm ({point}, {t.pilot_length:g} mm to the countersink), "
+                f"countersink {t.countersink:g}\u00b0 to \u00d8{t.body_diameter:g} mm, length {t.length:g} mm")
+    return (f"tap M{t.diameter:g}\u00d7{t.pitch:g} (\u00d8{t.diameter:g} mm, pitch {t.pitch:g} mm), thread length "
+            f"{t.length:g} mm, chamfered lead {t.chamfer:g} mm")
 
 
 def _versions() -> list[tuple[str, str]]:

@@ -149,19 +149,20 @@ def flute_warnings(stock: m3d.Manifold, run: Run, paths: list, built: Built) -> 
     return mill_checks.flute_warnings(run.levels, paths, run.f.top, run.tol, fresh_at, float(run.f.lo[2]))
 
 
-def bar_warnings(stock: m3d.Manifold, run: Run, built: Built, progress: Progress | None = None) -> list:
-    """(src, message) for the first move of each inside tool whose boring bar meets material still
-    there when it moves (the move's own cut done: the insert leads the bar). One warning per tool,
-    as for the flute length: the moves after it mostly repeat it."""
+def body_warnings(stock: m3d.Manifold, run: Run, built: Built, progress: Progress | None = None) -> list:
+    """(src, message) for the first move of each lathe tool whose body (an inside tool's boring
+    bar, an outside or face tool's holder) meets material still there when it moves (the move's
+    own cut done: the insert leads the body). One warning per tool, as for the flute length: the
+    moves after it mostly repeat it."""
     warnings, warned = [], set()
-    for k, (cut, path) in enumerate(run.bars):
+    for k, (cut, path) in enumerate(run.bodies):
         if progress:
-            progress("checking boring bars", k, len(run.bars))
+            progress("checking tool bodies", k, len(run.bodies))
         tool = path.tool
         if tool.number in warned:
             continue
         vol = fresh_volume(stock, cut, run.cuts, run.f.revolve, built)
         if vol > MIN_COLLISION_VOLUME:
             warned.add(tool.number)
-            warnings.append((path.src, inserts.bar_message(tool, vol)))
+            warnings.append((path.src, inserts.body_message(tool, vol)))
     return warnings

@@ -180,3 +180,82 @@ def bar_section(tool: ToolSpec, start: float, length: float) -> np.ndarray:
 def bar_message(tool: ToolSpec, vol: float) -> str:
     return (f"the boring bar of T{tool.number} (diameter {tool.bar_diameter:g} mm, its axis {bar_reach(tool):g} mm "
             f"from the tool point) meets the stock: {vol:.3f} mm^3 (too thick for this bore)")
+
+
+# -- holders of outside and face tools --------------------------------------------------------------
+SHANKS = (12.0, 16.0, 20.0, 25.0, 32.0, 40.0, 50.0)  # ISO 5610 square shanks (h = b), mm
+SHANK = 20.0  # mm: the default shank of a V turning or thread tool and of a narrow grooving tool
+GROOVE_WIDE = 3.0  # mm: a grooving insert wider than this sits in a 25 mm holder by default
+
+
+def default_shank(kind: str, insert: str, size: float, width: float) -> float:
+    """The square shank an outside or face holder has unless the setup gives ``shank``: for an ISO
+    turning insert the ISO 5610 square nearest twice its inscribed circle (a 12.7 mm CNMG 1204 in a
+    25 x 25 holder, a 9.525 mm one in a 20 x 20), for a grooving insert 20 (25 wider than 3 mm),
+    for a V or thread tool 20."""
+    if kind == "turning" and insert:
+        return min(SHANKS, key=lambda s: (abs(s - 2.0 * size), s))
+    if kind == "grooving" and width > GROOVE_WIDE:
+        return 25.0
+    return SHANK
+
+
+def main_edge_end(tool: ToolSpec) -> np.ndarray:
+    """(u, v) of the far end of an ISO insert's main cutting edge, the sharp corner after the nose,
+    from the control point, outside hand R frame (a neutral insert: the end of either edge; a
+    round insert: its centre). Where the holder's body begins."""
+    rho, rn = tool.size / 2.0, tool.tip_radius
+    neutral = tool.hand == "N"
+    if tool.insert == "R":
+        return np.array([rho, 0.0 if neutral else rho])
+    eps = corner_angle(tool.insert)
+    a_in = 90.0 + eps / 2.0 if neutral else approach_of(tool) + eps
+    _, nose = tangential_polygon(EXTERIOR[tool.insert], rho, rn, a_in, 1.0)
+    sharp, _ = tangential_polygon(EXTERIOR[tool.insert], rho, 0.0, a_in, 1.0)
+    return sharp[1] - (nose - (rn, 0.0 if neutral else rn))
+
+
+def holder_start(tool: ToolSpec) -> tuple[float, float]:
+    """(u0, v0) of an outside or face holder's body in the outside hand R frame: its face towards
+    the part at u0 above the tool point, its side towards -Z at v0. An ISO insert's holder begins
+    where the main cutting edge ends (``main_edge_end``: the edge stands free, the body behind it),
+    a grooving blade's at ``height`` (its reach) flush with the edge's corner towards -Z, a V or
+    thread tool's at ``height`` flush with the profile's side towards -Z."""
+    if tool.kind == "turning" and tool.insert:
+        u0, v0 = main_edge_end(tool)
+        return float(u0), float(v0)
+    if tool.kind == "grooving":
+        return tool.height, 0.0
+    if tool.kind == "thread" and tool.form == "full":
+        return tool.height, -tool.pitch / 2.0
+    half = math.radians(tool.angle) / 2.0
+    w = tool.height * math.tan(half) + tool.tip_radius * (1.0 - math.sin(half)) / math.cos(half)
+    return tool.height, -w
+
+
+def holder_section(tool: ToolSpec, reach: float) -> np.ndarray | None:
+    """The holder's body of an outside or face tool in the workpiece's X-Z plane, relative to the
+    tool point: a square shank ``shank`` wide from ``holder_start`` back to ``reach`` from the tool
+    point (radially; a face tool's axially), towards +Z from its side (hand R), towards -Z (hand L)
+    or centred on the tool point (hand N; a thread tool's hand places only its holder). Revolved
+    about the spindle axis this is what the body meets of a part turning past it (the shank's face
+    towards the part lies at the tool point's height). None when the body begins beyond ``reach``."""
+    u0, v0 = holder_start(tool)
+    if reach <= u0:
+        return None
+    b = tool.shank
+    if tool.hand == "N":
+        v0 = -b / 2.0
+    poly = np.array([[u0, v0], [reach, v0], [reach, v0 + b], [u0, v0 + b]])
+    if tool.hand == "L":
+        poly[:, 1] = -poly[:, 1]
+    return poly[:, ::-1].copy() if tool.side == "face" else poly
+
+
+def body_message(tool: ToolSpec, vol: float) -> str:
+    """The warning for a tool's body (boring bar or holder) meeting ``vol`` mm^3 of material."""
+    if tool.bar_diameter:
+        return bar_message(tool, vol)
+    u0 = holder_start(tool)[0]
+    return (f"the holder of T{tool.number} ({tool.shank:g} x {tool.shank:g} mm shank, {u0:.3f} mm behind the tool "
+            f"point) meets the stock: {vol:.3f} mm^3 (deeper than the insert reaches)")

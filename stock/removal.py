@@ -113,7 +113,7 @@ def remove(stock: m3d.Manifold, spec: StockSpec, paths: list, tol: float,
     built = Built(budget.BUILT_TRIANGLES)
     warnings = (collisions.collision_warnings(stock, run, built, progress)
                 + collisions.gauge_warnings(stock, run, strategies["gauge"].moves, built, progress)
-                + collisions.bar_warnings(stock, run, built, progress))
+                + collisions.body_warnings(stock, run, built, progress))
     if run.levels or any(is_mill_move(p) for p in paths):
         warnings += collisions.flute_warnings(stock, run, paths, built)
         stock = mill.refined(stock)

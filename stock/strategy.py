@@ -36,7 +36,7 @@ class Run:
         self.cap = mill.cap_height(frame.top, tol)
         self.cuts: list[Cut] = []
         self.checks: list[tuple[Cut, object]] = []  # (the cut to check, its path)
-        self.bars: list[tuple[Cut, object]] = []  # (a boring bar's region on a move, the move): checked, never cut
+        self.bodies: list[tuple[Cut, object]] = []  # (a tool body's region on a move, the move): checked, never cut
         self.levels = mill.MillBatch(tol)
         self.pending: Strategy | None = None
 

@@ -74,7 +74,7 @@ class Screw(Strategy):
 
     def sweep(self, i: int, path: ScrewPath) -> None:
         run = self.run
-        bar_check(run, i, path)
+        body_check(run, i, path)
         if path.tool.kind == "tap":  # its core, moved along the axis: a revolved region (stock/axial.py)
             run.region_cut(i, axial.core_region(path.tool, path.z0, path.z1), path)
         parts = []
@@ -109,7 +109,7 @@ class Revolve(Strategy):
 
     def sweep(self, i: int, path: PlanarPath) -> None:
         run = self.run
-        bar_check(run, i, path)
+        body_check(run, i, path)
         h = run.f.r_clip - float(path.points[:, 0].min())
         if h <= 0:
             return
@@ -121,29 +121,37 @@ class Revolve(Strategy):
         run.region_cut(i, region, path)
 
 
-def bar_check(run, i: int, path) -> None:
-    """An inside tool's boring bar on a move with the spindle turning: the region it covers along
-    the move (inserts.bar_section, from the top of the tool's profile up beyond the stock), kept in
-    ``run.bars`` to be checked against the material still there (stock/collisions.py), never cut.
-    Its place in program order is just after the move's own cut: the insert leads the bar into the
-    bore, so what the move cuts is gone where the bar comes."""
+def body_check(run, i: int, path) -> None:
+    """A tool's body on a move with the spindle turning: an inside tool's boring bar
+    (inserts.bar_section, from the top of the tool's profile out of the bore), an outside or face
+    tool's holder (inserts.holder_section, from where the insert ends out beyond the stock), the
+    region it covers along the move kept in ``run.bodies`` to be checked against the material still
+    there (stock/collisions.py), never cut. Its place in program order is just after the move's own
+    cut: the insert leads the body into the material, so what the move cuts is gone where it comes.
+    A body whose region misses the stock as it came is not kept."""
     tool = path.tool
-    if not tool.bar_diameter:
-        return
     r, z = _path_rz(path)
-    start = float(run.profile(tool)[:, 1].max())
-    length = float(run.f.hi[2]) + run.f.margin - (float(z.min()) + start)
-    if length <= 0:
+    if tool.bar_diameter:
+        start = float(run.profile(tool)[:, 1].max())
+        length = float(run.f.hi[2]) + run.f.margin - (float(z.min()) + start)
+        section = inserts.bar_section(tool, start, length) if length > 0 else None
+    elif tool.shank and tool.side != "inside" and tool.kind in ("thread", "turning", "grooving"):
+        reach = (float(run.f.hi[2]) - float(z.min()) if tool.side == "face" else run.f.r_clip - float(r.min()))
+        section = inserts.holder_section(tool, reach + run.f.margin)
+    else:
         return
-    region = m3d.CrossSection.batch_boolean(
-        sweep_polygon_2d(inserts.bar_section(tool, start, length), np.column_stack([r, z])), m3d.OpType.Add)
+    if section is None:
+        return
+    region = m3d.CrossSection.batch_boolean(sweep_polygon_2d(section, np.column_stack([r, z])), m3d.OpType.Add)
     # the part beyond the axis turns past it too, at the radius |x| (a revolve keeps only x >= 0)
     region = m3d.CrossSection.batch_boolean([region, region.mirror((1.0, 0.0))], m3d.OpType.Add)
+    if run.f.outline_cs is not None and (region ^ run.f.outline_cs).area() <= 0:
+        return
     b = region.bounds()
     r_out = max(abs(b[0]), abs(b[2]))
     cut = Cut(i + 0.5, [], region, np.array([-r_out, -r_out, b[1]]), np.array([r_out, r_out, b[3]]))
     if run.f.meets(cut.lo, cut.hi):
-        run.bars.append((cut, path))
+        run.bodies.append((cut, path))
 
 
 class Profiles:

@@ -106,10 +106,20 @@ def _bar_problem(tool: ToolSpec) -> tuple[str, str] | None:
     return None
 
 
+def _shank_problem(tool: ToolSpec) -> tuple[str, str] | None:
+    """A holder's square shank (``shank``) belongs to an outside or face tool: 0 (no holder) or a size."""
+    if tool.shank == 0:
+        return None
+    if tool.side == "inside":
+        return "shank", "is an outside or face holder's: an inside tool's body is its boring bar (bar_diameter)"
+    return _size(tool, "shank")
+
+
 def _lathe_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
     """Side and hand of a thread, turning or grooving tool; a turning insert, a grooving insert
     or a full-profile thread insert in range (the V of thread and turning tools: ``tool_problem``)."""
-    p = _choice(tool, "side", SIDES) or _choice(tool, "hand", HANDS) or _bar_problem(tool)
+    p = (_choice(tool, "side", SIDES) or _choice(tool, "hand", HANDS) or _bar_problem(tool)
+         or _shank_problem(tool))
     if p:
         return p
     if tool.kind == "turning" and tool.insert:

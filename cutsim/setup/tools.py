@@ -9,10 +9,12 @@ from cutsim.interp.errors import CutsimError
 from .reader import Locator, Reader
 
 TOOL_KEYS = {
-    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch", "bar_diameter", "bar_reach"},
+    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch", "bar_diameter", "bar_reach",
+               "shank", "hand"},
     "turning": {"angle", "tip_radius", "height", "thickness", "side", "insert", "size", "approach", "hand",
-                "bar_diameter", "bar_reach"},
-    "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand", "bar_diameter", "bar_reach"},
+                "bar_diameter", "bar_reach", "shank"},
+    "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand", "bar_diameter", "bar_reach",
+                 "shank"},
     "profile": {"points", "thickness"},
     "endmill": {"diameter", "length", "corner_radius", "center_cutting"},
     "ballmill": {"diameter", "length"},
@@ -83,8 +85,13 @@ def read_tool(loc: Locator, t: Reader, i: int) -> ToolSpec:
         kw["side"] = t.get("side", str, "outside")
         kw["bar_diameter"] = t.get("bar_diameter", float, 0.0)
         kw["bar_reach"] = t.get("bar_reach", float, 0.0)
-        if kind != "thread":
-            kw["hand"] = t.get("hand", str, "R")
+        kw["hand"] = t.get("hand", str, "R")  # a thread insert is neutral: its hand places its holder only
+        # an outside or face tool's holder (0: none); an inside tool's body is its boring bar
+        from cutsim.stock.inserts import default_shank
+
+        shank = 0.0 if kw["side"] == "inside" else default_shank(kind, kw.get("insert", ""), kw.get("size", 0.0),
+                                                                   kw.get("width", 0.0))
+        kw["shank"] = t.get("shank", float, shank)
     if kind == "profile":
         kw["points"] = t.points("points")
     if kind in LATHE_KINDS:

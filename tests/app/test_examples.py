@@ -171,6 +171,29 @@ def test_two_start_checks_fail_on_a_spoiled_program(tmp_path):
     assert not any(name in ("bar below the thread", "shoulder") for name, _q in failed)
 
 
+SHAFT = REPO_EXAMPLES / "cnc8x6-lathe" / "shaft-m30x2"
+UNDERCUT = {"undercut d_g (27 h13)", "undercut flank at D27.4 (g1 4.51)", "undercut flank at D27.6 (30 degrees, g2 6.987)",
+            "undercut r 1 at the shoulder"}
+
+
+@pytest.mark.parametrize("old, new, failing", [
+    # too shallow: the floor at 27.2 (above 27 h13), the flank 0.105 higher, so 0.105 sqrt(3) = 0.18
+    # further towards -Z at every diameter; the r 1 at the shoulder lies 0.105 higher too
+    ("N170 G01 X26.99", "N170 G01 X27.2", UNDERCUT),
+    # too narrow: the flank's foot 0.5 nearer the shoulder (g1 4.01 < 4.5): the flank's checks fail,
+    # the floor and the corner at the shoulder do not
+    ("Z-27.758", "Z-28.258", {"undercut flank at D27.4 (g1 4.51)", "undercut flank at D27.6 (30 degrees, g2 6.987)"}),
+])
+def test_shaft_undercut_checks_fail_on_a_wrong_undercut(tmp_path, old, new, failing):
+    """The DIN 76-1 form A undercut of shaft-m30x2 (its setup derives every number): a wrong one
+    fails exactly its own checks; the thread and the shoulder stay good."""
+    text = SHAFT.with_suffix(".nc").read_text()
+    assert old in text
+    r = cutsim.simulate("shaft-m30x2-wrong.nc", str(SHAFT.with_suffix(".toml")), text=text.replace(old, new))
+    failed = {c["name"] for c in r.checks if not c["passed"]}
+    assert failed == failing, (failed, [c for c in r.checks if not c["passed"]])
+
+
 # ------------------------------------------------------------- the Sinumerik plate's design model
 
 def test_plate_design_is_what_make_design_writes():

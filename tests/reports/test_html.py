@@ -60,7 +60,8 @@ def test_summary_setup_checks_warnings(tmp_path, monkeypatch):
     assert re.search(r"<td>chordal tolerance</td><td[^>]*>0\.01</td><td>mm</td>", html)
     # setup: stock, tools, tolerance; the setup file's lines with anchors, the check links to its line
     assert "revolved profile (r, z) mm: (0, 0), (13.5, 0), (13.5, \u22128)" in html
-    assert re.search(r"<td>T9</td><td>thread</td><td>included angle 60\u00b0, nose radius 0 mm</td>", html)
+    assert re.search(r"<td>T9</td><td>thread</td><td>included angle 60\u00b0, nose radius 0 mm; holder shank "
+                     r"20 \u00d7 20 mm</td>", html)
     assert f'<a href="#setup-L{line}">multipass.toml:{line}</a>' in html
     assert f'<span id="setup-L{line}"><span class="ln">{line}</span>[[check]]</span>' in html
     assert html.count('<span id="setup-L') == len(setup_lines)
@@ -157,6 +158,58 @@ def test_report_in_chromium(tmp_path):
         name, complete, size = row.split()
         with Image.open(out / name) as im:
             assert complete == "1" and size == "%dx%d" % im.size, row
+
+
+TOOLS_READER = """<script>
+window.addEventListener('load', function () {
+  var out = [];
+  document.querySelectorAll('table').forEach(function (tb) {
+    var head = tb.querySelector('tr');
+    if (!head || head.innerText.indexOf('geometry') < 0) return;
+    tb.querySelectorAll('tr').forEach(function (tr, i) {
+      if (i > 0) out.push(Array.from(tr.cells).map(function (c) { return c.innerText; }).join(' | '));
+    });
+  });
+  var p = document.createElement('pre'); p.id = 'cutsim-tools'; p.textContent = out.join('\\n');
+  document.body.appendChild(p);
+});
+</script>"""
+
+
+@pytest.mark.browser
+def test_axial_tools_read_in_chromium(tmp_path):
+    """The drilled-and-tapped example's report.html in headless Chromium, its tools table read as
+    the page shows it (each cell's rendered text): the centre drill with its pilot, point and
+    countersink angles, the twist drill with its diameter and point angle, the tap by its ISO
+    designation M10x1.5 with its thread length and chamfer (3 pitches by default: 4.5 mm), all
+    as drill-tap-m10.toml gives them (the centre drill's body 2.5 x 5, its pilot 1.2 x 5 long,
+    its length 6 x 12.5)."""
+    _chromium()
+    ex = Path(__file__).resolve().parents[2] / "examples" / "cnc8x6-lathe" / "drill-tap-m10"
+    res = cutsim.simulate(str(ex.with_suffix(".nc")), str(ex.with_suffix(".toml")))
+    page = tmp_path / "report.html"
+    page.write_bytes(report_html(res.report, setup=res.setup))
+    probe = tmp_path / "probe.html"
+    probe.write_text(page.read_text(encoding="utf-8").replace("</body>", TOOLS_READER + "</body>"), encoding="utf-8")
+    r = _headless([str(tmp_path / "profile"), "--dump-dom", "--virtual-time-budget=5000", probe.as_uri()])
+    m = re.search(r'<pre id="cutsim-tools">(.*?)</pre>', r.stdout, re.S)
+    assert m, r.stderr[-2000:]
+    rows = m.group(1).strip().splitlines()
+    assert rows == [
+        "T1 | centredrill | centre drill, pilot \u00d85 mm (point angle 118\u00b0, 6 mm to the countersink), "
+        "countersink 90\u00b0 to \u00d812.5 mm, length 75 mm",
+        "T2 | drill | twist drill \u00d88.5 mm, point angle 118\u00b0, flute length 60 mm",
+        "T3 | tap | tap M10\u00d71.5 (\u00d810 mm, pitch 1.5 mm), thread length 25 mm, chamfered lead 4.5 mm",
+    ], rows
+
+
+def test_lathe_tools_name_their_holders():
+    """An outside insert's row names its holder's shank (the default: 25 for a 12.7 mm insert)."""
+    ex = Path(__file__).resolve().parents[2] / "examples" / "cnc8x6-lathe" / "shaft-m30x2.toml"
+    setup = cutsim.load_setup(str(ex))
+    html = report_html(_report(setup, "shaft-m30x2.nc"), setup=setup).decode()
+    assert ("<td>T1</td><td>turning</td><td>ISO insert C 12.7 mm, nose radius 0.8 mm, approach 93\u00b0, hand R; "
+            "holder shank 25 \u00d7 25 mm</td>") in html
 
 
 # ---------------------------------------------------------------------------------------------
