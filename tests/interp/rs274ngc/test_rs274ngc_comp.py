@@ -5,6 +5,7 @@ the random programs)."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -110,3 +111,27 @@ def test_lathe_orientation_moves_the_path_by_the_nose_radius(tmp_path, orientati
     assert len(shifts) == 1
     dx, dz = shifts.pop()
     assert {abs(dx), abs(dz)} <= {0.0, 1.0} and (dx, dz) != (0.0, 0.0) or orientation == 9
+
+
+BOSS = Path(__file__).resolve().parents[3] / "examples" / "rs274ngc" / "boss-g42"
+
+
+@pytest.mark.parametrize("old, new, failing", [
+    ("", "", set()),  # as written: every check holds
+    # G41: the tool on the boss's side of its outline, 10 mm inside each wall: the boss's top is cut
+    # beside the wall and the floor no longer reaches 10 mm outside it
+    ("G42 D1", "G41 D1", {"boss top, just inside its right wall", "floor just outside the right wall",
+                          "floor at the cut's outer edge beside the right side",
+                          "floor 9.9 mm diagonally off the boss's corner (the corner arc)"}),
+    # no compensation: the tool's centre on the outline, the cut reaches only 5 mm beyond it
+    ("G42 D1", "G40", {"boss top, just inside its right wall", "floor at the cut's outer edge beside the right side",
+                       "floor 9.9 mm diagonally off the boss's corner (the corner arc)"}),
+])
+def test_the_boss_example_checks_fail_on_a_wrong_side(old, new, failing):
+    import cutsim
+
+    text = BOSS.with_suffix(".nc").read_text()
+    assert old in text
+    r = cutsim.simulate("boss-g42.nc", str(BOSS.with_suffix(".toml")), text=text.replace(old, new))
+    failed = {c["name"] for c in r.checks if not c["passed"]}
+    assert failed == failing, (failed, [c for c in r.checks if not c["passed"]])
