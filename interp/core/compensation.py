@@ -417,3 +417,4 @@ def compensate_records(buf: list, d: float, plane: str, departure: bool, direct:
         out.extend(new)
         cur = new[-1].end
     return out
+

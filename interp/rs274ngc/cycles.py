@@ -26,6 +26,8 @@ INCH = 25.4
 # LinuxCNC 2.9 (rs274, measured) accepts a centre arc whose radii differ by up to 0.02 * sqrt(2) program
 # units in G21, 0.002 * sqrt(2) in G20, or by up to 0.1 % of the larger
 ARC_ABS_TOL_MM, ARC_ABS_TOL_INCH, ARC_REL_TOL = 0.02 * math.sqrt(2), 0.002 * math.sqrt(2), 0.001
+# and an R arc whose chord is longer than 2 R by up to 0.00005 in (0.00127 mm) in both units, as a half circle
+RADIUS_TOL = 0.00005 * 25.4
 LETTERS = "XYZ"
 
 
@@ -180,22 +182,31 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
 
 
 def arc_turns(m, src: Src, start, end, centre, clockwise: bool, turns: int) -> None:
-    """An arc (helix) of ``turns`` (LinuxCNC's P): whole turns first, then the rest, the axis
-    normal to the plane moving in proportion to the angle turned."""
-    a, b, n = PLANE_AXES[m.plane]
+    """An arc (helix) of ``turns`` (LinuxCNC's P) as arcs of one turn at most (``turn_ends``)."""
+    for e, c in turn_ends(start, end, centre, clockwise, turns, m.plane):
+        m.arc(src, e, c, clockwise)
+
+
+def turn_ends(start, end, centre, clockwise: bool, turns: int, plane: str, whole: bool = False) -> list:
+    """An arc of ``turns`` turns as (end, centre) of its pieces: whole turns first, then the rest, the
+    axis normal to the plane moving in proportion to the angle turned (each centre at its piece's start).
+    ``whole``: the rest is a whole turn too (a compensated circle whose ends differ by rounding)."""
+    a, b, n = PLANE_AXES[plane]
     a0 = math.atan2(start[b] - centre[b], start[a] - centre[a])
     a1 = math.atan2(end[b] - centre[b], end[a] - centre[a])
     sweep = ((a0 - a1) if clockwise else (a1 - a0)) % (2 * math.pi)
-    full = sweep < 1e-9 or abs(sweep - 2 * math.pi) < 1e-9
-    if full:
+    if sweep < 1e-9 or abs(sweep - 2 * math.pi) < 1e-9 or whole:
         sweep = 2 * math.pi
     total = sweep + 2 * math.pi * (turns - 1)
     centre_t = (centre[0], centre[1], centre[2])
+    pieces, at = [], start
     for k in range(turns - 1):
-        mid = list(m.pos)
+        mid = list(start)
         mid[n] = start[n] + (end[n] - start[n]) * 2 * math.pi * (k + 1) / total
-        m.arc(src, (mid[0], mid[1], mid[2]), with_normal(centre_t, n, m.pos[n]), clockwise)
-    m.arc(src, end, with_normal(centre_t, n, m.pos[n]), clockwise)
+        pieces.append(((mid[0], mid[1], mid[2]), with_normal(centre_t, n, at[n])))
+        at = pieces[-1][0]
+    pieces.append((end, with_normal(centre_t, n, at[n])))
+    return pieces
 
 
 def with_normal(centre, n: int, v: float) -> tuple:
@@ -220,7 +231,7 @@ def radius_centre(m, st: Step, start, end, r: float, clockwise: bool, col: int) 
         raise m.error(st.block.line, col, "an R arc needs an end point other than its start (use I/J/K for a circle)")
     half = chord / 2.0
     if abs(r) < half:
-        if half - abs(r) > 0.001:
+        if half - abs(r) > RADIUS_TOL:
             raise m.error(st.block.line, col, f"arc radius {abs(r) / m.scale:g} too small to reach the end point")
         h = 0.0
     else:

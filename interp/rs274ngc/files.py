@@ -23,7 +23,7 @@ def read_text(path: str) -> str:
 
 
 def tool_table(path: str) -> dict[int, dict[str, float]]:
-    """tool number -> {"X": mm, "Z": mm, "D": mm} (columns given only)."""
+    """tool number -> {"X": mm, "Z": mm, "D": mm, "Q": orientation} (columns given only)."""
     tools: dict[int, dict[str, float]] = {}
     for lineno, raw in enumerate(read_text(path).splitlines(), 1):
         body = raw.split(";", 1)[0]
@@ -46,7 +46,7 @@ def tool_table(path: str) -> dict[int, dict[str, float]]:
         number = int(entry.pop("T"))
         if number in tools:
             raise CutsimError(path, lineno, 1, f"tool {number} is listed twice")
-        tools[number] = {k: v for k, v in entry.items() if k in "XZD"}
+        tools[number] = {k: v for k, v in entry.items() if k in "XZDQ"}
     return tools
 
 

@@ -182,7 +182,7 @@ class Runner:
         """Evaluate and execute one line; True at the program end, an M98/M99 word to run."""
         words, seen = [], {}
         for ref, _, col in line.assigns:  # a name being set exists (0) while the line is read, as in LinuxCNC
-            if ref[0] == "name" and self.m.params.lookup(ref[1]) is None:
+            if ref[0] == "name" and not self.m.params.exists(ref[1]):
                 self.ev.set(ref, 0.0, line.lineno, col)
         for letter, node, col in line.words:
             v = self.ev.value(node, line.lineno, col)

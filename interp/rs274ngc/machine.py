@@ -14,9 +14,9 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import context, cycles, lathe, offsets, polar, threading
+from . import compensation, context, cycles, lathe, offsets, polar, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
-from .values import Parameters
+from .values import Parameters, Unreadable
 
 INCH = 25.4
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
@@ -53,7 +53,12 @@ class Ngc(Interpreter):
         self.context_m: list = []  # the block's M70-M73
         self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
+        compensation.init(self)
         offsets.load(self)
+
+    def emit(self, rec) -> None:
+        if (self.comp is None and self.comp_exit is None) or not compensation.route(self, rec):
+            self.program.records.append(rec)
 
     # -- program coordinates -----------------------------------------------------------------------
     def shift(self, i: int) -> float:
@@ -65,7 +70,10 @@ class Ngc(Interpreter):
 
     def program_value(self, i: int) -> float:
         """The position in program units (#5420-#5422, #<_x>...): X a radius in G7 too, as
-        LinuxCNC 2.9 reads it (G7 halves X words, not the position it reports)."""
+        LinuxCNC 2.9 reads it (G7 halves X words, not the position it reports). Not while cutter
+        radius compensation is on (rs274 refuses it)."""
+        if self.comp_side:
+            raise Unreadable("cannot read the current position with cutter radius compensation on")
         return (self.base()[i] - self.shift(i)) / self.scale
 
     def goal(self, st: Step, letters=("X", "Y", "Z"), machine: bool = False) -> tuple[tuple, dict]:
@@ -116,6 +124,8 @@ class Ngc(Interpreter):
         for code, row, g in codes:
             if row.group == MOTION:
                 st.motion = code if st.motion in (None, 80) else st.motion
+            elif row.group == Group.PLANE and self.comp_side and row.meaning != f"plane {self.plane}":
+                raise self.error(line, g.col, f"G{g.raw}: cannot change the plane with cutter radius compensation on")
             elif row.group in (Group.DISTANCE, Group.PLANE):
                 self.common_g(int(code))
             else:
@@ -135,8 +145,10 @@ class Ngc(Interpreter):
         elif group == Group.DIAMETER:
             self.lathe_diameter = code == 7
         elif group == Group.RETRACT:
+            compensation.refuse(self, st, g, f"G{g.raw}: cannot change the retract mode")
             self.retract_old = code == 98
         elif group == Group.ZERO_OFFSET:
+            compensation.refuse(self, st, g, f"G{g.raw}: cannot change the coordinate system")
             offsets.select(self, code)
         elif group == Group.SPINDLE_MODE:
             self.surface_speed = code == 96
@@ -182,8 +194,11 @@ class Ngc(Interpreter):
             else:
                 context.invalidate(self)
         self.context_m = []
+        compensation.select(self, st)
         offsets.tool_length(self, st)
         if Group.PATH_CONTROL in st.g:
+            compensation.refuse(self, st, st.g[Group.PATH_CONTROL], f"G{st.g[Group.PATH_CONTROL].raw}: cannot change "
+                                "the path control mode")
             for letter in "PQ":
                 w = st.words.pop(letter, None)
                 if w is not None and w.value < 0:
@@ -229,6 +244,8 @@ class Ngc(Interpreter):
                 if q is None:
                     raise self.error(st.block.line, m.col, "M61 needs the tool number Q")
                 self.selected = self.whole(st.block.line, q, "tool number")
+            if code == 6:
+                compensation.tool_change(self, st, m)
             if code == 6 and self.spindle_dir != 0:  # LinuxCNC stops the spindle for a tool change
                 self.spindle(self.src(st, m.col), 0, None)
             self.known_tool(st, self.selected, m)
@@ -272,6 +289,7 @@ class Ngc(Interpreter):
         if g53 is not None and round(g53.value, 4) == 53:
             if self.motion not in (0, 1) or not self.absolute:
                 raise self.error(line, g53.col, "G53 needs G0 or G1 and G90")
+            compensation.refuse(self, st, g53, "G53: cannot move in machine coordinates")
         if polar.present(st) and self.motion not in cycles.CYCLE_CODES:
             polar.as_xy(self, st, *polar.take(self, st))
         has_axes = (any(a in st.words for a in "XYZ@^")
@@ -284,6 +302,8 @@ class Ngc(Interpreter):
         m = self.motion
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
+        if self.comp_side and ((has_axes and m not in (0, 1, 2, 3, 80)) or (m in lathe.LATHE_CYCLES and st.motion == m)):
+            compensation.refuse_motion(self, st, m)
         if m in lathe.LATHE_CYCLES and st.motion == m:
             lathe.cycle(self, st)
         elif m in cycles.CYCLE_CODES and has_axes:
@@ -398,9 +418,12 @@ class Ngc(Interpreter):
             raise self.error(line, p.col, "an arc of more than one turn in a G70-G72 profile is not simulated")
         if self.profile is None:
             self.feed = self.feed_for(st, cycles.arc_length(self, start, end, centre, clockwise, turns))
-        cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
+        if not compensation.arc_taken(self, st, start, end, centre, clockwise, turns):
+            cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
 
     def convert_end(self, st: Step) -> None:
         st.result = any(code in (2, 30, 60) and code != 60 for code, _ in self.m_group(st, Group.STOP))
         if st.result:
+            compensation.finish(self, st)
+            self.comp_side, self.comp_exit = 0, None
             self.end(self.src(st))

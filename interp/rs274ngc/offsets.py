@@ -47,6 +47,9 @@ def tool_length(m, st: Step) -> None:
     if g is None:
         return
     code, line = round(g.value, 4), st.block.line
+    if m.comp_side:
+        raise m.error(line, g.col, f"G{g.raw}: cannot change the tool length offset with cutter radius compensation on "
+                      "(G40 first)")
     words = st.words
     m.tlo_mode = code
     if code == 49:
@@ -72,7 +75,14 @@ def tool_length(m, st: Step) -> None:
     m.set_tlo(tlo)
 
 
+COMP_REFUSED = {28: "cannot go home", 30: "cannot go home", 28.1: "cannot set a home position",
+                30.1: "cannot set a home position", 92: "cannot set axis offsets"}
+
+
 def nonmodal(m, st: Step, code: float, g: Word) -> None:
+    if code in COMP_REFUSED and m.comp_side:
+        raise m.error(st.block.line, g.col, f"G{g.raw}: {COMP_REFUSED[code]} with cutter radius compensation on "
+                      "(G40 first)")
     if code == 10:
         g10(m, st, g)
     elif code in (28, 30):
@@ -146,6 +156,9 @@ def g10(m, st: Step, g: Word) -> None:
     if n > 9:
         raise m.error(line, pw.col, f"coordinate system P{pw.raw} must be 0 (the active one) to 9")
     n = n or m.coord
+    if n == m.coord and m.comp_side:
+        raise m.error(line, pw.col, f"G10 L{L}: cannot change the active coordinate system with cutter radius "
+                      "compensation on (G40 first)")
     for i, w in axis_words(st).items():
         if L == 2:
             v = w.value * m.unit(i)

@@ -50,6 +50,10 @@ G_CODES: dict[float, Code] = {
     20: Code(Group.UNITS, "", "inch"),
     21: Code(Group.UNITS, "", "millimetre"),
     40: Code(Group.RADIUS_COMP, "", "cutter compensation off"),
+    41: Code(Group.RADIUS_COMP, "DL", "cutter compensation left"),
+    42: Code(Group.RADIUS_COMP, "DL", "cutter compensation right"),
+    41.1: Code(Group.RADIUS_COMP, "DL", "dynamic cutter compensation left"),
+    42.1: Code(Group.RADIUS_COMP, "DL", "dynamic cutter compensation right"),
     43: Code(Group.TOOL_LENGTH, "H", "tool length offset"),
     43.1: Code(Group.TOOL_LENGTH, "XZ", "dynamic tool length offset"),
     43.2: Code(Group.TOOL_LENGTH, "HXZ", "additional tool length offset"),
@@ -78,8 +82,6 @@ REFUSED: dict[float, str] = {
     5: "cubic spline", 5.1: "quadratic spline", 5.2: "NURBS", 5.3: "NURBS end",
     17.1: "plane UV", 18.1: "plane WU", 19.1: "plane VW",
     38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
-    41: "cutter radius compensation", 42: "cutter radius compensation",
-    41.1: "dynamic cutter radius compensation", 42.1: "dynamic cutter radius compensation",
     87: "back boring cycle",
 }
 M_CODES: dict[int, Code] = {

@@ -34,6 +34,17 @@ def _trig(f, degrees: float) -> float:
 READ_ONLY = set(range(5400, 5411)) | set(range(5420, 5429)) | {5220, 5399}
 
 
+class Unreadable(Exception):
+    """A predefined parameter that cannot be read now (the position under cutter radius compensation)."""
+
+
+def _predefined(params, name: str) -> bool:
+    try:
+        return params.predefined(name) is not None
+    except Unreadable:
+        return True
+
+
 class Parameters:
     """The parameter store with its call frames. ``predefined(key)`` (set by the machine) answers
     the computed parameters (an int for numbered ones, a name for ``_x``-style ones) or None."""
@@ -67,7 +78,10 @@ class Parameters:
         if not 1 <= n <= MAX_NUMBERED:
             raise CutsimError(self.program, line, col, f"parameter number #{n} out of range (1 to {MAX_NUMBERED})")
         if n in READ_ONLY:
-            v = self.predefined(n)
+            try:
+                v = self.predefined(n)
+            except Unreadable as e:
+                raise CutsimError(self.program, line, col, str(e)) from None
             if v is not None:
                 return v
         return self.numbered.get(n, 0.0)
@@ -80,10 +94,19 @@ class Parameters:
         self.numbered[n] = value
 
     def get_named(self, name: str, line: int, col: int) -> float:
-        v = self.lookup(name)
+        try:
+            v = self.lookup(name)
+        except Unreadable as e:
+            raise CutsimError(self.program, line, col, str(e)) from None
         if v is None:
             raise CutsimError(self.program, line, col, f"named parameter #<{name}> not defined")
         return v
+
+    def exists(self, name: str) -> bool:
+        try:
+            return self.lookup(name) is not None
+        except Unreadable:
+            return True
 
     def lookup(self, name: str) -> float | None:
         if name.startswith("_"):
@@ -94,7 +117,7 @@ class Parameters:
 
     def set_named(self, name: str, value: float, line: int, col: int) -> None:
         if name.startswith("_"):
-            if self.predefined(name) is not None and name not in self.globals:
+            if name not in self.globals and _predefined(self, name):
                 raise CutsimError(self.program, line, col, f"#<{name}> is a predefined read-only parameter")
             self.globals[name] = value
         else:
@@ -151,7 +174,7 @@ class Evaluator:
             y, x = self.value(node[1], line, col), self.value(node[2], line, col)
             return _degrees(math.atan2(y, x))
         if kind == "exists":
-            return 1.0 if self.p.lookup(node[1]) is not None else 0.0
+            return 1.0 if self.p.exists(node[1]) else 0.0
         raise AssertionError(node)  # pragma: no cover - the parser makes no other node
 
     def binary(self, op: str, a: float, b: float, line: int, col: int) -> float:

@@ -8,6 +8,7 @@ and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in fiv
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
+Between the statements, from their own draws (``Comp``), cutter radius compensation sequences.
 Arcs are built to end on their circle (to 4 decimals); everything else is left to chance, so
 both interpreters may refuse a program (division by zero, a peck depth of 0 ...): then both must.
 """
@@ -374,6 +375,90 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
     return sub, lines
 
 
+class Comp:
+    """Cutter radius compensation sequences (G41/G42 with a tool's D, G41.1/G42.1 with a diameter and, in
+    G18, an orientation L): a contour of lines, rapids, arcs (by centre and radius, full circles,
+    helices) and moves along the plane's normal, each element starting at a chosen turn from the last
+    one's direction (0, or 0.1 to 2.4 rad either way: clear of rs274's 0.05 rad corner threshold and of
+    reversals), then G40 and a straight departure. Drawn from their own generator, seeded from the
+    program's without drawing from it, so the rest of a program is what it was without them. Kept out:
+    G33/G93/canned cycles and position reads under compensation (docs/dialects/rs274ngc.md)."""
+
+    def __init__(self, rng: random.Random):
+        self.rng = rng
+        self.heading = 0.0
+
+    def sequence(self, g: Gen) -> None:
+        rng = self.rng
+        plane = rng.choice(["G17", "G17", "G18"])
+        g.plane = plane
+        a, b, n, ia, ib = PLANE_LETTERS[plane]
+        g.emit(f"{plane} G8 G90 G94 F{num(rng, 50, 900, 1)}")
+        side = rng.choice(["G41", "G42"])
+        r = rng.random()
+        if r < 0.5:
+            word = f"{side} D{rng.randint(1, 4)}"
+        elif r < 0.6:
+            word = side  # the loaded tool's diameter (T0: none)
+        else:
+            word = f"{side}.1 D{num(rng, -0.5, 10, 2)}"
+            if plane == "G18" and rng.random() < 0.7:
+                word += f" L{rng.randint(0, 9)}"
+        self.heading = rng.uniform(-math.pi, math.pi)
+        entry = self.line(a, b, rng.uniform(12, 30), rng.choice(["G0", "G1"]))
+        if rng.random() < 0.3:
+            g.emit(f"{word} {entry}")
+        else:
+            g.emit(word)
+            g.emit(entry)
+        for _ in range(rng.randint(2, 6)):
+            self.element(g, a, b, n, ia, ib)
+        if rng.random() < 0.5:
+            g.emit("G40")
+            g.emit(f"G91 {rng.choice(['G0', 'G1'])} " + (f"{n}{num(rng, 1, 5)}" if rng.random() < 0.2 else
+                                                          f"{a}{num(rng, -20, 20)} {b}{num(rng, -20, 20)}"))
+        else:
+            g.emit(f"G40 G91 G0 {a}{num(rng, -20, 20)} {b}{num(rng, -20, 20)}")
+        g.emit("G90")
+
+    def turn(self) -> None:
+        rng = self.rng
+        t = 0.0 if rng.random() < 0.25 else rng.choice([-1, 1]) * rng.uniform(0.1, 2.4)
+        self.heading += t
+
+    def line(self, a: str, b: str, length: float, g: str) -> str:
+        da, db = length * math.cos(self.heading), length * math.sin(self.heading)
+        return f"G91 {g} {a}{da:.4f} {b}{db:.4f}"
+
+    def element(self, g: Gen, a: str, b: str, n: str, ia: str, ib: str) -> None:
+        rng = self.rng
+        r = rng.random()
+        if r < 0.12:
+            g.emit(f"G91 {rng.choice(['G0', 'G1'])} {n}{num(rng, -3, 3)}")
+            return
+        self.turn()
+        if r < 0.55:
+            g.emit(self.line(a, b, rng.uniform(4, 30), "G0" if rng.random() < 0.15 else "G1")
+                   + (f" F{num(rng, 50, 900, 1)}" if rng.random() < 0.1 else ""))
+            return
+        radius = rng.uniform(4, 30)
+        ccw = rng.random() < 0.5
+        sweep = 2 * math.pi if rng.random() < 0.08 else rng.uniform(0.3, 5.5)
+        side = math.pi / 2 if ccw else -math.pi / 2
+        ci, cj = radius * math.cos(self.heading + side), radius * math.sin(self.heading + side)
+        phi = math.atan2(-cj, -ci) + (sweep if ccw else -sweep)  # the end seen from the centre
+        ea, eb = ci + radius * math.cos(phi), cj + radius * math.sin(phi)
+        self.heading += sweep if ccw else -sweep
+        helix = f" {n}{num(rng, -4, 4)}" if rng.random() < 0.2 else ""
+        code = "G3" if ccw else "G2"
+        if sweep < 2 * math.pi and rng.random() < 0.3:
+            rr = f"-{radius:.4f}" if sweep > math.pi else f"{radius:.4f}"
+            g.emit(f"G91 {code} {a}{ea:.4f} {b}{eb:.4f} R{rr}{helix}")
+        else:
+            turns = f" P{rng.randint(2, 3)}" if helix and rng.random() < 0.3 else ""
+            g.emit(f"G91 {code} {a}{ea:.4f} {b}{eb:.4f} {ia}{ci:.4f} {ib}{cj:.4f}{helix}{turns}")
+
+
 def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str:
     g = Gen(rng)
     g.emit("(random program)")
@@ -389,8 +474,11 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str
                 "o<shape> endsub [#1 * 2]"]
         g.out[1:1] = subs
     numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
+    comp = Comp(random.Random(str(rng.getstate()[1])))  # its own draws (Comp's docstring)
     for _ in range(statements):
         g.statement()
+        if comp.rng.random() < 0.12:
+            comp.sequence(g)
         if subs and rng.random() < 0.1:
             g.emit("G17")
             g.plane = "G17"

@@ -89,7 +89,8 @@ def inch_files(tmp: str, tool_table: str | None, parameter_file: str | None) -> 
         path = os.path.join(tmp, "tools.tbl")
         with open(path, "w") as f:
             for t, e in sorted(files.tool_table(tool_table).items()):
-                f.write(f"T{t} P{t} " + " ".join(f"{k}{v / INCH:.9f}" for k, v in e.items() if k in "XZD") + "\n")
+                f.write(f"T{t} P{t} " + " ".join(f"{k}{v / INCH:.9f}" if k != "Q" else f"Q{v:g}"
+                                                 for k, v in e.items()) + "\n")
         args += ["-t", path]
     if parameter_file:
         path = os.path.join(tmp, "params.var")

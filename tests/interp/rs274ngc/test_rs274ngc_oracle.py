@@ -30,9 +30,7 @@ SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/sha
 # simulated); every other sample must match rs274 move for move or be refused by both.
 REFUSED_SAMPLES = {
     "b-index.ngc": "axis B", "cone.ngc": "axis B", "daisy.ngc": "axis A",
-    "comp-g1.ngc": "G41", "comp.ngc": "G42", "comp311.ngc": "G41", "comp311_2.ngc": "G41", "g76.ngc": "G41",
-    "lathe-g76.ngc": "G41", "gmoccapy_2_tools_with_cutter_radius_compensation.ngc": "G41", "lathecomp.ngc": "G42",
-    "mmount.ngc": "G41", "useful-subroutines.ngc": "G41", "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
+    "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
     "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "fillet",
     "systems.ngc": "G5.1",
 }
@@ -89,6 +87,28 @@ def test_installed_samples_match_or_are_documented_refusals(rs274, zero_tools):
             assert verdict == "same", (p, verdict)
             same += 1
     assert same >= 25
+
+
+# The samples with cutter radius compensation, again with tools of a diameter (0.1 in) and, for the
+# lathe ones, an orientation (Q 1-9 by tool number); g76 and lathe-g76 start it with a move along Z only,
+# which both refuse ("entry move is not greater than the tool radius")
+COMP_SAMPLES = {"comp-g1.ngc": "mill", "comp.ngc": "mill", "comp311.ngc": "mill", "comp311_2.ngc": "mill",
+                "gmoccapy_2_tools_with_cutter_radius_compensation.ngc": "mill", "mmount.ngc": "mill",
+                "useful-subroutines.ngc": "mill", "lathecomp.ngc": "lathe", "g76.ngc": "lathe", "lathe-g76.ngc": "lathe"}
+
+
+def test_compensation_samples_match_with_tool_diameters(rs274, tmp_path):
+    mill, lathe = tmp_path / "mill.tbl", tmp_path / "lathe.tbl"
+    mill.write_text("".join(f"T{t} P{t} Z0 X0 D2.54\n" for t in range(1, 100)))
+    lathe.write_text("".join(f"T{t} P{t} Z0 X0 D0.8 Q{t % 9 + 1}\n" for t in range(1, 100)))
+    found = {p.name: p for p in _samples() if p.name in COMP_SAMPLES}
+    assert len(found) == len(COMP_SAMPLES)
+    for name, kind in COMP_SAMPLES.items():
+        verdict = compare(str(found[name]), str(mill if kind == "mill" else lathe), kind=kind)
+        if name in ("g76.ngc", "lathe-g76.ngc"):
+            assert verdict.startswith("same (both refuse)") and "entry move" in verdict, (name, verdict)
+        else:
+            assert verdict == "same", (name, verdict)
 
 
 @pytest.mark.parametrize("seed", [20261126])
@@ -293,3 +313,16 @@ def test_a_position_beyond_the_simulators_range_is_a_documented_difference(rs274
     assert "exceeds the permitted range" in cutsim_moves(str(path)).error
     assert run_rs274(str(path)).error is None
     assert compare(str(path)).startswith("documented difference")
+
+
+def test_rs274_runs_some_g33_under_compensation_cutsim_refuses_them(rs274, tmp_path):
+    # G41.1 D10 then a line along X: a G33 straight on is cut by rs274 as a plain feed (r = 5 to the
+    # left: Y5); one turning down (a convex corner, which needs an arc) it refuses; cutsim refuses both
+    for end, refused in (("X100 Y0", False), ("X50 Y-50", True)):
+        path = tmp_path / "g33.ngc"
+        path.write_text(f"G21 G17 F100\nS500 M3\nG41.1 D10\nG1 X50 Y0\nG33 {end} K2\nG1 X0\nM2\n")
+        assert "G33: not simulated with cutter radius compensation on" in cutsim_moves(str(path)).error
+        theirs = run_rs274(str(path))
+        assert (theirs.error is not None) == refused
+        if not refused:
+            assert theirs.moves[1].end[:2] == pytest.approx((100, 5)) and theirs.moves[1].kind == "FEED"
