@@ -23,6 +23,18 @@ def level(m) -> int:
     return len(m.params.frames)
 
 
+def run_block(m, st) -> None:
+    """The block's M70-M73 (collected in m.context_m), then none."""
+    for code, w in m.context_m:
+        if code in (70, 73):
+            save(m, code == 73)
+        elif code == 72:
+            restore(m, m.src(st, w.col), st.block.line, w.col)
+        else:
+            invalidate(m)
+    m.context_m = []
+
+
 def save(m, auto: bool) -> None:
     state = {f: getattr(m, f) for f in FIELDS}
     state.update(coord=m.coord, tlo_mode=m.tlo_mode, speed=m.speed, spindle_dir=m.spindle_dir, auto=auto,

@@ -186,14 +186,7 @@ class Ngc(Interpreter):
         self.tool_m(st)
         if st.direction is not None:
             self.spindle(self.src(st), st.direction, None)
-        for code, m in self.context_m:  # M70-M73 after the spindle, before the modes (LinuxCNC's order)
-            if code in (70, 73):
-                context.save(self, code == 73)
-            elif code == 72:
-                context.restore(self, self.src(st, m.col), line, m.col)
-            else:
-                context.invalidate(self)
-        self.context_m = []
+        context.run_block(self, st)  # M70-M73 after the spindle, before the modes (LinuxCNC's order)
         compensation.select(self, st)
         offsets.tool_length(self, st)
         if Group.PATH_CONTROL in st.g:
