@@ -35,9 +35,9 @@ class Calls:
         if name in NOT_FILES:
             listed = " ([machine] external_subprograms does not apply to it: the simulator knows the Siemens " \
                      "keywords and cycles and will not take one as cutting nothing)" if name in self.externals else ""
-            what = NOT_YET.get(name)
-            if what:
-                raise self.error(line, col, f"{name} ({what}) is not simulated yet{listed}")
+            if name in NOT_YET:
+                what, why = NOT_YET[name]
+                raise self.error(line, col, f"{name} ({what}) is not simulated yet: {why}{listed}")
             raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support{listed}")
         path = None
         for d in (*self.sub_dirs(), *self.cfg.subprogram_path):

@@ -46,8 +46,13 @@ NOT_FILES = LANG_KEYWORDS | MACHINE_COMMANDS | set(CYCLES) | {"MCALL", "HOLES1",
            "CYCLE90", "CYCLE61", "CYCLE76", "CYCLE77", "CYCLE79", "CYCLE899", "CYCLE95", "CYCLE99", "MSG", "SETAL",
            "WORKPIECE"}
 
-# Siemens cycles the simulator knows but does not run yet: the error names what they do
-NOT_YET = {"CYCLE99": "ShopTurn thread turning; CYCLE97 cuts the same threads"}
+# Siemens cycles the simulator knows but does not run yet: the error names what they do and why they are not run
+# (docs/dialects/sinumerik-turning.md, "CYCLE99")
+NOT_YET = {"CYCLE99": ("ShopTurn thread turning",
+                       "the coding of its call (the order of its parameters and the digits of _VARI: machining, "
+                       "infeed, inside/outside, longitudinal/taper/face) is not established from Siemens' manuals; "
+                       "program the thread with CYCLE97(PIT, MPIT, SPL, FPL, DM1, DM2, APP, ROP, TDEP, FAL, IANG, NSP, "
+                       "NRC, NID, VARI, NUMT, _VRT), which cuts the same threads")}
 
 # path words the simulator does not implement: an error naming them, not "unknown variable"
 UNSUPPORTED_NAMES = {"ANG": "a contour angle", "AR": "an arc's opening angle",

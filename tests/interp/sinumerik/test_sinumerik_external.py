@@ -202,7 +202,8 @@ def test_a_refused_siemens_cycle_stays_refused():
     does not make it cut nothing; the message says the list does not apply."""
     e = error_of(HEAD + "CYCLE99(0, 40, -30, 40, 2, 1, 0.92)\nM30\n", ["CYCLE99"])
     assert (e.line, e.col) == (3, 1)
-    assert "CYCLE99 (ShopTurn thread turning; CYCLE97 cuts the same threads) is not simulated yet" in e.message
+    assert "CYCLE99 (ShopTurn thread turning) is not simulated yet: the coding of its call" in e.message
+    assert "digits of _VARI" in e.message and "program the thread with CYCLE97(PIT, MPIT, SPL" in e.message
     assert "[machine] external_subprograms does not apply" in e.message
     assert "does not apply" not in error_of(HEAD + "CYCLE99(0, 40, -30, 40, 2, 1, 0.92)\nM30\n").message
 
