@@ -13,11 +13,16 @@ the nominal diameter, clause 7's ranges 0.99/1.4/2.8/5.6/11.2/22.4/45/90/180/355
   T_d2(6) = 90 P^0.4 d^0.1                       pitch diameter of the bolt (grades 3 to 9)
   T_D2    = 1.32 T_d2(6) x grade factor           pitch diameter of the nut (grades 4 to 8)
   T_D1(6) = 433 P - 190 P^1.22 (P < 1), 230 P^0.7 (P >= 1): minor diameter of the nut (4 to 8)
-and for the other grades the grade 6 value times 0.5 (3), 0.63 (4), 0.8 (5), 1 (6), 1.25 (7),
-1.6 (8), 2 (9). The values are rounded as the standard's tables print them: to the nearest value
-of the R40 series of preferred numbers (ISO 3; nearest on a logarithmic scale, i.e. to the exact
-10^(k/40)), in whole micrometres below 100; T_D2 from the rounded T_d2(6). ``PRINTED`` holds the
-values where ISO 965-1's tables differ from that rule.
+and for the other grades the ROUNDED grade 6 value times 0.5 (3), 0.63 (4), 0.8 (5), 1 (6),
+1.25 (7), 1.6 (8), 2 (9), rounded again: grade k = r40(factor_k x r40(grade 6)) for T_d, T_d2 and
+T_D1, and T_D2(k) = r40(1.32 x factor_k x rounded T_d2(6)). The values are rounded as the standard's
+tables print them: to the nearest value of the R40 series of preferred numbers (ISO 3; nearest on a
+logarithmic scale, i.e. to the exact 10^(k/40)), in whole micrometres below 100. The tables follow
+that rule where the unrounded grade 6 value does not: T_D1 at P 1.5 is printed 190, 236, 300, 375,
+475 for grades 4 to 8 (0.8 x 300 = 240 -> 236, where 0.8 x 305.5 = 244.4 would give 250), and
+T_d2 of every grade as ASME B1.13M / Machinery's Handbook reprint ISO 965-1's table
+(tests/reports/test_iso965_derived.py). ``PRINTED`` holds the grade 6 values where ISO 965-1's
+tables differ from the formulas; the other grades follow from the printed value.
 """
 from __future__ import annotations
 
@@ -33,7 +38,8 @@ RANGES = (0.99, 1.4, 2.8, 5.6, 11.2, 22.4, 45.0, 90.0, 180.0, 355.0, 600.0)
 GRADE_FACTOR = {3: 0.5, 4: 0.63, 5: 0.8, 6: 1.0, 7: 1.25, 8: 1.6, 9: 2.0}
 GRADES = {"d": (4, 6, 8), "d2": (3, 4, 5, 6, 7, 8, 9), "D2": (4, 5, 6, 7, 8), "D1": (4, 5, 6, 7, 8)}
 # (quantity, pitch) -> micrometres where the printed tables of ISO 965-1 differ from the rounding rule
-PRINTED = {("es_g", 0.75): 22.0, ("T_D1(6)", 0.5): 140.0, ("T_D1(6)", 1.0): 236.0, ("T_d2(6) 2.8-5.6", 0.5): 75.0}
+PRINTED = {("es_g", 0.75): 22.0, ("T_D1(6)", 0.5): 140.0, ("T_D1(6)", 1.0): 236.0, ("T_d2(6) 2.8-5.6", 0.5): 75.0,
+           ("T_d2(6) 2.8-5.6", 0.75): 90.0, ("T_d(6)", 4.0): 475.0}
 
 _DESIGNATION = re.compile(r"^M(\d+(?:\.\d+)?)x(\d+(?:\.\d+)?)-(\d)([efghGH])(?:(\d)([efghGH]))?$")
 
@@ -84,16 +90,15 @@ def tolerance(quantity: str, grade: int, d: float, p: float) -> float:
         raise DesignationError(f"tolerance grade {grade} does not exist for {quantity} "
                                f"(ISO 965-1: {', '.join(map(str, GRADES[quantity]))})")
     f = GRADE_FACTOR[grade]
-    if quantity == "d":
-        return r40(f * (180.0 * p ** (2.0 / 3.0) - 3.15 / math.sqrt(p)))
     if quantity == "d2":
-        return td2_grade6(d, p) if grade == 6 else r40(f * 90.0 * p ** 0.4 * _range_mean(d) ** 0.1)
+        return td2_grade6(d, p) if grade == 6 else r40(f * td2_grade6(d, p))
     if quantity == "D2":
         return r40(1.32 * f * td2_grade6(d, p))
-    t6 = 230.0 * p ** 0.7 if p >= 1.0 else 433.0 * p - 190.0 * p ** 1.22
-    if grade == 6:
-        return _printed("T_D1(6)", p, r40(t6))
-    return r40(f * t6)
+    if quantity == "d":
+        t6 = _printed("T_d(6)", p, r40(180.0 * p ** (2.0 / 3.0) - 3.15 / math.sqrt(p)))
+    else:
+        t6 = _printed("T_D1(6)", p, r40(230.0 * p ** 0.7 if p >= 1.0 else 433.0 * p - 190.0 * p ** 1.22))
+    return t6 if grade == 6 else r40(f * t6)
 
 
 def parse(designation: str) -> tuple[float, float, int, int, str]:
