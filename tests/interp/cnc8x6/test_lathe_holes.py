@@ -137,17 +137,27 @@ def test_tap_programmed_with_the_wrong_lead_strips_the_thread(tmp_path, dialect)
 
 
 # -- the example ----------------------------------------------------------------------------------
+TAPPED = "tapped M10x1.5"
+
+
 @pytest.mark.parametrize("folder,change,failing", [
-    ("cnc8x6-lathe", {"G33 Z-21. F1.5": "G33 Z-21. F1.25", "G33 Z3. F1.5": "G33 Z3. F1.25"}, {"removed"}),  # pitch
-    ("cnc8x6-lathe", {"G33 Z-21.": "G33 Z-12."}, {"removed"}),  # too shallow
+    ("cnc8x6-lathe", {"G33 Z-21. F1.5": "G33 Z-21. F1.25", "G33 Z3. F1.5": "G33 Z3. F1.25"}, {"removed", TAPPED}),  # pitch
+    ("cnc8x6-lathe", {"G33 Z-21.": "G33 Z-12."}, {"removed", TAPPED}),  # too shallow
+    ("cnc8x6-lathe", {"N80 T3 S200": "N80 T3 S200 M04", "N100 M04": "N100 M03"}, {TAPPED}),  # wrong hand
+    ("cnc8x6-lathe", {"N70 G00 Z3.": "N70 G00 Z3.5", "G33 Z3. F1.5": "G33 Z3.5 F1.5"}, {"removed", TAPPED}),  # start
     ("cnc8x6-lathe", {}, set()),
-    ("isg-lathe", {"G331 Z-20 K1.5": "G331 Z-20 K1.25"}, {"removed"}),
-    ("isg-lathe", {"G331 Z-20": "G331 Z-12"}, {"removed"}),
+    ("isg-lathe", {"G331 Z-20 K1.5": "G331 Z-20 K1.25"}, {"removed", TAPPED}),
+    ("isg-lathe", {"G331 Z-20": "G331 Z-12"}, {"removed", TAPPED}),
+    ("isg-lathe", {"G331 Z-20 K1.5": "G331 Z-20 K-1.5"}, {TAPPED}),  # a left-hand thread
+    ("isg-lathe", {"N45 G00 Z3": "N45 G00 Z3.5", "G332 Z3": "G332 Z3.5"}, {TAPPED}),  # started 0.5 higher
     ("isg-lathe", {}, set()),
 ])
 def test_drill_tap_example_fails_when_made_wrong(folder, change, failing):
     """examples/{cnc8x6,isg}-lathe/drill-tap-m10 pass their checks (also in tests/app/test_examples.py)
-    and fail the removed volume with the tap programmed at the wrong pitch or stopped short."""
+    and fail them when made wrong: the tap at the wrong pitch or stopped short fails the removed
+    volume and the tapped thread (lead), the tap under M04 (K < 0 on ISG) its hand, the tap started
+    0.5 mm higher its phase (and, on CNC8x6, whose G33 back from there no longer follows the
+    helix, the volume)."""
     from conftest import REPO_EXAMPLES
 
     base = REPO_EXAMPLES / folder / "drill-tap-m10"
