@@ -99,6 +99,7 @@ def test_the_examples_pass(nut):
     ("nut-m24x1.5", "S1500 M03", "S1500 M04", {"hand"}),
     ("shaft-m30x2", "N370 X27.712", "N370 X27.812", {"pitch_diameter", "pitch_diameter_wires"}),
     ("shaft-m30x2", "N240 G00 X32. Z4.", "N240 G00 X32. Z4.5", {"phase[1]"}),
+    ("shaft-m30x2", "N230 T3 D3 S800", "N230 T3 D3 S800 M04", {"hand"}),
 ])
 def test_the_examples_fail_when_made_wrong(name, old, new, failed):
     text = (EX / f"{name}.nc").read_text()

@@ -342,20 +342,26 @@ def test_drill_on_the_spindle_axis(tmp_path, point_angle):
 
 def test_shoulder_example_fails_when_spoiled(tmp_path):
     """examples/cnc8x6-lathe/shoulder-93 passes its checks (tests/app/test_examples.py) and fails
-    them with the plain V for the insert (a cone behind the shoulder) or a finishing pass 0.1 mm
-    shallower."""
+    them with the plain V for the insert (a cone behind the shoulder), a finishing pass 0.1 mm
+    shallower, the shoulder shifted 0.1 mm (every pass to Z-19.9) or a holder of the wrong hand
+    (hand L: its minor edge leads towards -Z, its rapids into the bar warn, no square shoulder)."""
     from conftest import REPO_EXAMPLES
 
     base = REPO_EXAMPLES / "cnc8x6-lathe" / "shoulder-93"
     setup, program = base.with_suffix(".toml").read_text(), base.with_suffix(".nc").read_text()
     v_tool = setup.replace('insert = "C"\nsize = 12.7\ntip_radius = 0.8\napproach = 93.0\nhand = "R"', "")
-    assert v_tool != setup
-    for text, prog, failing in ((v_tool, program, {"behind the shoulder", "removed"}),
-                                (setup, program.replace("N110 X30.", "N110 X30.2"), {"turned", "removed"})):
+    left = setup.replace('hand = "R"', 'hand = "L"')
+    assert v_tool != setup and left != setup and "Z-20." in program
+    for text, prog, failing, warns in (
+            (v_tool, program, {"behind the shoulder", "shoulder face", "removed"}, False),
+            (setup, program.replace("N110 X30.", "N110 X30.2"), {"turned", "removed"}, False),
+            (setup, program.replace("Z-20.", "Z-19.9"), {"shoulder face", "removed"}, False),
+            (left, program, {"behind the shoulder", "shoulder face", "removed"}, True)):
         path = tmp_path / "s.toml"
         path.write_text(text)
         res = cutsim.simulate("p.nc", str(path), text=prog)
         assert {c["name"] for c in res.report["checks"] if not c["passed"]} == failing
+        assert bool(res.report["warnings"]) == warns
 
 
 def test_nut_example_fails_when_spoiled(tmp_path):
