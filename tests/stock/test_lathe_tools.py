@@ -61,6 +61,24 @@ SHAPES = ["C", "D", "T", "V", "W", "S", "R"]
 def test_insert_turns_a_square_shoulder(tmp_path, shape, rn, side, hand):
     """Turn a diameter to a shoulder and leave it straight out: the part is the annulus less the
     spandrel the nose leaves in the corner, at any shape, nose radius, hand and side."""
+    _square_shoulder(tmp_path, shape, rn, side, hand, "")
+
+
+# every holder angle the docs name that each insert allows (kappa_r <= 180 - its corner angle)
+APPROACHES = [(shape, kappa) for shape, corner in (("C", 80), ("D", 55), ("T", 60), ("V", 35), ("W", 80), ("S", 90))
+              for kappa in (90.0, 93.0, 95.0, 107.5, 117.5) if kappa <= 180 - corner and (kappa > 90 or shape == "S")]
+
+
+@pytest.mark.parametrize("shape,kappa", APPROACHES)
+@pytest.mark.parametrize("side,hand", [("outside", "R"), ("inside", "L")])
+def test_square_shoulder_at_every_approach_angle(tmp_path, shape, kappa, side, hand):
+    """The same shoulder with the holder at kappa_r 93, 95, 107.5, 117.5 (90 for the square
+    insert): the main edge leans kappa_r - 90 back from the face, so it never touches it and the
+    part is the annulus less the nose's spandrel whatever the angle."""
+    _square_shoulder(tmp_path, shape, 0.8, side, hand, f"\napproach = {kappa}")
+
+
+def _square_shoulder(tmp_path, shape, rn, side, hand, extra):
     if shape == "R":
         if rn == 0.0:
             pytest.skip("a round insert's nose is the insert")
@@ -70,7 +88,7 @@ def test_insert_turns_a_square_shoulder(tmp_path, shape, rn, side, hand):
         tool = f'kind = "turning"\ninsert = "R"\nsize = {size}\nside = "{side}"\nhand = "{hand}"'
     else:
         nose = rn
-        tool = f'kind = "turning"\ninsert = "{shape}"\ntip_radius = {rn}\nside = "{side}"\nhand = "{hand}"'
+        tool = f'kind = "turning"\ninsert = "{shape}"\ntip_radius = {rn}\nside = "{side}"\nhand = "{hand}"{extra}'
     s = 1 if hand == "R" else -1  # R cuts towards -Z from above the bar, L towards +Z from below
     z_out, z_shoulder = (2.0, -20.0) if hand == "R" else (-52.0, -30.0)
     if side == "outside":
@@ -145,6 +163,92 @@ def test_groove_is_the_insert_width(tmp_path, hand, z_ctrl, rc):
     assert abs(res.report["removed_volume"] - k * (groove - spandrels)) <= slack
     part = res.part
     assert _slab(part, -20.0 + 0.01, -17.0 - 0.01, 20.0) < _slab(part, -17.0 + 0.01, -14.0 - 0.01, 20.0) * 0.6
+
+
+@pytest.mark.parametrize("hand,z_ctrl", [("R", -20.0), ("L", -17.0), ("N", -18.5)])
+@pytest.mark.parametrize("rc", [0.0, 0.3])
+def test_inside_groove_is_the_insert_width(tmp_path, hand, z_ctrl, rc):
+    """An inside grooving insert (mirrored in X: the same corner towards -Z for hand R) plunged
+    from a bore of 25 out to r 28: a ring z -20..-17, 3 deep, its floor corners (at r 28) the
+    insert's radii: pi (28^2 - 25^2) 3 less two spandrel rings at r 28 - 0.2234 rc."""
+    stock = "shape = \"revolve\"\nprofile = [[25, 0], [40, 0], [40, -50], [25, -50]]"
+    tool = f'kind = "grooving"\nwidth = 3\ncorner_radius = {rc}\nhand = "{hand}"\nside = "inside"'
+    program = f"G00 X46. Z2.\nM03 S500\nZ{z_ctrl}\nG01 X56. F0.05\nG00 X46.\nZ2.\n"
+    res = _run(tmp_path, stock, tool, program, machine="start = [46, 0, 30]")
+    assert res.report["warnings"] == []
+    k = _k(res, math.pi * (40.0 ** 2 - 25.0 ** 2) * 50.0)
+    groove = math.pi * (28.0 ** 2 - 25.0 ** 2) * 3.0
+    spandrels = 2 * 2.0 * math.pi * (28.0 - SPANDREL * rc) * (1.0 - math.pi / 4.0) * rc ** 2
+    slack = 2 * 2.0 * math.pi * 28.0 * TOL * (math.pi / 2.0 * rc) + 0.02
+    assert abs(res.report["removed_volume"] - k * (groove - spandrels)) <= slack
+    part = res.part  # the ring is where the program puts it: less material there than beside it
+    inner = m3d.Manifold.cylinder(3.0, 26.5, circular_segments=256)
+    assert _slab(part - inner.translate((0, 0, -20.0)), -20.0 + 0.01, -17.0 - 0.01, 40.0) < \
+        _slab(part - inner.translate((0, 0, -17.0)), -17.0 + 0.01, -14.0 - 0.01, 40.0) * 0.95
+
+
+@pytest.mark.parametrize("hand,r_lo", [("R", 12.0), ("L", 9.0), ("N", 10.5)])
+@pytest.mark.parametrize("rc", [0.0, 0.3])
+def test_face_groove_is_the_insert_width(tmp_path, hand, r_lo, rc):
+    """A face grooving insert (X and Z swapped: its control point the corner towards -X for hand
+    R, towards +X for L, the middle for N) at X24 plunged along -Z 3 deep into the end face: a
+    ring r_lo .. r_lo + 3, pi ((r_lo + 3)^2 - r_lo^2) 3, less the two floor spandrels at radii
+    r_lo + 0.2234 rc and r_lo + 3 - 0.2234 rc (each (1 - pi/4) rc^2)."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    tool = f'kind = "grooving"\nwidth = 3\ncorner_radius = {rc}\nhand = "{hand}"\nside = "face"'
+    program = "G00 X24. Z2.\nM03 S500\nG01 Z-3. F0.05\nG00 Z2.\n"
+    res = _run(tmp_path, stock, tool, program, machine="start = [24, 0, 30]")
+    assert res.report["warnings"] == []
+    k = _k(res, math.pi * 400.0 * 50.0)
+    ring = math.pi * ((r_lo + 3.0) ** 2 - r_lo ** 2) * 3.0
+    spandrels = 2.0 * math.pi * (2.0 * r_lo + 3.0) * (1.0 - math.pi / 4.0) * rc ** 2
+    slack = 2 * 2.0 * math.pi * (r_lo + 3.0) * TOL * (math.pi / 2.0 * rc) + 0.02
+    assert abs(res.report["removed_volume"] - k * (ring - spandrels)) <= slack, (res.report["removed_volume"], k * (ring - spandrels))
+
+
+@pytest.mark.parametrize("shape", ["C", "D", "T", "V", "W", "S"])
+@pytest.mark.parametrize("rn", [0.4, 1.2])
+def test_face_insert_faces_to_a_square_wall(tmp_path, shape, rn):
+    """A face tool of hand R (X and Z swapped: it points at the end face and feeds towards the
+    axis, cutting edge position 3) faces 3 deep from beyond the bar in to X24 and leaves straight
+    out along +Z: the face recess r 12 .. 20, 3 deep, less the spandrel the nose leaves in the
+    corner at r 12, z -3 (centroid r 12 + 0.2234 rn)."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    tool = f'kind = "turning"\ninsert = "{shape}"\ntip_radius = {rn}\nside = "face"\nhand = "R"'
+    program = "G00 X44. Z2.\nM03 S500\nZ-3.\nG01 X24. F0.1\nZ2.\nG00 X60.\n"
+    res = _run(tmp_path, stock, tool, program, machine="start = [60, 0, 30]")
+    assert res.report["warnings"] == []
+    k = _k(res, math.pi * 400.0 * 50.0)
+    recess = math.pi * (20.0 ** 2 - 12.0 ** 2) * 3.0
+    spandrel = 2.0 * math.pi * (12.0 + SPANDREL * rn) * (1.0 - math.pi / 4.0) * rn ** 2
+    slack = 2.0 * math.pi * 12.0 * TOL * (rn + 1.0) + 1e-6 * k * recess
+    assert abs(res.report["removed_volume"] - k * (recess - spandrel)) <= slack, (res.report["removed_volume"], k * (recess - spandrel))
+
+
+@pytest.mark.parametrize("shape,corner", [("D", 55.0), ("V", 35.0), ("T", 60.0)])
+@pytest.mark.parametrize("rn", [0.0, 0.4])
+def test_neutral_insert_plunges_its_v(tmp_path, shape, corner, rn):
+    """A neutral holder (hand N) points the corner's bisector straight at the part, its control
+    point the lowest point of the nose: plunged 1.5 deep into a bar of 40 it cuts the V of the
+    corner angle with the nose radius (tests/stock/test_tool_properties.py's half width v(u)),
+    a ring of 2 pi integral (18.5 + u) 2 v(u) du (quadrature of the closed-form v)."""
+    stock = "shape = \"cylinder\"\ndiameter = 40\nz = [-50, 0]"
+    tool = f'kind = "turning"\ninsert = "{shape}"\ntip_radius = {rn}\nhand = "N"'
+    res = _run(tmp_path, stock, tool, "G00 X44. Z-20.\nM03 S500\nG01 X37. F0.05\nG00 X44.\n",
+               machine="start = [44, 0, 30]")
+    assert res.report["warnings"] == []
+    h = math.radians(corner / 2.0)
+    ut = rn * (1.0 - math.sin(h))
+
+    def v(u):
+        return np.where(u <= ut, np.sqrt(np.clip(rn * rn - (rn - u) ** 2, 0.0, None)),
+                        u * math.tan(h) + rn * (1.0 - math.sin(h)) / math.cos(h))
+
+    u = np.linspace(0.0, 1.5, 200001)
+    f = 2.0 * math.pi * (18.5 + u) * 2.0 * v(u)
+    expect = float(np.sum((f[1:] + f[:-1]) * 0.5 * np.diff(u)))
+    k = _k(res, math.pi * 400.0 * 50.0)
+    assert abs(res.report["removed_volume"] - k * expect) <= 2e-3 * expect + 0.02, (res.report["removed_volume"], k * expect)
 
 
 # -- threads inside, outside, full profile ------------------------------------------------------
