@@ -6,8 +6,9 @@ and each wrong one fails on the item that is wrong: the last pass 0.04 shallow (
 and the diameter the tip forms), the start 10 degrees late (its phase), M03/M04 swapped (hand),
 the lead 1 % long (lead).
 
-Five simulations a case; 2 cases (one inside, one outside) run in the default suite, 38 more
-under ``slow``."""
+Even seeds are inside, odd outside; seeds 0, 1 (mod 4) CNC8x6 (G33 ... I F), 2, 3 ISG (G33 ... K
+S.OFFSET=). Five simulations a case; 4 cases (inside and outside in both dialects) run in the
+default suite, 36 more under ``slow``."""
 import pytest
 
 import cutsim
@@ -20,7 +21,7 @@ def _verify(seed, tmp_path):
     case = make_case(seed)
     setup = tmp_path / f"gauge{seed}.toml"
     setup.write_text(case.setup())
-    where = f"case {seed} ({case.side}, P {case.pitch}, {case.hand}, X {case.x_last}):\n"
+    where = f"case {seed} ({case.dialect}, {case.side}, P {case.pitch}, {case.hand}, X {case.x_last}):\n"
     for v in VARIANTS:
         r = cutsim.simulate(f"gauge{seed}-{v}.nc", str(setup), text=case.program(v), checks=False)
         rec = evaluate(make_check_spec(r, case.check()), r)
@@ -32,12 +33,12 @@ def _verify(seed, tmp_path):
             assert want <= failed, where + f"the {v} variant failed on {failed}, not {want}:\n" + case.program(v)
 
 
-@pytest.mark.parametrize("seed", range(2))
+@pytest.mark.parametrize("seed", range(4))
 def test_thread_gauge_verdicts(seed, tmp_path):
     _verify(seed, tmp_path)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", range(2, 40))
+@pytest.mark.parametrize("seed", range(4, 40))
 def test_thread_gauge_verdicts_all(seed, tmp_path):
     _verify(seed, tmp_path)

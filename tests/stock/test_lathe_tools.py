@@ -30,14 +30,14 @@ SPANDREL = (10.0 - 3.0 * math.pi) / (12.0 - 3.0 * math.pi)
 TOL = 0.002
 
 
-def _setup(tmp_path, stock: str, tool: str, machine: str = "") -> str:
+def _setup(tmp_path, stock: str, tool: str, machine: str = "", dialect: str = "cnc8x6") -> str:
     path = tmp_path / "s.toml"
-    path.write_text(f'[machine]\nkind = "lathe"\ndialect = "cnc8x6"\n{machine}\n[stock]\n{stock}\n\n[[tool]]\n{tool}\n')
+    path.write_text(f'[machine]\nkind = "lathe"\ndialect = "{dialect}"\n{machine}\n[stock]\n{stock}\n\n[[tool]]\n{tool}\n')
     return str(path)
 
 
-def _run(tmp_path, stock: str, tool: str, program: str, tol: float = TOL, machine: str = ""):
-    return cutsim.simulate("p.nc", _setup(tmp_path, stock, tool, machine), text=program + "M30\n", tolerance=tol)
+def _run(tmp_path, stock: str, tool: str, program: str, tol: float = TOL, machine: str = "", dialect: str = "cnc8x6"):
+    return cutsim.simulate("p.nc", _setup(tmp_path, stock, tool, machine, dialect), text=program + "M30\n", tolerance=tol)
 
 
 def _k(result, true_volume: float) -> float:
@@ -382,8 +382,10 @@ def test_inside_thread_hand(tmp_path, spindle, rho):
         assert np.all(np.abs(wrap(roots[:, 1] - expect, 1.5)) < 0.02), (phi, roots[:5])
 
 
-def test_inside_taper_thread(tmp_path):
-    """An inside taper thread (G33 with X and Z: 1:12 on the diameter) in a taper bore: the
+@pytest.mark.parametrize("dialect", ["cnc8x6", "isg"])
+def test_inside_taper_thread(tmp_path, dialect):
+    """An inside taper thread (G33 with X and Z: 1:12 on the diameter; CNC8x6 F1.5, ISG K1.5, both
+    the lead along Z, the larger travel) in a taper bore: the
     groove per mm at the middle of the slab is the V's, its depth 0.5 everywhere (the tool
     follows the bore's taper), so the slab loses 2 pi r_c A / P per mm with r_c at the slab's
     middle radius (a cone: exact, r_c varies linearly with z)."""
@@ -391,9 +393,11 @@ def test_inside_taper_thread(tmp_path):
     # bore r = 11 - z / 24 (1:12 on the diameter), the tool point 0.5 beyond it
     program = ("G00 X20. Z3.\nM03 S500\nX" + f"{2 * (11.5 - 3.0 / 24.0):.6f}" +
                "\nG33 X" + f"{2 * (11.5 + 20.0 / 24.0):.6f}" + " Z-20. F1.5\nG00 X20.\nZ10.\n")
+    if dialect == "isg":  # G51: X in diameters, as on CNC8x6
+        program = "G51\n" + program.replace(" F1.5", " K1.5")
     tool = 'kind = "thread"\nside = "inside"\nheight = 4'
-    res = _run(tmp_path, stock, tool, program)
-    assert all(w["line"] == 5 for w in res.report["warnings"])
+    res = _run(tmp_path, stock, tool, program, dialect=dialect)
+    assert all(w["line"] == (5 if dialect == "cnc8x6" else 6) for w in res.report["warnings"])
     true = math.pi * 30.0 * (400.0 - (11.0 ** 2 + 11.0 * 12.25 + 12.25 ** 2) / 3.0)
     k = _k(res, true)
 
@@ -409,16 +413,23 @@ def test_inside_taper_thread(tmp_path):
     assert abs(removed - expect) <= 0.01 * expect, (removed, expect)
 
 
-def test_face_thread_scroll(tmp_path):
-    """A G33 along X with a face tool cuts a scroll (an Archimedean spiral groove) into the end
-    face: between radii r1 and r2 it holds A 2 pi / P (r2^2 - r1^2) / 2 of material (every mm of
-    radius holds the groove's section A swept round at that radius, once per lead P)."""
+@pytest.mark.parametrize("dialect", ["cnc8x6", "isg"])
+def test_face_thread_scroll(tmp_path, dialect):
+    """A G33 along X with a face tool (CNC8x6 F2; ISG I2, the lead along X as a radial distance)
+    cuts a scroll (an Archimedean spiral groove) into the end face: between radii r1 and r2 it
+    holds A 2 pi / P (r2^2 - r1^2) / 2 of material (every mm of radius holds the groove's section
+    A swept round at that radius, once per lead P)."""
     stock = "shape = \"cylinder\"\ndiameter = 60\nz = [-10, 0]"
     tool = 'kind = "thread"\nside = "face"\nheight = 3'
     machine = "start = [64, 0, 5]"
-    res = _run(tmp_path, stock, tool, "G00 X64. Z2.\nM03 S300\nZ-0.5\nG33 X10. F2.\nG00 Z5.\n", machine=machine)
-    bare = _run(tmp_path, stock, tool, "G00 X64. Z5.\n", machine=machine)
-    assert [w["line"] for w in res.report["warnings"]] == [5]  # the retract out of the groove's end
+    program = "G00 X64. Z2.\nM03 S300\nZ-0.5\nG33 X10. F2.\nG00 Z5.\n"
+    if dialect == "isg":  # G51: X in diameters, as on CNC8x6
+        program = "G51\n" + program.replace(" F2.", " I2.")
+    res = _run(tmp_path, stock, tool, program, machine=machine, dialect=dialect)
+    bare = _run(tmp_path, stock, tool, ("G51\n" if dialect == "isg" else "") + "G00 X64. Z5.\n", machine=machine,
+                dialect=dialect)
+    # the retract out of the groove's end
+    assert [w["line"] for w in res.report["warnings"]] == [5 if dialect == "cnc8x6" else 6]
     window = m3d.Manifold.revolve(m3d.CrossSection([np.array([[10.0, -2.0], [25.0, -2.0], [25.0, 1.0], [10.0, 1.0]])]),
                                   circular_segments=4096)
     removed = (bare.part ^ window).volume() - (res.part ^ window).volume()

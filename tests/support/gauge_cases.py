@@ -1,7 +1,9 @@
 """Random ISO metric threads for the property test of the thread gauge (tests/reports/
 test_thread_gauge_props.py): outside, a bar; inside, a tube bored to the minor diameter; either way
 a single-start thread cut with a full-profile insert (pitch 0.75 to 2.5, diameter 8 P to 60 mm,
-either hand, random start Z and angle) in CNC8x6. The check is derived from the program's words
+either hand, random start Z and angle) in CNC8x6 (G33 Z.. I<angle> F<lead>) and ISG (G51 diameter
+programming, G33 Z.. K<lead> S.OFFSET=<angle>): seeds 0, 1 CNC8x6 inside and outside, 2, 3 ISG, and so
+on. The check is derived from the program's words
 alone (H = sqrt(3)/2 P, last pass at X):
 - inside: the insert's flat tip (P/8) forms the root, D = X; its shoulders 5H/8 nearer the axis
   recut the crest (the tube is bored 0.1 below it) at D1 = X - 5 sqrt(3) P / 8; the groove, P/8 at the tip and widening by 2 tan 30 per
@@ -33,6 +35,7 @@ class GaugeCase:
     offset: float
     hand: str
     starts: int = 1
+    dialect: str = "cnc8x6"
 
     @property
     def lead(self) -> float:
@@ -57,8 +60,8 @@ class GaugeCase:
             start = major + 6
         return f"""[machine]
 kind = "lathe"
-dialect = "cnc8x6"
-diameter_programming = true
+dialect = "{self.dialect}"
+{"diameter_programming = true" if self.dialect == "cnc8x6" else ""}
 start = [{start:.3f}, 0.0, 30.0]
 
 [stock]
@@ -84,14 +87,17 @@ tolerance = 0.005
         x_last = self.x_last + (0.04 * inward if variant == "shallow" else 0.0)
         clear = minor - 1.0 if self.side == "inside" else major + 2.0
         depth = 5.0 * S3 / 8.0 * self.pitch
-        lines = [f"N10 G00 G95 T1 D1 S500 {spindle}", f"G00 X{clear:.4f} Z{self.z_start:.4f}"]
+        isg = self.dialect == "isg"
+        lines = ["G51", f"T1 D1 {spindle} S500"] if isg else [f"N10 G00 G95 T1 D1 S500 {spindle}"]
+        lines.append(f"G00 X{clear:.4f} Z{self.z_start:.4f}")
         for k in range(self.starts):
             off = (self.offset + k * 360.0 / self.starts + (10.0 if variant == "shift" and k == self.seed % self.starts
                                                               else 0.0)) % 360.0
             for f in (0.5, 0.2, 0.0):
-                lines += [f"X{x_last + inward * f * depth:.4f}", f"G33 Z{-self.length - 2.0:.4f} I{off:.3f} F{lead:.5f}",
-                          f"G00 X{clear:.4f}", f"Z{self.z_start:.4f}"]
-        lines += ["Z30.", "M05"]
+                g33 = (f"G33 Z{-self.length - 2.0:.4f} K{lead:.5f} S.OFFSET={off:.3f}" if isg
+                       else f"G33 Z{-self.length - 2.0:.4f} I{off:.3f} F{lead:.5f}")
+                lines += [f"G00 X{x_last + inward * f * depth:.4f}", g33, f"G00 X{clear:.4f}", f"Z{self.z_start:.4f}"]
+        lines += ["Z30.", "M05"] + (["M30"] if isg else [])
         return "\n".join(lines) + "\n"
 
     def check(self) -> dict:
@@ -118,4 +124,5 @@ def make_case(seed: int) -> GaugeCase:
     x_last = d if side == "inside" else d - 5.0 * S3 / 8.0 * pitch
     return GaugeCase(seed=seed, side=side, pitch=pitch, x_last=round(x_last + rnd.uniform(0.0, 0.2), 3),
                      length=round(rnd.uniform(8.0, 14.0) + 2 * pitch, 2), z_start=round(rnd.uniform(1.0, 4.0) + pitch, 3),
-                     offset=round(rnd.uniform(0.0, 360.0), 2), hand=rnd.choice(("right", "left")))
+                     offset=round(rnd.uniform(0.0, 360.0), 2), hand=rnd.choice(("right", "left")),
+                     dialect=("cnc8x6", "isg")[(seed // 2) % 2])
