@@ -61,6 +61,7 @@ class ToolSpec:
     approach: float = 0.0  # turning insert: holder approach angle kappa_r, degrees (0 = the default)
     form: str = "partial"  # thread: "partial" (the V) | "full" (ISO metric 60 degree profile of ``pitch``)
     pitch: float = 0.0  # thread, full form: the pitch the insert is ground for, mm
+    crest_radius: float = 0.0  # thread, full form: radius of the insert's corners that round the crest's edges, mm
     width: float = 0.0  # grooving: width of the cutting edge, mm (corner radii: ``corner_radius``)
     pilot_length: float = 0.0  # centre drill: from the tip to where the countersink starts, mm
     body_diameter: float = 0.0  # centre drill: the body's diameter (the countersink's widest), mm

@@ -172,7 +172,8 @@ def _lathe_geometry(t) -> str:
         out = (f"ISO insert {t.insert} {t.size:g} mm, nose radius {t.tip_radius:g} mm, approach "
                f"{approach_of(t):g}\u00b0, hand {t.hand}{where}")
     elif t.kind == "thread" and t.form == "full":
-        out = f"full-profile ISO metric insert P {t.pitch:g} mm, root radius {t.tip_radius:g} mm{where}"
+        crest = f", crest radius {t.crest_radius:g} mm" if t.crest_radius else ""
+        out = f"full-profile ISO metric insert P {t.pitch:g} mm, root radius {t.tip_radius:g} mm{crest}{where}"
     elif t.kind == "grooving":
         out = f"grooving insert {t.width:g} mm wide, corner radius {t.corner_radius:g} mm, hand {t.hand}{where}"
     else:

@@ -133,7 +133,8 @@ def full_thread_depths(tool: ToolSpec) -> tuple[float, float, float]:
 
 def full_thread_profile(tool: ToolSpec, tol: float) -> np.ndarray:
     """A full-profile ISO metric thread insert (``full_thread_depths``), pointing to -u, centred:
-    60 degree flanks up to the crest level, then shoulders out to +-(P/2 + ``tol``) (each pass
+    60 degree flanks up to the crest level (the corners to the shoulders rounded with
+    ``crest_radius``: the crest's edges on the part), then shoulders out to +-(P/2 + ``tol``) (each pass
     cuts half of the crest on either side; the next turn the other half) and sides up to
     ``height``.
 
@@ -152,8 +153,14 @@ def full_thread_profile(tool: ToolSpec, tol: float) -> np.ndarray:
         tip = _arc((tool.tip_radius, 0.0), tool.tip_radius, 120.0, 240.0, tol)
     else:
         tip = np.array([[0.0, half], [0.0, -half]])
-    rest = np.array([[uc, -wc], [uc, -p2], [tool.height, -p2], [tool.height, p2], [uc, p2], [uc, wc]])
-    return np.vstack([tip, rest])
+    rc = tool.crest_radius
+    # the corner between a flank and a shoulder rounded with rc (the crest's edge on the part): the
+    # centre rc below the shoulder and rc tan 30 beyond the corner, the arc from the flank (60
+    # degrees from the shoulder's normal) to the shoulder
+    lower = _arc((uc - rc, -(wc + rc * t30)), rc, 0.0, 60.0, tol)[::-1] if rc > 0 else np.array([[uc, -wc]])
+    upper = _arc((uc - rc, wc + rc * t30), rc, -60.0, 0.0, tol)[::-1] if rc > 0 else np.array([[uc, wc]])
+    rest = np.array([[uc, -p2], [tool.height, -p2], [tool.height, p2], [uc, p2]])
+    return np.vstack([tip, lower, rest, upper])
 
 
 def orient(poly: np.ndarray, tool: ToolSpec) -> np.ndarray:

@@ -151,8 +151,27 @@ def _lathe_problem(tool: ToolSpec) -> tuple[str | None, str] | None:
         uc = full_thread_depths(tool)[2]
         if not tool.height > uc:
             return "height", f"must reach beyond the crest level, {uc:g} mm from the tip (got {tool.height!r})"
+        p = _size(tool, "crest_radius", True)
+        if p:
+            return p
+        rmax = crest_radius_max(tool)
+        if not tool.crest_radius <= rmax:
+            return "crest_radius", (f"must be at most {rmax:g} mm for pitch {tool.pitch:g} {tool.side} (its two "
+                                    f"roundings fill the crest's flat) (got {tool.crest_radius!r})")
         return ("", "")
+    if tool.crest_radius != 0:
+        return "crest_radius", 'is a key of a full-profile thread insert (form = "full")'
+
     return None
+
+
+def crest_radius_max(tool: ToolSpec) -> float:
+    """The largest crest radius of a full-profile insert: each rounding of the crest's edges (the
+    part's crest corner is 120 degrees) takes r tan 30 of the crest's flat, P/8 wide outside (the
+    bolt's major diameter), P/4 inside (the nut's minor diameter): r <= P / (16 tan 30) = 0.108 P
+    outside, P / (8 tan 30) = 0.217 P inside."""
+    flat = tool.pitch / 4.0 if tool.side == "inside" else tool.pitch / 8.0
+    return flat / (2.0 * math.tan(math.radians(30.0)))
 
 
 def tool_problem(tool: ToolSpec) -> tuple[str | None, str] | None:

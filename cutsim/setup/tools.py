@@ -9,8 +9,8 @@ from cutsim.interp.errors import CutsimError
 from .reader import Locator, Reader
 
 TOOL_KEYS = {
-    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch", "bar_diameter", "bar_reach",
-               "shank", "hand"},
+    "thread": {"angle", "tip_radius", "height", "thickness", "side", "form", "pitch", "crest_radius", "bar_diameter",
+               "bar_reach", "shank", "hand"},
     "turning": {"angle", "tip_radius", "height", "thickness", "side", "insert", "size", "approach", "hand",
                 "bar_diameter", "bar_reach", "shank"},
     "grooving": {"width", "corner_radius", "height", "thickness", "side", "hand", "bar_diameter", "bar_reach",
@@ -143,8 +143,10 @@ def _lathe_keys(t: Reader, kind: str) -> dict:
         raise t.fail(key, "is a key of an ISO insert: give its shape (insert = \"C\", ...)")
     if form != "partial":
         kw["form"], kw["pitch"] = form, t.get("pitch", float)
-    elif "pitch" in t.table:
-        raise t.fail("pitch", 'is a key of a full-profile insert (form = "full")')
+        kw["crest_radius"] = t.get("crest_radius", float, 0.0)
+    elif "pitch" in t.table or "crest_radius" in t.table:
+        key = "pitch" if "pitch" in t.table else "crest_radius"
+        raise t.fail(key, 'is a key of a full-profile insert (form = "full")')
     kw["angle"] = t.get("angle", float, 60.0 if kind == "thread" else 55.0)
     kw["tip_radius"] = t.get("tip_radius", float, 0.0 if kind == "thread" else 0.4)
     kw["height"] = t.get("height", float, 10.0)
