@@ -8,6 +8,7 @@ Z = 3 - 1.5 k. The slot is 8 wide centred on Y20 to X30, floor Z-3 (slot-deep: Z
 import base64
 import io
 import json
+import math
 import re
 import subprocess
 import sys
@@ -178,6 +179,40 @@ def test_thread_detail(multipass):
     assert _near(img, rc_tooth, _rgb(I.PART_COLOR))
     assert _near(img, rc_core, _rgb(I.PART_COLOR))
     assert _near(img, rc_air, np.array([255.0, 255, 255]))
+
+
+def test_thread_detail_of_an_inside_thread():
+    """The tooth detail of examples/cnc8x6-lathe/nut-m24x1.5 (M24x1.5-6H, its last pass X24.1 with
+    a full-profile inside insert from Z4.5 under M03): the root is the nut's major diameter 24.1
+    (the insert's flat tip), the crest D1 = 24.1 - 2 x 5H/8 = 22.4762 (its shoulders), a groove at
+    angle 0 at Z = 4.5 - 1.5 k (-9.0 among them); the nut's body beyond the root, the bore within
+    the crest. The groove at radius 11.7 is P/16 + (12.05 - 11.7) tan 30 = 0.30 half wide. (The body
+    is probed at Z-11.25, clear of the pitch's bracket drawn between the roots at -10.5 and -9.0.)"""
+    ex = Path(__file__).resolve().parents[2] / "examples" / "cnc8x6-lathe"
+    nut = cutsim.simulate(str(ex / "nut-m24x1.5.nc"), str(ex / "nut-m24x1.5.toml"))
+    spec = [c for c in nut.setup.checks if c["kind"] == "thread"][0]
+    view = I.thread_view(nut, spec, 1)
+    try:
+        z, r = view.ticks["Z mm"], view.ticks["radius mm"]
+        assert min(r) <= 11.238 and max(r) >= 12.05 and max(r) - min(r) < 4  # crest .. root
+        notes = " ".join(view.notes)
+        root = float(re.search(r"root \u00d8 (\d+\.\d+)", notes).group(1))
+        crest = float(re.search(r"crest \u00d8 (\d+\.\d+)", notes).group(1))
+        # drawn midway between the sweep's stations: up to 2 x the tolerance inside the helicoid
+        tol = nut.report["tolerance"]
+        assert 24.1 - 2 * tol - 0.001 <= root <= 24.1 + 0.001, root
+        assert abs(crest - (24.1 - 2 * 5.0 / 8.0 * math.sqrt(3.0) / 2.0 * 1.5)) <= 2 * tol + 0.001, crest
+        assert "P 1.500" in notes and "M24x1.5-6H" in view.caption
+        groove, tooth, body, bore = (view.pixel(-9.0, 11.7), view.pixel(-9.75, 11.7), view.pixel(-11.25, 12.4),
+                                     view.pixel(-9.75, 10.9))
+        img = _check_png(view.png())
+    except BaseException:
+        view.plotter.close()
+        raise
+    assert _near(img, groove, _rgb(I.REMOVED_COLOR))
+    assert _near(img, tooth, _rgb(I.PART_COLOR))
+    assert _near(img, body, _rgb(I.PART_COLOR))
+    assert _near(img, bore, _rgb(I.REMOVED_COLOR))
 
 
 # ---------------------------------------------------------------------------------------------
