@@ -156,3 +156,15 @@ def test_printed_grade6_values_carry_to_the_limits():
     got = limits("M4.5x0.75-6H")["pitch_diameter"]
     assert abs(got[0] - d2) < 1e-6 and abs(got[1] - (d2 + 0.118)) < 1e-6
     assert abs(limits("M36x4-4h")["major_diameter"][0] - (36.0 - 0.300)) < 1e-9  # r40(0.63 x 475)
+
+
+def test_two_more_printed_values_at_small_pitches():
+    """es_g at P 0.4 is printed -19 (15 + 4.4 = 19.4 would round to 20 on the logarithmic scale):
+    M2x0.4-6g d 1.886 to 1.981, d2 1.654 to 1.721 (2 - 0.019 - 0.095, 1.7402 - 0.019 - 0.067), as
+    metric thread charts list it; T_d(6) at P 0.2 is printed 56 (180 x 0.2^(2/3) - 3.15 / sqrt(0.2)
+    = 54.5 would round to 53): M1.6x0.2-6g d 1.527 to 1.583."""
+    g = limits("M2x0.4-6g")
+    assert [round(x, 3) for x in g["major_diameter"]] == [1.886, 1.981]
+    assert [round(x, 3) for x in g["pitch_diameter"]] == [1.654, 1.721]
+    assert [round(x, 3) for x in limits("M1.6x0.2-6g")["major_diameter"]] == [1.527, 1.583]
+    assert abs(limits("M2x0.4-6G")["pitch_diameter"][0] - (2.0 - 0.649519 * 0.4 + 0.019)) < 1e-6  # EI_G too
