@@ -164,6 +164,7 @@ def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConf
                         max_blocks=setup.max_blocks, tool_radii={t.number: t.diameter / 2.0 for t in setup.tools},
                         tool_noses={t.number: (t.nose_radius, t.edge_position) for t in setup.tools if t.is_lathe_tool},
                         tool_widths={t.number: t.width for t in setup.tools if t.kind == "grooving"},
+                        tool_faces=frozenset(t.number for t in setup.tools if t.is_lathe_tool and t.side == "face"),
                         axes=dict(setup.axes), m_functions=frozenset(setup.m_functions),
                         h_functions=frozenset(setup.h_functions), variables=dict(setup.variables),
                         transformations=frozenset(setup.transformations),

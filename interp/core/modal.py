@@ -82,6 +82,7 @@ class InterpConfig:
     # lathe tools: tool number -> (nose radius, cutting edge position 1-9) for nose radius compensation
     tool_noses: dict[int, tuple[float, int]] = field(default_factory=dict)
     tool_widths: dict[int, float] = field(default_factory=dict)  # grooving tools: number -> width (Sinumerik CYCLE93)
+    tool_faces: frozenset[int] = frozenset()  # lathe tools with side = "face" (Sinumerik CYCLE93 face grooves)
     # What only the setup can say about the machine (docs/setup.md). Every name is
     # upper case as the dialect normalises it; the interpreter names the setup key in its errors.
     axes: dict[str, str] = field(default_factory=dict)  # [machine] axes: extra axis -> "rotary" | "linear"

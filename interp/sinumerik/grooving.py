@@ -56,11 +56,13 @@ class GrooveParamError(ValueError):
 @dataclass(frozen=True)
 class ToolEdge:
     """What the cycles need of the active tool: ``width`` (a grooving tool's, else 0), ``edge`` the
-    cutting edge position (1-9, 0 unknown), ``start`` the position before the call (x a diameter)."""
+    cutting edge position (1-9, 0 unknown), ``start`` the position before the call (x a diameter),
+    ``face`` whether it is a face tool (it points to -Z, X and Z swapped: docs/setup.md)."""
 
     width: float
     edge: int
     start: tuple[float, float]
+    face: bool = False
 
     @classmethod
     def of(cls, m) -> "ToolEdge":
@@ -68,16 +70,21 @@ class ToolEdge:
         width = m.cfg.tool_widths.get(t, 0.0) if t is not None else 0.0
         edge = m.cfg.tool_noses.get(t, (0.0, 0))[1] if t is not None else 0
         x = 2.0 * m.pos[0]  # the lathe mode keeps X as a radius
-        return cls(width, edge, (x, m.pos[2]))
+        return cls(width, edge, (x, m.pos[2]), t is not None and t in m.cfg.tool_faces)
 
     @property
     def outside(self) -> bool | None:
+        if self.face:  # pointing to -Z: a face groove's outside (into a face looking to +Z)
+            return True
         return True if self.edge in (3, 4, 8) else False if self.edge in (1, 2, 6) else None
 
     @property
     def k(self) -> float:
-        """Where the control point sits across the width from the tool's -Z side (0 to 1): the
-        corner towards -Z for hand R (edges 3, 2), towards +Z for hand L (4, 1), the middle else."""
+        """Where the control point sits across the width from the tool's -Z side (a face tool's: -X
+        side), 0 to 1: the corner towards -Z (-X) for hand R (edges 3, 2; a face tool's 3), towards
+        +Z (+X) for hand L (4, 1; a face tool's 2), the middle else."""
+        if self.face:
+            return 0.0 if self.edge == 3 else 1.0 if self.edge == 2 else 0.5
         return 0.0 if self.edge in (2, 3) else 1.0 if self.edge in (1, 4) else 0.5
 
 
@@ -108,28 +115,46 @@ def _budget(n: int, max_moves: int | None, what: str, param: str) -> None:
 
 
 class _Path:
-    """Moves in (radius, z), emitted as (diameter, z)."""
+    """Moves planned in (q, p) = (radius, z), emitted as (diameter, z); with ``swap`` (a face groove)
+    planned in (q, p) = (z, radius), the plunge axis Z."""
 
-    def __init__(self):
+    def __init__(self, swap: bool = False):
         self.moves: list[tuple] = []
+        self.swap = swap
+
+    def _out(self, q, p):
+        return (2.0 * p, q) if self.swap else (2.0 * q, p)
+
+    def here(self) -> tuple[float, float]:
+        """The last move's end in the planning frame (q, p)."""
+        x, z = self.moves[-1][1]
+        return (z, x / 2.0) if self.swap else (x / 2.0, z)
 
     def g0(self, r, z):
-        self.moves.append(("G0", (2.0 * r, z)))
+        self.moves.append(("G0", self._out(r, z)))
 
     def g1(self, r, z):
-        self.moves.append(("G1", (2.0 * r, z)))
+        self.moves.append(("G1", self._out(r, z)))
 
     def arc(self, r, z, cr, cz, start):
-        """An arc from ``start`` (r, z) to (r, z) about (cr, cz), the shorter way."""
-        a = (start[1] - cz, start[0] - cr)  # (z, x): G18 seen from +Y, Z right and X up
-        b = (z - cz, r - cr)
+        """An arc from ``start`` (q, p) to (q, p) about (cq, cp), the shorter way."""
+        (sx, sz), (ex, ez), (cx, cz2) = self._out(*start), self._out(r, z), self._out(cr, cz)
+        a = (sz - cz2, sx - cx)  # (z, x): G18 seen from +Y, Z right and X up
+        b = (ez - cz2, ex - cx)
         cw = a[0] * b[1] - a[1] * b[0] < 0
-        self.moves.append(("ARC", (2.0 * r, z), (2.0 * cr, cz), cw))
+        self.moves.append(("ARC", (ex, ez), (cx, cz2), cw))
+
+
+def _start(p: _Path, tool: ToolEdge) -> tuple[float, float]:
+    """The position before the call in the planning frame (q, p)."""
+    x, z = tool.start
+    return (z, x / 2.0) if p.swap else (x / 2.0, z)
 
 
 def _leave(p: _Path, tool: ToolEdge, outside: bool, clear_r: float) -> None:
-    """From the clearance level back to the position before the call: outside X first, inside Z."""
-    sx, sz = tool.start[0] / 2.0, tool.start[1]
+    """From the clearance level back to the position before the call: outside along the plunge
+    axis first (X; a face groove's Z), inside along the other."""
+    sx, sz = _start(p, tool)
     if outside:
         p.g0(max(sx, clear_r), p_z(p))
         p.g0(max(sx, clear_r), sz)
@@ -140,12 +165,13 @@ def _leave(p: _Path, tool: ToolEdge, outside: bool, clear_r: float) -> None:
 
 
 def p_z(p: _Path) -> float:
-    return p.moves[-1][1][1]
+    return p.here()[1]
 
 
 def _enter(p: _Path, tool: ToolEdge, outside: bool, clear_r: float, z: float) -> None:
-    """From the position before the call to (clear_r, z): outside Z first, inside X first."""
-    sx, sz = tool.start[0] / 2.0, tool.start[1]
+    """From the position before the call to (clear_r, z): outside along the other axis first, inside
+    along the plunge axis first."""
+    sx, sz = _start(p, tool)
     if outside:
         p.g0(max(sx, clear_r), sz)
         p.g0(max(sx, clear_r), z)
@@ -157,51 +183,93 @@ def _enter(p: _Path, tool: ToolEdge, outside: bool, clear_r: float, z: float) ->
 
 # ---------------------------------------------------------------------------------------------
 # CYCLE93
-def _cycle93_shape(v: dict):
-    """The checked parameters: (outside, s, R0, Rb, z1, zb1, zb2, z2, fal1, fal2, idep, clear)."""
-    spd = _unsigned(v, "SPD", positive=True)
-    spl = _num(v, "SPL")
-    widg = _unsigned(v, "WIDG", positive=True)
-    diag = _unsigned(v, "DIAG", positive=True)
-    if abs(_num(v, "STA1")) > EPS:
-        raise GrooveParamError("STA1", "STA1: a groove on an inclined contour is not simulated yet; a groove on a "
-                                       "cylinder is STA1 0")
-    angs = []
-    for n in ("ANG1", "ANG2"):
-        a = _unsigned(v, n)
-        if a >= ANGLE_MAX:
-            raise GrooveParamError(n, f"{n} must be from 0 to below {ANGLE_MAX:g} degrees (got {a:g})")
-        angs.append(math.tan(math.radians(a)))
-    fal1, fal2, idep = _unsigned(v, "FAL1"), _unsigned(v, "FAL2"), _unsigned(v, "IDEP")
-    _unsigned(v, "DTB")
+@dataclass
+class _Groove:
+    """CYCLE93's checked parameters in the planning frame (q the plunge axis, p the other: radius
+    and z, a face groove's z and radius): ``pts`` the contour's corners P0..P5 (q, p) from before
+    edge 1 to after edge 2, ``s`` the direction the groove runs along p, ``d`` the depth's along q,
+    ``q0`` the starting point's q, ``slope`` dq/dp of the contour line (tan STA1)."""
+
+    face: bool
+    outside: bool
+    s: float
+    d: float
+    q0: float
+    p1: float
+    slope: float
+    pts: list
+    fal1: float
+    fal2: float
+    idep: float
+    clear: float
+    widg: float
+    diag: float
+
+    def surface(self, p: float) -> float:
+        """The depth (along d from q0) of the contour line through the starting point at p."""
+        return self.d * (p - self.p1) * self.slope
+
+
+def _cycle93_vari(v: dict) -> tuple[bool, bool, float]:
+    """(face, outside, s) from VARI's units digit: 1 longitudinal outside, 2 face outside, 3
+    longitudinal inside, 4 face inside, 5..8 the same with the starting point on the right."""
     vari = _num(v, "VARI")
     if vari != int(vari) or int(vari) % 10 not in range(1, 9) or int(vari) // 10 not in (0, 1):
         raise GrooveParamError("VARI", f"VARI must be 1 to 8 or 11 to 18 (got {vari:g}): the machining type is "
                                        "defined incorrectly")
     units = int(vari) % 10
-    if units % 2 == 0:
-        raise GrooveParamError("VARI", f"VARI {vari:g}: face grooves (VARI 2, 4, 6, 8) are not simulated yet; a "
-                                       "longitudinal groove is VARI 1, 3, 5 or 7")
-    outside = units in (1, 5)
-    s = 1.0 if units <= 4 else -1.0  # starting point left: the groove runs to +Z; right: to -Z
+    return units % 2 == 0, units in (1, 2, 5, 6), 1.0 if units <= 4 else -1.0
+
+
+def _cycle93_shape(v: dict) -> _Groove:
+    spd = _unsigned(v, "SPD", positive=True)
+    spl = _num(v, "SPL")
+    widg = _unsigned(v, "WIDG", positive=True)
+    diag = _unsigned(v, "DIAG", positive=True)
+    face, outside, s = _cycle93_vari(v)
+    sta = _num(v, "STA1")
+    if not -EPS <= sta <= 180.0 + EPS:
+        raise GrooveParamError("STA1", f"STA1 must be from 0 to 180 degrees (got {sta:g})")
+    theta = sta if sta <= 90.0 else sta - 180.0  # the line's angle, -90 .. 90
+    if abs(abs(theta) - 90.0) < 1e-6:
+        other = "a longitudinal groove (VARI 1, 3, 5, 7)" if face else "a face groove (VARI 2, 4, 6, 8)"
+        raise GrooveParamError("STA1", f"STA1 {sta:g}: the contour runs along the groove's plunge axis: program "
+                                       f"{other}")
+    tans = []
+    for n in ("ANG1", "ANG2"):
+        a = _unsigned(v, n)
+        if a >= ANGLE_MAX:
+            raise GrooveParamError(n, f"{n} must be from 0 to below {ANGLE_MAX:g} degrees (got {a:g})")
+        tans.append(math.tan(math.radians(a)))
+    fal1, fal2, idep = _unsigned(v, "FAL1"), _unsigned(v, "FAL2"), _unsigned(v, "IDEP")
+    _unsigned(v, "DTB")
     if fal1 >= diag - EPS:
         raise GrooveParamError("FAL1", f"the finishing allowance FAL1 {fal1:g} leaves nothing of the groove depth "
                                        f"DIAG {diag:g}")
-    r0 = spd / 2.0
     d = -1.0 if outside else 1.0
-    rb = r0 + d * diag
-    if rb < -EPS:
-        raise GrooveParamError("DIAG", f"the groove depth DIAG {diag:g} reaches beyond the turning axis")
-    zb1 = spl + s * diag * angs[0]
-    zb2 = zb1 + s * widg
-    z2 = zb2 + s * diag * angs[1]
+    q0, p1 = (spl, spd / 2.0) if face else (spd / 2.0, spl)
+    c, sn = math.cos(math.radians(theta)), math.sin(math.radians(theta))
+
+    def at(u, w):  # u along the contour line in the groove's direction, w the depth across it
+        return (q0 + u * s * sn + w * d * c, p1 + u * s * c - w * d * sn)
+
     clear = _unsigned(v, "_VRT") or DEFAULT_CLEARANCE
-    return outside, s, d, r0, rb, spl, zb1, zb2, z2, fal1, fal2, idep, clear, angs, widg, diag
+    u2 = diag * tans[0]
+    u4 = u2 + widg + diag * tans[1]
+    pts = [at(-(clear + abs(_num(v, "RCO1")) * 2), 0.0), at(0.0, 0.0), at(u2, diag), at(u2 + widg, diag),
+           at(u4, 0.0), at(u4 + clear + abs(_num(v, "RCO2")) * 2, 0.0)]
+    for i, j, n in ((1, 2, "ANG1"), (3, 4, "ANG2")):  # the paraxial plunges cannot reach under a flank
+        if s * (pts[j][1] - pts[i][1]) < -1e-9:
+            raise GrooveParamError(n, f"flank {n[-1]} leans over the groove at STA1 {sta:g}: the cycle's paraxial "
+                                      f"plunges cannot cut under it ({n} must be at least {abs(theta):g} degrees)")
+    if any(pt[1 if face else 0] < -EPS for pt in pts[1:5]):
+        raise GrooveParamError("WIDG" if face else "DIAG", "the groove reaches beyond the turning axis")
+    return _Groove(face, outside, s, d, q0, p1, sn / c, pts, fal1, fal2, idep, clear, widg, diag)
 
 
 def _corner(prev, here, nxt, value: float, chf: bool, name: str):
     """A rounding (value > 0, radius) or chamfer (value < 0; CHF: its length, else CHR: its legs)
-    at ``here`` between the lines from ``prev`` and to ``nxt`` (points (r, z)): (A, B, element
+    at ``here`` between the lines from ``prev`` and to ``nxt`` (points (q, p)): (A, B, element
     from A to B or None) with A on the incoming line, B on the outgoing one."""
     if abs(value) <= EPS:
         return here, here, None
@@ -224,17 +292,14 @@ def _corner(prev, here, nxt, value: float, chf: bool, name: str):
     lbis = math.hypot(*bis)
     dist = value / math.sin(theta / 2)
     c = (here[0] + bis[0] / lbis * dist, here[1] + bis[1] / lbis * dist)
-    u, w = (A[1] - c[1], A[0] - c[0]), (B[1] - c[1], B[0] - c[0])  # (z, x): G18 seen from +Y
-    return A, B, ("A", A, B, c, u[0] * w[1] - u[1] * w[0] < 0)
+    return A, B, ("A", A, B, c)
 
 
-def _groove_contour(v, s, d, r0, rb, z1, zb1, zb2, z2, clear):
-    """The groove's finished contour in (r, z) from the surface before edge 1 to the surface after
+def _groove_contour(v, pts):
+    """The groove's finished contour in (q, p) from the surface before edge 1 to the surface after
     edge 2, its four corners rounded or chamfered (RCO1 edge 1, RCI1 base 1, RCI2 base 2, RCO2
-    edge 2): the elements of side 1 (to the end of the base) and of side 2 (reversed)."""
+    edge 2): the elements ("L", a, b) / ("A", a, b, centre) and the corners (A, B, element)."""
     chf = int(_num(v, "VARI")) // 10 == 0
-    pts = [(r0, z1 - s * (clear + abs(_num(v, "RCO1")) * 2)), (r0, z1), (rb, zb1), (rb, zb2), (r0, z2),
-           (r0, z2 + s * (clear + abs(_num(v, "RCO2")) * 2))]
     corners = [_corner(pts[i - 1], pts[i], pts[i + 1], _num(v, n), chf, n)
                for i, n in zip(range(1, 5), ("RCO1", "RCI1", "RCI2", "RCO2"))]
     elems = []
@@ -248,138 +313,180 @@ def _groove_contour(v, s, d, r0, rb, z1, zb1, zb2, z2, clear):
     return elems, corners
 
 
-def _depth_at(elems, z: float, r0: float, d: float) -> float:
-    """The contour's depth (along d, from r0) at z: the shallowest of the elements there."""
+def _q_at(e, z: float) -> list[float]:
+    """Where the element crosses the line p = z (its q values; both ends of a line along q)."""
+    p, q = e[1], e[2]
+    if e[0] == "L":
+        return [p[0], q[0]] if abs(q[1] - p[1]) < EPS else [p[0] + (q[0] - p[0]) * (z - p[1]) / (q[1] - p[1])]
+    c = e[3]
+    rad = math.hypot(p[0] - c[0], p[1] - c[1])
+    h = math.sqrt(max(rad * rad - (z - c[1]) ** 2, 0.0))
+    return [rr for rr in (c[0] + h, c[0] - h) if min(p[0], q[0]) - EPS <= rr <= max(p[0], q[0]) + EPS]
+
+
+def _depth_at(elems, z: float, r0: float, d: float) -> float | None:
+    """The contour's depth (along d, from r0) at p = z: the shallowest of the elements there."""
     best = None
     for e in elems:
-        p, q = e[1], e[2]
-        lo, hi = min(p[1], q[1]), max(p[1], q[1])
-        if not lo - EPS <= z <= hi + EPS:
-            continue
-        if e[0] == "L":
-            rs = [p[0], q[0]] if abs(q[1] - p[1]) < EPS else [p[0] + (q[0] - p[0]) * (z - p[1]) / (q[1] - p[1])]
-        else:
-            c = e[3]
-            rad = math.hypot(p[0] - c[0], p[1] - c[1])
-            h = math.sqrt(max(rad * rad - (z - c[1]) ** 2, 0.0))
-            rs = [rr for rr in (c[0] + h, c[0] - h) if min(p[0], q[0]) - EPS <= rr <= max(p[0], q[0]) + EPS]
-        for rr in rs:
-            dep = d * (rr - r0)
-            best = dep if best is None else min(best, dep)
-    return 0.0 if best is None else max(best, 0.0)
+        lo, hi = min(e[1][1], e[2][1]), max(e[1][1], e[2][1])
+        if lo - EPS <= z <= hi + EPS:
+            for rr in _q_at(e, z):
+                dep = d * (rr - r0)
+                best = dep if best is None else min(best, dep)
+    return best
 
 
-def plan_cycle93(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
-    """Grooving: plunges across the groove, each in IDEP steps (backing off CHIP_BREAK after each),
-    to the contour less FAL1 below and FAL2 beside; then the finishing cut down side 1 (edge,
-    flank, base) with the tool's starting-side corner and down side 2 with the other corner. The
-    tool is a grooving tool of the cycle's side."""
-    (outside, s, d, r0, rb, z1, zb1, zb2, z2, fal1, fal2, idep, clear, tans, widg,
-     diag) = _cycle93_shape(v)
+def _check_tool(g: _Groove, tool: ToolEdge, vari: float) -> float:
+    """The grooving tool's width, after checking it fits the groove's kind and side."""
     w = tool.width
     if w <= EPS:
         raise GrooveParamError("VARI", "the active tool is no grooving tool: CYCLE93 plunges with a grooving "
                                        "tool's width (select one the setup describes, T.. D..)")
-    if tool.outside is not None and tool.outside != outside:
-        raise GrooveParamError("VARI", f"VARI asks for an {'outside' if outside else 'inside'} groove, the active "
+    if g.face and not g.outside:
+        raise GrooveParamError("VARI", f"VARI {vari:g}: a face groove inside (plunged towards +Z, into a face "
+                                       "looking to -Z) needs a tool pointing to +Z; a setup's face tool points to -Z")
+    if g.face != tool.face:
+        what = 'is no face tool (side = "face")' if g.face else "a face tool"
+        raise GrooveParamError("VARI", f"VARI {vari:g} is a {'face' if g.face else 'longitudinal'} groove, the active "
+                                       f"grooving tool {what}")
+    if tool.outside is not None and tool.outside != g.outside:
+        raise GrooveParamError("VARI", f"VARI asks for an {'outside' if g.outside else 'inside'} groove, the active "
                                        f"grooving tool works {'outside' if tool.outside else 'inside'}")
-    if widg - 2.0 * fal2 < w - EPS:
-        raise GrooveParamError("WIDG", f"the groove's base WIDG {widg:g} less the allowances FAL2 is narrower "
+    if g.widg - 2.0 * g.fal2 < w - EPS:
+        raise GrooveParamError("WIDG", f"the groove's base WIDG {g.widg:g} less the allowances FAL2 is narrower "
                                        f"than the grooving tool ({w:g} wide)")
-    elems, corners = _groove_contour(v, s, d, r0, rb, z1, zb1, zb2, z2, clear)
-    lo_z, hi_z = sorted((z1, z2))
-    k = tool.k
+    return w
+
+
+def plan_cycle93(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
+    """Grooving: plunges along the plunge axis (X; a face groove's Z) across the groove, each in
+    IDEP steps (backing off CHIP_BREAK after each) from the contour line down to the contour less
+    FAL1 below and FAL2 beside; then the finishing cut down side 1 with the tool's starting-side
+    corner and down side 2 with the other corner. The tool is a grooving tool of the cycle's side."""
+    g = _cycle93_shape(v)
+    w = _check_tool(g, tool, _num(v, "VARI"))
+    elems, corners = _groove_contour(v, g.pts)
+    lo_z, hi_z = sorted((g.pts[1][1], g.pts[4][1]))
+    k, d, q0 = tool.k, g.d, g.q0
 
     def allowed(z):  # the roughing's depth at z: FAL2 beside, FAL1 below the contour (the window
-        h = max(fal2 - 1e-6, 0.0)  # open: a vertical wall at its edge does not count)
-        return max(min(_depth_at(elems, zz, r0, d) for zz in (z - h, z, z + h)) - fal1, 0.0)
+        h = max(g.fal2 - 1e-6, 0.0)  # open: a wall along the plunge axis at its edge does not count)
+        return min(_depth_at(elems, zz, q0, d) or 0.0 for zz in (z - h, z, z + h)) - g.fal1
 
-    span_lo, span_hi = lo_z + fal2, hi_z - fal2
+    span_lo, span_hi = lo_z + g.fal2, hi_z - g.fal2
     n = max(1, math.ceil((span_hi - span_lo - w) / w - 1e-9) + 1)
-    steps = max(1, math.ceil((diag - fal1) / idep - 1e-9)) if idep > EPS else 1
-    _budget(n * (2 * steps + 3) + 24, max_moves, f"{n} plunges of {steps} infeeds (IDEP {idep:g})", "IDEP")
-    p = _Path()
-    clear_r = r0 - d * clear
+    top0 = min(g.surface(lo_z), g.surface(hi_z))
+    deepest = max(d * (pt[0] - q0) for pt in g.pts[2:4])
+    steps = max(1, math.ceil((deepest - top0 - g.fal1) / g.idep - 1e-9)) if g.idep > EPS else 1
+    _budget(n * (2 * steps + 3) + 24, max_moves, f"{n} plunges of {steps} infeeds (IDEP {g.idep:g})", "IDEP")
+    p = _Path(g.face)
+    clear_r = q0 + d * (top0 - g.clear)
     starts = [span_lo + (span_hi - span_lo - w) * j / (n - 1) if n > 1 else span_lo for j in range(n)]
-    if s < 0:
+    if g.s < 0:
         starts.reverse()  # from the starting point's side across
-    _enter(p, tool, outside, clear_r, starts[0] + k * w)
+    _enter(p, tool, g.outside, clear_r, starts[0] + k * w)
     for zl in starts:
         dep = min(allowed(zl + 1e-6), allowed(zl + w - 1e-6))
+        top = min(g.surface(zl), g.surface(zl + w))  # the contour line's shallowest point under the tool
         c = zl + k * w
         p.g0(clear_r, c)
-        if dep <= EPS:
+        if dep <= top + EPS:
             continue
-        p.g0(r0 - d * min(clear, CHIP_BREAK), c)
-        m = max(1, math.ceil(dep / idep - 1e-9)) if idep > EPS else 1
+        p.g0(q0 + d * (top - min(g.clear, CHIP_BREAK)), c)
+        m = max(1, math.ceil((dep - top) / g.idep - 1e-9)) if g.idep > EPS else 1
         for i in range(1, m + 1):
-            reach = r0 + d * dep * i / m
+            reach = q0 + d * (top + (dep - top) * i / m)
             p.g1(reach, c)
             if i < m:
                 p.g0(reach - d * CHIP_BREAK, c)
                 p.g0(reach, c)
         p.g0(clear_r, c)
-    _finish93(p, elems, corners, s, w, k, clear_r)
-    _leave(p, tool, outside, clear_r)
+    _finish93(p, g, elems, corners, w, k, clear_r)
+    _leave(p, tool, g.outside, clear_r)
     return p.moves
 
 
-def _finish93(p: _Path, elems, corners, s: float, w: float, k: float, clear_r: float) -> None:
-    """Side 1 with the tool's starting-side corner from edge 1 along the base until its other corner
-    reaches the base's end (the start of RCI2); side 2 with the other corner from edge 2 back down to
-    that end."""
+def _crossover(elems, g: _Groove, first, last, w: float):
+    """Where the finishing hands over from the starting-side corner to the other: the points x1 (the
+    starting-side corner) and x2 = x1 + s w along p at the same depth, both on the contour (the base
+    of an inclined groove is cut by the corner on its shallow side: a flat edge stays off it)."""
+    depth = lambda z: _depth_at(elems, z, g.q0, g.d)  # noqa: E731
+    a, b = first[1], last[1] - g.s * w
+    for _ in range(80):  # depth(x) - depth(x + s w) rises from < 0 at edge 1 to > 0 at edge 2
+        mid = (a + b) / 2.0
+        if depth(mid) < depth(mid + g.s * w):
+            a = mid
+        else:
+            b = mid
+    x = (a + b) / 2.0
+    q = g.q0 + g.d * depth(x)
+    return (q, x), (q, x + g.s * w)
+
+
+def _finish93(p: _Path, g: _Groove, elems, corners, w: float, k: float, clear_r: float) -> None:
+    """Side 1 with the tool's starting-side corner from edge 1 until the other corner touches the
+    contour too (a flat base: its end, the start of RCI2); side 2 with the other corner from edge 2
+    back down to that point."""
+    s = g.s
     near = k * w if s > 0 else -(1.0 - k) * w
     far = -(1.0 - k) * w if s > 0 else k * w
-    base_end = corners[2][0]  # the base's end on side 2 (A of RCI2)
-    stop = base_end[1] - s * w  # the near corner's z when the far corner reaches it
-    side1 = _upto(elems, base_end)
-    first = corners[0][0]  # the edge 1 point where the cut enters (A of RCO1)
+    first, last = corners[0][0], corners[3][1]  # where the cuts enter: A of RCO1, B of RCO2
+    if abs(g.slope) <= EPS:
+        x2 = corners[2][0]  # the base's end on side 2 (A of RCI2)
+        x1 = (x2[0], x2[1] - s * w)
+        if s * (x1[1] - corners[1][1][1]) < 0:  # a base shorter than the tool: side 1 stops at its start
+            x1 = corners[1][1]
+    else:
+        x1, x2 = _crossover(elems, g, first, last, w)
     p.g0(clear_r, first[1] + near)
     p.g1(first[0], first[1] + near)
-    _run(p, [e for e in side1 if s * e[1][1] >= s * first[1] - EPS], near, base_end, stop)
-    p.g0(clear_r, p.moves[-1][1][1])
-    last = corners[3][1]  # the edge 2 point (B of RCO2)
+    _run(p, [e for e in _cut(elems, x1)[0] if s * e[1][1] >= s * first[1] - EPS], near)
+    p.g0(clear_r, p_z(p))
     p.g0(clear_r, last[1] + far)
     p.g1(last[0], last[1] + far)
-    back = [_reverse(e) for e in reversed(_from(elems, base_end))]
-    back = [e for e in back if s * e[1][1] <= s * last[1] + EPS]
-    _run(p, back, far, None, None)
-    p.g0(clear_r, p.moves[-1][1][1])
+    back = [_reverse(e) for e in reversed(_cut(elems, x2)[1])]
+    _run(p, [e for e in back if s * e[1][1] <= s * last[1] + EPS], far)
+    p.g0(clear_r, p_z(p))
 
 
-def _upto(elems, point):
-    out = []
-    for e in elems:
-        out.append(e)
-        if e[2] == point:
-            break
-    return out
+def _on(e, pt) -> bool:
+    a, b = e[1], e[2]
+    if e[0] == "L":
+        ab, ap = (b[0] - a[0], b[1] - a[1]), (pt[0] - a[0], pt[1] - a[1])
+        ll = ab[0] ** 2 + ab[1] ** 2
+        t = (ab[0] * ap[0] + ab[1] * ap[1]) / ll if ll > 0 else 0.0
+        return -1e-9 <= t <= 1 + 1e-9 and abs(ab[0] * ap[1] - ab[1] * ap[0]) <= 1e-7 * math.sqrt(ll)
+    c = e[3]
+    u, v, x = (a[0] - c[0], a[1] - c[1]), (b[0] - c[0], b[1] - c[1]), (pt[0] - c[0], pt[1] - c[1])
+    if abs(math.hypot(*x) - math.hypot(*u)) > 1e-7:
+        return False
+    cr = lambda m, n: m[0] * n[1] - m[1] * n[0]  # noqa: E731
+    turn = cr(u, v)
+    return cr(u, x) * turn >= -1e-12 and cr(x, v) * turn >= -1e-12
 
 
-def _from(elems, point):
+def _cut(elems, pt):
+    """The elements up to ``pt`` and from it, the one it lies on split there."""
     for i, e in enumerate(elems):
-        if e[1] == point:
-            return elems[i:]
-    return []
+        if _on(e, pt):
+            head = elems[:i] + ([(e[0], e[1], pt) + e[3:]] if math.dist(e[1], pt) > EPS else [])
+            tail = ([(e[0], pt, e[2]) + e[3:]] if math.dist(pt, e[2]) > EPS else []) + elems[i + 1:]
+            return head, tail
+    raise AssertionError(f"the point {pt} is not on the groove's contour")
 
 
 def _reverse(e):
-    return ("L", e[2], e[1]) if e[0] == "L" else ("A", e[2], e[1], e[3], not e[4])
+    return (e[0], e[2], e[1]) + e[3:]
 
 
-def _run(p: _Path, elems, off: float, base_end, stop) -> None:
-    """The elements with the tool's control point ``off`` along z from the contour; on the base
-    (the element ending at ``base_end``) only as far as ``stop`` (the near corner's limit)."""
+def _run(p: _Path, elems, off: float) -> None:
+    """The elements with the tool's control point ``off`` along p from the contour."""
     for e in elems:
         q = e[2]
-        if base_end is not None and q == base_end:
-            q = (q[0], stop)
-            if (q[1] - e[1][1]) * (base_end[1] - e[1][1]) <= EPS:
-                continue
         if e[0] == "L":
             p.g1(q[0], q[1] + off)
         else:
-            p.moves.append(("ARC", (2.0 * q[0], q[1] + off), (2.0 * e[3][0], e[3][1] + off), e[4]))
+            p.arc(q[0], q[1] + off, e[3][0], e[3][1] + off, p.here())
 
 
 # ---------------------------------------------------------------------------------------------
