@@ -1,0 +1,186 @@
+"""CYCLE93 face grooves and grooves on an inclined contour (interp/sinumerik/grooving.py,
+docs/dialects/sinumerik-turning.md "CYCLE93 grooving"): every number derived here by hand from the
+cycle's parameters (walls and floor from SPD, SPL, WIDG, DIAG; flanks from depth x tan(angle); an
+inclined groove turned with its contour line about the starting point), the solids measured after
+the cut.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import cutsim
+from cutsim.interp.canon import Feed
+from cutsim.reports.measure import depth_at, radii_at
+
+SETUP = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = true
+start = [80.0, 0.0, 10.0]
+[stock]
+shape = "revolve"
+profile = {profile}
+[[tool]]
+number = 2
+kind = "grooving"
+width = 3.0
+corner_radius = 0.0
+side = "{side}"
+hand = "{hand}"
+[simulation]
+tolerance = 0.005
+"""
+BAR = "[[0, 0], [30, 0], [30, -30], [0, -30]]"  # a bar of 60, its end face at Z0
+
+
+def run(tmp_path: Path, call: str, *, side: str = "face", hand: str = "R", profile: str = BAR, start="X80 Z5"):
+    (tmp_path / "setup.toml").write_text(SETUP.format(profile=profile, side=side, hand=hand))
+    text = f"N10 T2 D1\nN20 G18 G95 S300 M3 F0.1\nN30 G0 {start}\nN40 {call}\nN50 M30\n"
+    return cutsim.simulate("groove.mpf", str(tmp_path / "setup.toml"), text=text)
+
+
+def feeds(res):
+    return [r for r in res.program.records if isinstance(r, Feed) and r.src.line == 4]
+
+
+# ---------------------------------------------------------------------------------------------
+# face grooves: the groove in the end face, its width along X, plunged along -Z
+@pytest.mark.parametrize("vari, spd, hand", [(2, 20.0, "R"), (6, 32.0, "R"), (2, 20.0, "L"), (6, 32.0, "L")])
+def test_face_groove_walls_and_floor(tmp_path, vari, spd, hand):
+    # VARI 2 (starting point "left": the groove runs from SPD towards +X), 6 (towards -X): either way
+    # the groove spans the radii 10 .. 16 (SPD/2 and SPD/2 +- WIDG), its floor at SPL - DIAG = -3.
+    # The face tool of hand R has its control point on the -X corner, hand L on the +X corner.
+    res = run(tmp_path, f"CYCLE93({spd:g}, 0, 6, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, {vari}, 1)", hand=hand)
+    assert not [m for _, m in res.program.warnings if "CYCLE93" in m]
+    fs = feeds(res)
+    # two plunges (ceil((6 - 3) / 3) + 1) to Z-3, the tool spanning 10..13 and 13..16 (radius)
+    k = 0.0 if hand == "R" else 3.0
+    plunges = sorted(round(f.end[0], 6) for f in fs if f.start[2] > -1e-9 and f.end[2] == pytest.approx(-3.0)
+                     and f.start[0] == pytest.approx(f.end[0]))
+    assert set(plunges) >= {10.0 + k, 13.0 + k}
+    assert min(f.end[2] for f in fs) == pytest.approx(-3.0)
+    for r, z in ((10.2, -3.0), (13.0, -3.0), (15.8, -3.0), (9.8, 0.0), (16.2, 0.0), (5.0, 0.0), (25.0, 0.0)):
+        assert depth_at(res.part, r, 0.0) == pytest.approx(z, abs=0.01), r
+
+
+def test_face_groove_flank_angles(tmp_path):
+    # VARI 2 from radius 10 with ANG1 30 and ANG2 20, DIAG 3, WIDG 4 at the base: flank 1 from
+    # (r 10, Z0) to (10 + 3 tan 30, -3), the base to 10 + 3 tan 30 + 4, flank 2 up to that + 3 tan 20.
+    t1, t2 = math.tan(math.radians(30)), math.tan(math.radians(20))
+    res = run(tmp_path, "CYCLE93(20, 0, 4, 3, 0, 30, 20, 0, 0, 0, 0, 0, 0, 0, 0, 2, 1)")
+    b1, b2 = 10 + 3 * t1, 10 + 3 * t1 + 4
+    for depth in (0.8, 1.5, 2.2):  # a point of each flank at that depth
+        assert depth_at(res.part, 10 + depth * t1 + 0.02, 0.0) == pytest.approx(-depth - 0.02 / t1, abs=0.01)
+        assert depth_at(res.part, b2 + (3 - depth) * t2 - 0.02, 0.0) == pytest.approx(-depth - 0.02 / t2, abs=0.01)
+    for r in (b1 + 0.05, (b1 + b2) / 2, b2 - 0.05):
+        assert depth_at(res.part, r, 0.0) == pytest.approx(-3.0, abs=0.01)
+    # a wrong flank (10 degrees off) would put the wall elsewhere: the measured one is 30 degrees
+    wrong = math.tan(math.radians(40))
+    assert abs(depth_at(res.part, 10 + 1.5 * wrong, 0.0) - (-1.5)) > 0.2
+
+
+def test_face_groove_with_roundings(tmp_path):
+    # RCO1 0.5 (a rounding at edge 1 on the face: tangent to the face and to the radial wall at
+    # r 10) and RCI2 -0.6 (a chamfer of legs 0.6 / (2 sin 45) at the base's corner on side 2, CHF)
+    res = run(tmp_path, "CYCLE93(20, 0, 6, 3, 0, 0, 0, 0.5, 0, 0, -0.6, 0, 0, 0, 0, 2, 1)")
+    leg = 0.6 / (2 * math.sin(math.radians(45)))
+    # the rounding's centre (r 9.5, Z-0.5): at r 9.8 the face lies at -0.5 + sqrt(0.25 - 0.09)
+    assert depth_at(res.part, 9.8, 0.0) == pytest.approx(-0.5 + math.sqrt(0.25 - 0.3 ** 2), abs=0.01)
+    # the chamfer from (16 - leg, -3) to (16, -3 + leg): at r 16 - leg / 2 it is at -3 + leg / 2
+    assert depth_at(res.part, 16 - leg / 2, 0.0) == pytest.approx(-3 + leg / 2, abs=0.01)
+    assert depth_at(res.part, 13.0, 0.0) == pytest.approx(-3.0, abs=0.01)
+
+
+# ---------------------------------------------------------------------------------------------
+# a groove on an inclined contour: STA1 turns the groove with the contour line about the
+# starting point; the plunges stay paraxial (along X), from the line down to the groove
+def _taper(sta: float) -> str:
+    t = math.tan(math.radians(sta))
+    return f"[[0, 0], [{15 + 10 * t:.6f}, 0], [{15 - 20 * t:.6f}, -30], [0, -30]]"  # the line through (15, -10)
+
+
+def _at(sta, u, w, s=-1.0, d=-1.0):
+    """The groove's point u along the line (in the groove's direction), w deep across it: (r, z)."""
+    c, sn = math.cos(math.radians(sta)), math.sin(math.radians(sta))
+    return 15.0 + u * s * sn + w * d * c, -10.0 + u * s * c - w * d * sn
+
+
+def test_inclined_groove_floor_and_flanks(tmp_path):
+    # a taper rising 10 degrees towards +Z through (r 15, Z-10); VARI 5 (outside, from the right:
+    # the groove runs towards -Z), WIDG 8, DIAG 3 across the line, ANG1 15 (at least STA1, else flank
+    # 1 would lean over the paraxial plunges), ANG2 0 (square to the line)
+    sta, a1 = 10.0, 15.0
+    res = run(tmp_path, f"CYCLE93(30, -10, 8, 3, {sta:g}, {a1:g}, 0, 0, 0, 0, 0, 0, 0, 0, 0, 5, 1)",
+              side="outside", profile=_taper(sta), start="X50 Z5")
+    t1 = math.tan(math.radians(a1))
+    u_base = 3 * t1
+    # the floor, parallel to the line 3 below it: measured where the base lies well clear of its ends
+    for u in (u_base + 1.0, u_base + 3.0, u_base + 4.5):
+        r, z = _at(sta, u, 3.0)
+        assert radii_at(res.part, z).min() == pytest.approx(r, abs=0.01), u
+    # flank 1 at half depth: the point 1.5 tan 15 along, 1.5 deep
+    r, z = _at(sta, 1.5 * t1, 1.5)
+    assert radii_at(res.part, z).min() == pytest.approx(r, abs=0.01)
+    # flank 2 square to the line, at 1.5 deep: it rises cot(STA1) per mm towards -Z (it leans outwards)
+    r, z = _at(sta, u_base + 8.0, 1.5)
+    assert radii_at(res.part, z - 0.02).min() == pytest.approx(r + 0.02 / math.tan(math.radians(sta)), abs=0.01)
+    # beside the groove the taper is untouched
+    for z in (-9.5, -22.0):
+        assert radii_at(res.part, z).min() == pytest.approx(15 + (z + 10) * math.tan(math.radians(sta)), abs=0.01)
+    # the deepest feed: the flat edge bridging the base's deep corner (at the base's end, square flank
+    # 2) where both its corners touch, w sin(STA1) cos(STA1) above the corner (w = 3)
+    fs = feeds(res)
+    h = 3.0 * math.sin(math.radians(sta)) * math.cos(math.radians(sta))
+    assert min(f.end[0] for f in fs) == pytest.approx(_at(sta, u_base + 8, 3.0)[0] + h, abs=1e-6)
+
+
+def test_inclined_groove_deep_corner_keeps_the_flat_edges_wedge(tmp_path):
+    # The base descends towards -Z (the groove's direction): the tool's flat edge cannot reach the
+    # base's deep corner at flank 2 (square to the line); the wedge it leaves is w sin(STA1) cos(STA1)
+    # high (w = 3: 0.513), measured just beside the corner: the floor there is the wedge's top.
+    sta = 10.0
+    res = run(tmp_path, f"CYCLE93(30, -10, 8, 3, {sta:g}, 15, 0, 0, 0, 0, 0, 0, 0, 0, 0, 5, 1)",
+              side="outside", profile=_taper(sta), start="X50 Z5")
+    c, sn = math.cos(math.radians(sta)), math.sin(math.radians(sta))
+    h = 3.0 * sn * c
+    r3, z3 = _at(sta, 3 * math.tan(math.radians(15)) + 8.0, 3.0)  # the base's deep corner
+    # the crossover level r3 + h: the flat edge spans from flank 2 (z3 + h tan 10 ... towards -Z)
+    z = z3 + 0.5 * h / math.tan(math.radians(sta))  # between the corner and the base point at that level
+    assert radii_at(res.part, z).min() == pytest.approx(r3 + h, abs=0.01)
+
+
+def test_inclined_groove_falling_contour(tmp_path):
+    # STA1 170: the line falls 10 degrees towards +Z (the same line as -10); VARI 5 from the right:
+    # now flank 2 is the one that must open by at least 10 degrees (ANG2 12), flank 1 square (ANG1 0)
+    sta, theta = 170.0, -10.0
+    t = math.tan(math.radians(theta))
+    profile = f"[[0, 0], [{15 + 10 * t:.6f}, 0], [{15 - 20 * t:.6f}, -30], [0, -30]]"
+    res = run(tmp_path, f"CYCLE93(30, -10, 8, 3, {sta:g}, 0, 12, 0, 0, 0, 0, 0, 0, 0, 0, 5, 1)",
+              side="outside", profile=profile, start="X50 Z5")
+    for u in (3.5, 5.0, 7.0):  # the floor 3 below the line, clear of the wedge (u < 3 cos 10 = 2.95)
+        r, z = _at(theta, u, 3.0)
+        assert radii_at(res.part, z).min() == pytest.approx(r, abs=0.01), u
+    # flank 1, square to the line through the starting point, at 1.5 deep
+    r, z = _at(theta, 0.0, 1.5)
+    assert radii_at(res.part, z - 0.02).min() == pytest.approx(r - 0.02 / math.tan(math.radians(10)), abs=0.01)
+
+
+@pytest.mark.parametrize("sta, a1, a2, ok", [(10, 10, 0, True), (10, 9, 0, False), (170, 0, 10, True),
+                                              (170, 0, 9, False), (0, 0, 0, True)])
+def test_flank_leaning_over_is_refused(sta, a1, a2, ok):
+    # VARI 5: flank 1 must open by at least STA1 (a line rising towards +Z), flank 2 by at least
+    # 180 - STA1 (falling); one degree less leans over the paraxial plunges
+    from cutsim.interp.sinumerik.grooving import GrooveParamError, ToolEdge, plan_cycle93
+
+    v = dict(SPD=30, SPL=-10, WIDG=8, DIAG=3, STA1=sta, ANG1=a1, ANG2=a2, VARI=5, _VRT=1)
+    tool = ToolEdge(3.0, 3, (50.0, 5.0))
+    if ok:
+        assert plan_cycle93(v, tool)
+    else:
+        with pytest.raises(GrooveParamError) as e:
+            plan_cycle93(v, tool)
+        assert e.value.param == ("ANG1" if sta < 90 else "ANG2")
