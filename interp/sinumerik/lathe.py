@@ -43,6 +43,8 @@ class Lathe:
     css: float = 0.0  # the cutting speed under G96 (m/min); 0 until an S is programmed
     lims: float = 0.0  # LIMS= (rpm), 0: none
     tapped: tuple | None = None  # the last G331/G332/G63: (end point, pitch, direction, end angle)
+    spos: float | None = None  # SPOS=: the last angle the spindle was positioned to (None: not positioned)
+    spos_new: bool = False  # a SPOS since the last G331: the next G331 starts at its angle
     g63: bool = False  # G63 in this block
     pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (lathe.finish)
     chaining: bool = False  # turning.run emits a record that continues the chain
@@ -94,6 +96,20 @@ def settings(m, ms, src, blk) -> None:
             lt.lims = v
             if lt.css_on and lt.css > 0:
                 spindle(m, src, None, None)
+
+
+def position_spindle(m, ms, v: float, mode) -> bool:
+    """SPOS=angle (AC/DC/ACP/ACN: absolute, IC: added to the last SPOS angle): on a lathe the angle
+    the next G331 begins at; on a mill one warning (no effect on the tool path)."""
+    if not is_lathe(m):
+        if "SPOS" not in m.warned:  # once, with the SPOS[n]= words the interpreter notes (words.command)
+            m.warned.add("SPOS")
+            ms.warn_once(m, None, "SPOS", "SPOS (spindle positioning) changes nothing on the tool path (warned once)")
+        return True
+    lt = ms.lathe
+    lt.spos = ((lt.spos or 0.0) + v if mode == "IC" else v) % 360.0
+    lt.spos_new = True
+    return True
 
 
 def diameter_command(m, ms, name: str, src, col: int) -> None:
@@ -161,6 +177,8 @@ def spindle(m, src, direction: int | None, speed: float | None) -> bool:
     """The spindle under G96 on a lathe: S is the cutting speed (m/min); the record carries it with
     the limit and the speed at the tool's radius. False when G96 is not on (the plain spindle)."""
     lt = m.machine.lathe
+    if direction is not None:  # M3/M4/M5: the spindle leaves the position SPOS gave it
+        lt.spos, lt.spos_new = None, False
     if not (is_lathe(m) and lt.css_on):
         return False
     if direction is not None:

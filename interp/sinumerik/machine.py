@@ -200,6 +200,8 @@ def word(m, st, val, line: int, blk) -> bool:
     if addr == "RPL":
         blk.words["RPL"] = Word(m.num(val, line, st.col), None, st.col)
         return True
+    if addr == "SPOS":  # spindle positioning: the angle a lathe's G331 starts at
+        return lathe.position_spindle(m, ms, m.num(val, line, st.col), getattr(st, "mode", None))
     if addr in lathe.LATHE_WORDS:  # SF= DITS= DITE= LIMS=: lathe.settings applies them
         if addr in blk.words:
             raise m.error(line, st.col, f"address {addr} appears twice in one block")

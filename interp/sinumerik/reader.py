@@ -89,6 +89,10 @@ class _Scanner(ExprScanner):
             return False
         if name in IGNORED_WORDS:
             return True
+        if name == "SPOS" and nxt == "=":  # SPOS=90, SPOS=IC(10): the angle (lathe.position_spindle)
+            self.i += 1
+            ln.stmts.append(self.address_value(col, name))
+            return True
         if name in SETTING_WORDS and nxt in ("=", "[", "("):
             self.skip_setting()
             ln.stmts.append(Command(col, name))

@@ -79,7 +79,7 @@ def rigid_tap(cy: Cycle, p, tap: tuple[float, float, int], steps: list[float], b
     m, src = cy.m, cy.src
     safe, lead, hand = tap
     before = m.spindle_dir
-    angle = 0.0
+    angle = cy["POSS"] % 360.0  # CYCLE84 stops the spindle at POSS (SPOS) before tapping
     for k, z in enumerate(steps):
         if k:
             up = safe if out else min(m.pos[2] + back, safe)

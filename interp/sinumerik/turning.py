@@ -195,8 +195,10 @@ def rigid_tap(m, src, words: dict, targets: dict[int, float], cols: dict[int, in
                       "left-hand one)")
     pitch = abs(k.value) * _axis_scale(m, src, 2, "G331", k.col)
     direction = 1 if k.value > 0 else -1
-    keep = here and t[1] == pitch and t[2] == direction
-    tap_move(m, src, end, pitch, direction, t[3] if keep else 0.0)
+    keep = here and t[1] == pitch and t[2] == direction and not lt.spos_new
+    start = t[3] if keep else lt.spos if lt.spos_new else 0.0  # a new tap: where SPOS put the spindle
+    lt.spos_new = False
+    tap_move(m, src, end, pitch, direction, start)
 
 
 def tap_move(m, src, end, pitch: float, direction: int, angle: float) -> None:

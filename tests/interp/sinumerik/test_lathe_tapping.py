@@ -8,6 +8,7 @@ measured on the part.
 from __future__ import annotations
 
 import pytest
+from pathlib import Path
 
 import cutsim
 from cutsim.interp.canon import SyncedFeed
@@ -81,3 +82,42 @@ def test_iso_g84_on_the_lathe_is_the_compensated_tap(tmp_path):
     # the ISO shell's G84 runs as CYCLE840 with ENC 1: at the feed per revolution F1.5 (G95)
     res = run(tmp_path, "G95 S200 M3 F1.5\nN25 G291", "G84 X0 Z-15 R2 F1.5\nN45 G80\nN46 G290")
     assert synced(res)[:3] + synced(res)[4:7] == pytest.approx([2.0, -15.0, 1.5, -15.0, 2.0, 1.5])
+
+
+# ---------------------------------------------------------------------------------------------
+# SPOS before G331: the spindle positioned, the tap starting at that angle
+SPOS = """N10 T2 D1
+N20 G18 G95 S200 M3
+N30 G0 X0 Z5
+N40 SPOS=90
+N50 G331 Z-10 K1.5
+N60 G332 Z5
+N70 SPOS=IC(45)
+N80 G331 Z-10 K1.5
+N90 G332 Z5
+N100 M3
+N110 G331 Z-10 K1.5
+N120 M30
+"""
+
+
+def test_spos_sets_the_angle_g331_starts_at(tmp_path):
+    # SPOS=90: the first G331 starts at 90; 15 / 1.5 = 10 turns later it ends at 90 and G332 starts
+    # at -90 = 270. SPOS=IC(45) adds 45 to the last SPOS: 135 (G332 from 225). After M3 the spindle
+    # has left its position: a new G331 starts at the zero mark again (cutsim assumes).
+    (tmp_path / "setup.toml").write_text(TAP)
+    res = cutsim.simulate("spos.mpf", str(tmp_path / "setup.toml"), text=SPOS)
+    got = [(r.src.line, r.start_angle) for r in res.program.records if isinstance(r, SyncedFeed)]
+    assert got == [(5, 90.0), (6, 270.0), (8, 135.0), (9, 225.0), (11, 0.0)]
+    assert not [m for _, m in res.program.warnings if "SPOS" in m]
+
+
+def test_spos_on_a_mill_warns_once(tmp_path):
+    from cutsim import interp_config, load_setup
+    from cutsim.interp import interpret
+
+    setup = Path(__file__).parents[2] / "data" / "bad" / "sinumerik" / "setup.toml"
+    s = load_setup(str(setup))
+    prog = interpret("m.mpf", "G17 G0 X0 Y0 Z5\nSPOS=90\nSPOS=IC(3)\nSPOS[1]=10\nM30\n",
+                     interp_config(s, s.machine.start))
+    assert sum("SPOS" in m for _, m in prog.warnings) == 1
