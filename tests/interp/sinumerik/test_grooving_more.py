@@ -184,3 +184,77 @@ def test_flank_leaning_over_is_refused(sta, a1, a2, ok):
         with pytest.raises(GrooveParamError) as e:
             plan_cycle93(v, tool)
         assert e.value.param == ("ANG1" if sta < 90 else "ANG2")
+
+
+# ---------------------------------------------------------------------------------------------
+# over the documented range: random face grooves and inclined grooves, the part measured where the
+# hand-derived contour says; the same measurement against numbers 0.1 off must fail
+def _face_case(seed: int):
+    import random
+
+    rng = random.Random(seed)
+    right = rng.random() < 0.5
+    widg = round(rng.uniform(3.2, 8.0), 2)
+    diag = round(rng.uniform(0.8, 4.0), 2)
+    r_in = round(rng.uniform(4.0, 14.0), 2)  # the groove's inner radius
+    ang1, ang2 = round(rng.uniform(0.0, 25.0), 1), round(rng.uniform(0.0, 25.0), 1)
+    idep = rng.choice([0.0, 0.9, 1.7])
+    hand = rng.choice("RL")
+    return right, widg, diag, r_in, ang1, ang2, idep, hand
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_face_grooves_over_the_range(tmp_path, seed):
+    right, widg, diag, r_in, ang1, ang2, idep, hand = _face_case(seed)
+    t1, t2 = math.tan(math.radians(ang1)), math.tan(math.radians(ang2))
+    # "left" (VARI 2): from SPD towards +X, flank 1 at the inner edge; "right" (6): from SPD towards
+    # the axis, flank 1 at the outer edge. The base lies DIAG below the face, WIDG wide.
+    if right:
+        r_out = r_in + diag * t2 + widg + diag * t1
+        spd, vari, base = 2 * r_out, 6, (r_out - diag * t1 - widg, r_out - diag * t1)
+        fl_in, fl_out = t2, t1
+    else:
+        spd, vari, base = 2 * r_in, 2, (r_in + diag * t1, r_in + diag * t1 + widg)
+        fl_in, fl_out = t1, t2
+        r_out = base[1] + diag * t2
+    res = run(tmp_path, f"CYCLE93({spd:.4f}, 0, {widg:g}, {diag:g}, 0, {ang1:g}, {ang2:g}, 0, 0, 0, 0, 0, 0, "
+                        f"{idep:g}, 0, {vari}, 1)", hand=hand)
+
+    def expected(r):  # the face's Z at radius r from the hand-derived contour
+        if r <= r_in or r >= r_out:
+            return 0.0
+        if r < base[0]:
+            return -(r - r_in) / fl_in if fl_in > 0 else -diag
+        if r > base[1]:
+            return -(r_out - r) / fl_out if fl_out > 0 else -diag
+        return -diag
+
+    probes = [r_in - 0.3, (base[0] + base[1]) / 2, base[0] + 0.1, base[1] - 0.1, r_out + 0.3]
+    probes += [r_in + 0.5 * diag * fl_in + 0.01, r_out - 0.5 * diag * fl_out - 0.01]
+    for r in probes:
+        assert depth_at(res.part, r, 0.0) == pytest.approx(expected(r), abs=0.01), r
+    # deliberately wrong: the floor 0.1 deeper, the groove 0.1 further out
+    assert depth_at(res.part, (base[0] + base[1]) / 2, 0.0) != pytest.approx(-diag - 0.1, abs=0.03)
+    assert depth_at(res.part, base[1] + 0.05, 0.0) != pytest.approx(expected(base[1] + 0.05 + 0.1) - 0.1, abs=0.03)
+
+
+@pytest.mark.parametrize("sta", [4.0, 12.0, 25.0, 160.0, 172.0])
+def test_inclined_grooves_over_the_range(tmp_path, sta):
+    # VARI 5 on the line through (15, -10) at STA1; the flank on the rising side opens by the line's
+    # angle + 5 so no flank leans over; the floor is measured in the base's middle, clear of the
+    # flat edge's wedge (w sin cos of the angle, at most 3 sin 25 cos 25 = 1.15 across, along the
+    # base 3 cos(angle))
+    theta = sta if sta <= 90 else sta - 180
+    a1, a2 = (abs(theta) + 5, 0.0) if theta > 0 else (0.0, abs(theta) + 5)
+    t = math.tan(math.radians(theta))
+    profile = f"[[0, 0], [{15 + 10 * t:.6f}, 0], [{15 - 20 * t:.6f}, -30], [0, -30]]"
+    widg, diag = 10.0, 2.5
+    res = run(tmp_path, f"CYCLE93(30, -10, {widg:g}, {diag:g}, {sta:g}, {a1:g}, {a2:g}, 0, 0, 0, 0, 0, 0, 1, 0, 5, 1)",
+              side="outside", profile=profile, start="X50 Z5")
+    u0 = diag * math.tan(math.radians(a1))
+    for u in (u0 + 4.0, u0 + 5.0, u0 + 6.5):
+        r, z = _at(theta, u, diag)
+        assert radii_at(res.part, z).min() == pytest.approx(r, abs=0.01), u
+        assert radii_at(res.part, z).min() != pytest.approx(r - 0.1, abs=0.03)  # a floor 0.1 deeper: wrong
+    for z in (-9.0, -10.0 - widg - 4.0):  # the line beside the groove, untouched
+        assert radii_at(res.part, z).min() == pytest.approx(15 + (z + 10) * t, abs=0.01)
