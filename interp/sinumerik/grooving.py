@@ -426,7 +426,10 @@ def _crossover(elems, g: _Groove, first, last, w: float):
 def _finish93(p: _Path, g: _Groove, elems, corners, w: float, k: float, clear_r: float) -> None:
     """Side 1 with the tool's starting-side corner from edge 1 until the other corner touches the
     contour too (a flat base: its end, the start of RCI2); side 2 with the other corner from edge 2
-    back down to that point."""
+    back down to that point. On an inclined contour an edge's rounding or chamfer can rise from the
+    line before it falls into the groove: each side then starts at its shallowest point, and the
+    stretch from there out to the line is traced by the other corner (the one the tool's width
+    does not reach over the rise from)."""
     s = g.s
     near = k * w if s > 0 else -(1.0 - k) * w
     far = -(1.0 - k) * w if s > 0 else k * w
@@ -438,15 +441,43 @@ def _finish93(p: _Path, g: _Groove, elems, corners, w: float, k: float, clear_r:
             x1 = corners[1][1]
     else:
         x1, x2 = _crossover(elems, g, first, last, w)
-    p.g0(clear_r, first[1] + near)
-    p.g1(first[0], first[1] + near)
-    _run(p, [e for e in _cut(elems, x1)[0] if s * e[1][1] >= s * first[1] - EPS], near)
-    p.g0(clear_r, p_z(p))
-    p.g0(clear_r, last[1] + far)
-    p.g1(last[0], last[1] + far)
+    side1 = [e for e in _cut(elems, x1)[0] if s * e[1][1] >= s * first[1] - EPS]
     back = [_reverse(e) for e in reversed(_cut(elems, x2)[1])]
-    _run(p, [e for e in back if s * e[1][1] <= s * last[1] + EPS], far)
+    side2 = [e for e in back if s * e[1][1] <= s * last[1] + EPS]
+    for path, off, other in ((side1, near, far), (side2, far, near)):
+        outer, inner = _split_top(path, g)
+        top = inner[0][1] if inner else path[-1][2]
+        _pass(p, top, inner, off, clear_r)
+        if outer:  # from the shallowest point back out to the line, with the other corner
+            _pass(p, top, [_reverse(e) for e in reversed(outer)], other, clear_r)
+
+
+def _pass(p: _Path, start, path, off: float, clear_r: float) -> None:
+    """G0 over ``start`` (the control point ``off`` along p from it), G1 down to it, along ``path``, G0 up."""
+    p.g0(clear_r, start[1] + off)
+    p.g1(start[0], start[1] + off)
+    _run(p, path, off)
     p.g0(clear_r, p_z(p))
+
+
+def _split_top(path, g: _Groove):
+    """``path`` (from an edge inwards) split at its shallowest point before it turns into the groove:
+    (the elements up to it, those from it). Only a rounding or chamfer on an inclined contour puts it
+    past the path's start; on a flat one nothing is split off."""
+    depth = lambda pt: g.d * (pt[0] - g.q0)  # noqa: E731
+    best, at = depth(path[0][1]) if path else 0.0, None
+    for i, e in enumerate(path[:3]):  # the line's piece and the edge's rounding or chamfer
+        cands = [e[2]]
+        if e[0] == "A":  # the arc's point whose tangent runs along p (its extreme towards the air)
+            rad = math.dist(e[1], e[3])
+            cands.append((e[3][0] - g.d * rad, e[3][1]))
+        for c in cands:
+            if (e[0] == "L" or _on(e, c)) and depth(c) < best - 1e-9:
+                best, at = depth(c), (i, c)
+    if at is None:
+        return [], path
+    head, tail = _cut(path, at[1])
+    return head, tail
 
 
 def _on(e, pt) -> bool:

@@ -258,3 +258,70 @@ def test_inclined_grooves_over_the_range(tmp_path, sta):
         assert radii_at(res.part, z).min() != pytest.approx(r - 0.1, abs=0.03)  # a floor 0.1 deeper: wrong
     for z in (-9.0, -10.0 - widg - 4.0):  # the line beside the groove, untouched
         assert radii_at(res.part, z).min() == pytest.approx(15 + (z + 10) * t, abs=0.01)
+
+
+def test_inclined_groove_roundings_sit_tangent_to_both_sides(tmp_path):
+    # STA1 10, VARI 5, ANG1 15, ANG2 0 with RCI1 0.6 (the fillet between flank 1 and the base) and
+    # RCO2 0.8 (the rounding at edge 2): each centre lies its radius from both lines it joins (the
+    # lines from the hand-derived corners); the finishing arcs about them are offset along Z by the
+    # tracing corner (the starting-side corner on side 1: 3 towards +Z of the control point)
+    from cutsim.interp.canon import Arc
+
+    sta = 10.0
+    res = run(tmp_path, f"CYCLE93(30, -10, 8, 3, {sta:g}, 15, 0, 0, 0.8, 0.6, 0, 0, 0, 0, 0, 5, 1)",
+              side="outside", profile=_taper(sta), start="X50 Z5")
+    t1 = math.tan(math.radians(15))
+    p1, p2 = _at(sta, 0, 0), _at(sta, 3 * t1, 3)  # flank 1
+    p3, p4 = _at(sta, 3 * t1 + 8, 3), _at(sta, 3 * t1 + 8, 0)  # base end, edge 2
+    p5 = _at(sta, 3 * t1 + 20, 0)  # the line beyond edge 2
+
+    def dist(c, a, b):  # from point c (r, z) to the line through a and b
+        return abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / math.dist(a, b)
+
+    arcs = [r for r in res.program.records if isinstance(r, Arc) and r.src.line == 4]
+    centres = [(a.center[0], a.center[2]) for a in arcs]
+    # three arcs: the fillet (side 1) and the rounding in two pieces: it rises from the line (which
+    # falls towards -Z beyond edge 2) to its top before it falls into the groove, so the far corner
+    # (the control point) traces it from the top inwards and the near corner (3 towards +Z of the
+    # control point) from the top out to the line; a flat edge on the rise would cut into it
+    assert len(centres) == 3
+    fillet = next(c for c in centres if abs(dist((c[0], c[1] + 3.0), p1, p2) - 0.6) < 1e-6)  # side 1: +3
+    assert dist((fillet[0], fillet[1] + 3.0), p2, p3) == pytest.approx(0.6, abs=1e-6)
+    rounding = next(c for c in centres if abs(dist(c, p3, p4) - 0.8) < 1e-6)
+    assert dist(rounding, p4, p5) == pytest.approx(0.8, abs=1e-6)
+    assert (rounding[0], rounding[1] - 3.0) == pytest.approx(next(c for c in centres if c not in (fillet, rounding)))
+    # on the part: the rounding's outermost reach along the line's normal is its centre + 0.8 towards
+    # the air; at the centre's Z the part lies on the circle (its top, as radii_at takes the outer radius)
+    assert radii_at(res.part, rounding[1]).min() == pytest.approx(rounding[0] + 0.8, abs=0.01)
+
+
+@pytest.mark.parametrize("rco1", [0.8, -0.8])
+def test_inclined_groove_edge_1_on_the_falling_side(tmp_path, rco1):
+    # STA1 170 (falling 10 degrees towards +Z), VARI 5: beyond edge 1 (+Z) the line falls away, so
+    # RCO1 (a rounding, or a chamfer of length 0.8) rises from the line before the groove; the part
+    # keeps it whole: the rounding's top (centre + 0.8) measured at the centre's Z, the chamfer's
+    # middle on its line
+    from cutsim.interp.canon import Arc, Feed
+
+    theta = -10.0
+    t = math.tan(math.radians(theta))
+    profile = f"[[0, 0], [{15 + 10 * t:.6f}, 0], [{15 - 20 * t:.6f}, -30], [0, -30]]"
+    res = run(tmp_path, f"CYCLE93(30, -10, 8, 3, 170, 0, 12, {rco1:g}, 0, 0, 0, 0, 0, 0, 0, 5, 1)",
+              side="outside", profile=profile, start="X50 Z5")
+    p0, p1, p2 = _at(theta, -5, 0), _at(theta, 0, 0), _at(theta, 0, 3)  # the line, edge 1, flank 1 (square)
+    if rco1 > 0:
+        # the corner between the line and flank 1 (square to it) is 90 degrees: the centre lies 0.8 sqrt 2
+        # from edge 1; the near corner's arcs are emitted 3 towards -Z (the control point)
+        cs = [(a.center[0], a.center[2] + dz) for a in res.program.records if isinstance(a, Arc) and a.src.line == 4
+              for dz in (0.0, 3.0)]
+        c = next(c for c in cs if abs(math.dist(c, p1) - 0.8 * math.sqrt(2)) < 1e-6)
+        assert radii_at(res.part, c[1]).min() == pytest.approx(c[0] + 0.8, abs=0.01)
+    else:  # CHF: legs 0.8 / (2 sin(corner / 2)), the corner between the line and flank 1 is 90 degrees
+        leg = 0.8 / (2 * math.sin(math.radians(45)))
+        ua = (p0[0] - p1[0]) / 5, (p0[1] - p1[1]) / 5  # unit vectors from the corner along the line and flank
+        ub = (p2[0] - p1[0]) / 3, (p2[1] - p1[1]) / 3
+        a = (p1[0] + ua[0] * leg, p1[1] + ua[1] * leg)
+        b = (p1[0] + ub[0] * leg, p1[1] + ub[1] * leg)
+        mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+        assert radii_at(res.part, mid[1]).min() == pytest.approx(mid[0], abs=0.01)
+        assert any(isinstance(r, Feed) for r in res.program.records)
