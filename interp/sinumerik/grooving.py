@@ -385,8 +385,9 @@ def plan_cycle93(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
     if g.s < 0:
         starts.reverse()  # from the starting point's side across
     _enter(p, tool, g.outside, clear_r, starts[0] + k * w)
-    for zl in starts:
-        dep = min(allowed(zl + 1e-6), allowed(zl + w - 1e-6))
+    crit = sorted({e[i][1] for e in elems for i in (1, 2)} | {e[3][1] for e in elems if e[0] == "A"})
+    for zl in starts:  # the shallowest point under the tool: at its ends or a corner / arc top between
+        dep = min(allowed(z) for z in [zl + 1e-6, zl + w - 1e-6] + [z for z in crit if zl < z < zl + w])
         top = min(g.surface(zl), g.surface(zl + w))  # the contour line's shallowest point under the tool
         c = zl + k * w
         p.g0(clear_r, c)
