@@ -321,7 +321,7 @@ def _q_at(e, z: float) -> list[float]:
     c = e[3]
     rad = math.hypot(p[0] - c[0], p[1] - c[1])
     h = math.sqrt(max(rad * rad - (z - c[1]) ** 2, 0.0))
-    return [rr for rr in (c[0] + h, c[0] - h) if min(p[0], q[0]) - EPS <= rr <= max(p[0], q[0]) + EPS]
+    return [rr for rr in (c[0] + h, c[0] - h) if _on(e, (rr, z), 1e-6)]
 
 
 def _depth_at(elems, z: float, r0: float, d: float) -> float | None:
@@ -412,14 +412,24 @@ def _crossover(elems, g: _Groove, first, last, w: float):
     starting-side corner) and x2 = x1 + s w along p at the same depth, both on the contour (the base
     of an inclined groove is cut by the corner on its shallow side: a flat edge stays off it)."""
     depth = lambda z: _depth_at(elems, z, g.q0, g.d)  # noqa: E731
+    crit = [e[3][1] for e in elems if e[0] == "A"] + [e[i][1] for e in elems for i in (1, 2)]
+
+    def beyond(x):  # the shallowest point under the tool's width past its starting-side corner
+        lo, hi = sorted((x, x + g.s * w))
+        return min(depth(z) for z in [x + g.s * w] + [z for z in crit if lo < z < hi])
+
     a, b = first[1], last[1] - g.s * w
-    for _ in range(80):  # depth(x) - depth(x + s w) rises from < 0 at edge 1 to > 0 at edge 2
+    for _ in range(80):  # depth(x) - beyond(x) rises from < 0 at edge 1 to > 0 at edge 2
         mid = (a + b) / 2.0
-        if depth(mid) < depth(mid + g.s * w):
+        if depth(mid) < beyond(mid):
             a = mid
         else:
             b = mid
     x = (a + b) / 2.0
+    if abs(depth(x) - depth(x + g.s * w)) > 1e-6:
+        raise GrooveParamError("STA1", "on this inclined contour no position of the grooving tool's flat edge "
+                                       "touches the groove with both corners between its edges: the paraxial "
+                                       "finishing cut cannot follow it (a flatter STA1 or a deeper groove)")
     q = g.q0 + g.d * depth(x)
     return (q, x), (q, x + g.s * w)
 
@@ -481,7 +491,7 @@ def _split_top(path, g: _Groove):
     return head, tail
 
 
-def _on(e, pt) -> bool:
+def _on(e, pt, tol: float = 1e-7) -> bool:
     a, b = e[1], e[2]
     if e[0] == "L":
         ab, ap = (b[0] - a[0], b[1] - a[1]), (pt[0] - a[0], pt[1] - a[1])
@@ -490,7 +500,7 @@ def _on(e, pt) -> bool:
         return -1e-9 <= t <= 1 + 1e-9 and abs(ab[0] * ap[1] - ab[1] * ap[0]) <= 1e-7 * math.sqrt(ll)
     c = e[3]
     u, v, x = (a[0] - c[0], a[1] - c[1]), (b[0] - c[0], b[1] - c[1]), (pt[0] - c[0], pt[1] - c[1])
-    if abs(math.hypot(*x) - math.hypot(*u)) > 1e-7:
+    if abs(math.hypot(*x) - math.hypot(*u)) > tol:
         return False
     cr = lambda m, n: m[0] * n[1] - m[1] * n[0]  # noqa: E731
     turn = cr(u, v)
