@@ -325,3 +325,106 @@ def test_inclined_groove_edge_1_on_the_falling_side(tmp_path, rco1):
         mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
         assert radii_at(res.part, mid[1]).min() == pytest.approx(mid[0], abs=0.01)
         assert any(isinstance(r, Feed) for r in res.program.records)
+
+
+# ---------------------------------------------------------------------------------------------
+# a property over the range (the planner alone, sharp corners): no position of the tool's flat
+# edge, on any move, lies deeper than the hand-derived groove under it, and the finishing reaches
+# the floor (halfway along the part of the base the flat edge can reach); a contour 0.1 off
+# either way breaks one of the two
+def _groove_polygon(theta, s, d, q0, p1, diag, widg, t1, t2, clear=1.0):
+    c, sn = math.cos(math.radians(theta)), math.sin(math.radians(theta))
+
+    def at(u, w):
+        return q0 + u * s * sn + w * d * c, p1 + u * s * c - w * d * sn
+
+    u2 = diag * t1
+    u4 = u2 + widg + diag * t2
+    return [at(-clear - 6.0, 0), at(0, 0), at(u2, diag), at(u2 + widg, diag), at(u4, 0), at(u4 + clear + 6.0, 0)]
+
+
+def _shallowest(poly, p, d, q0):
+    """The polygon's depth (d (q - q0)) at p: the shallowest where it crosses p (None outside)."""
+    best = None
+    for a, b in zip(poly, poly[1:]):
+        lo, hi = sorted((a[1], b[1]))
+        if not lo - 1e-12 <= p <= hi + 1e-12:
+            continue
+        qs = [a[0], b[0]] if abs(b[1] - a[1]) < 1e-12 else [a[0] + (b[0] - a[0]) * (p - a[1]) / (b[1] - a[1])]
+        for q in qs:
+            best = d * (q - q0) if best is None else min(best, d * (q - q0))
+    return best
+
+
+def _check_moves(moves, poly, d, q0, w, k, face, shift):
+    """(no gouge, the base's middle reached) for the moves against the polygon deepened by ``shift``:
+    the flat edge sampled along every move; reached when the edge covers the base's middle at the
+    floor's depth on a feed move."""
+    lo_p, hi_p = min(pt[1] for pt in poly), max(pt[1] for pt in poly)
+    pts = [((z, x / 2.0) if face else (x / 2.0, z)) for _, (x, z) in moves]
+    gouge, reached = False, False
+    # the probe on the base: halfway along the part a flat edge reaches (from the shallow end, the base
+    # less the tool's width; the deep end's wedge is out of reach on an inclined base)
+    lo, hi = sorted(poly[2:4], key=lambda pt: d * (pt[0] - q0))
+    mid = lo[1] + (hi[1] - lo[1]) * 0.5 * (1.0 - w / math.dist(lo, hi))
+    floor = _shallowest(poly, mid, d, q0) + shift
+    g_lo, g_hi = sorted((poly[1][1], poly[4][1]))
+    for (qa, pa), (qb, pb), mv in zip(pts, pts[1:], moves[1:]):
+        if not all(g_lo - w - 1e-6 <= pp <= g_hi + w + 1e-6 for pp in (pa, pb)):
+            continue  # coming from and going back to the start: its way is the programmer's (manual)
+        for i in range(21):
+            q, pc = qa + (qb - qa) * i / 20, pa + (pb - pa) * i / 20
+            for j in range(17):  # the edge's inside (its sides may touch the walls)
+                p = pc - k * w + 1e-6 + (w - 2e-6) * j / 16
+                if lo_p <= p <= hi_p and d * (q - q0) > _shallowest(poly, p, d, q0) + shift + 1e-6:
+                    gouge = True
+        if mv[0] != "G1":
+            continue
+        da, db = d * (qa - q0) - floor, d * (qb - q0) - floor  # the edge's depth against the floor's
+        if abs(da) < 1e-6 and abs(db) < 1e-6:  # along the floor: the spans it sweeps
+            reached = reached or min(pa, pb) - k * w - 1e-6 <= mid <= max(pa, pb) + (1 - k) * w + 1e-6
+        elif da * db <= 0 and abs(db - da) > 1e-12:  # through the floor's depth: the span there
+            pc = pa + (pb - pa) * (-da / (db - da))
+            reached = reached or pc - k * w - 1e-6 <= mid <= pc + (1 - k) * w + 1e-6
+    return gouge, reached
+
+
+@pytest.mark.parametrize("seed", range(40))  # 400 pass too (25 s)
+def test_finishing_never_gouges_and_reaches_the_floor(seed):
+    import random
+
+    from cutsim.interp.sinumerik.grooving import GrooveParamError, ToolEdge, plan_cycle93
+
+    rng = random.Random(seed)
+    face = rng.random() < 0.3
+    outside = face or rng.random() < 0.6
+    right = rng.random() < 0.5
+    sta = rng.choice([0.0, rng.uniform(1, 20), rng.uniform(160, 179)])
+    theta = sta if sta <= 90 else sta - 180
+    s, d = (-1.0 if right else 1.0), (-1.0 if outside else 1.0)
+    # the flank on the line's rising side opens by at least the line's angle (no flank leans over)
+    rise = abs(theta) + rng.uniform(0, 15)
+    a1, a2 = (rise, rng.uniform(0, 20)) if s * d * theta > 0 else (rng.uniform(0, 20), rise)
+    if theta == 0:
+        a1, a2 = rng.uniform(0, 30), rng.uniform(0, 30)
+    widg, diag = rng.uniform(4, 9), rng.uniform(1.5, 4)
+    spd = rng.uniform(40, 60) if outside else rng.uniform(20, 30)
+    spl = rng.uniform(-20, -5)
+    vari = (2 if face else 1 if outside else 3) + (4 if right else 0)
+    hand = rng.choice("RL")
+    edge = {(True, "R"): 3, (True, "L"): 2}[(True, hand)] if face else \
+        {(True, "R"): 3, (True, "L"): 4, (False, "R"): 2, (False, "L"): 1}[(outside, hand)]
+    k = 0.0 if hand == "R" else 1.0
+    tool = ToolEdge(3.0, edge, (100.0 if outside else 5.0, 20.0), face)
+    v = dict(SPD=spd, SPL=spl, WIDG=widg, DIAG=diag, STA1=sta, ANG1=a1, ANG2=a2, IDEP=rng.choice([0, 1.2]),
+             VARI=vari, _VRT=1.0)
+    try:
+        moves = plan_cycle93(v, tool)
+    except GrooveParamError as e:
+        assert e.param == "STA1"  # the one refusal left for these: a handover with no place
+        return
+    q0, p1 = (spl, spd / 2) if face else (spd / 2, spl)
+    poly = _groove_polygon(theta, s, d, q0, p1, diag, widg, math.tan(math.radians(a1)), math.tan(math.radians(a2)))
+    assert _check_moves(moves, poly, d, q0, 3.0, k, face, 0.0) == (False, True)
+    assert _check_moves(moves, poly, d, q0, 3.0, k, face, -0.1)[0]  # a contour 0.1 shallower: cut into
+    assert not _check_moves(moves, poly, d, q0, 3.0, k, face, 0.1)[1]  # 0.1 deeper: the floor not reached
