@@ -125,11 +125,17 @@ def bulge(e, axis: int) -> tuple[float, float]:
 
 # ---------------------------------------------------------------------------------------------
 # the contour moved by the finishing allowances
-def _shift(e, fa: float, fb: float, fal: float):
-    """One monotone piece moved out of the part: by the allowance box's corner on the side its
-    normal points to (fa along a, fb along b) and by ``fal`` along its normal."""
+def _box(e, fa: float, fb: float) -> tuple[float, float]:
+    """The allowance box's corner on the side a monotone piece's normal points to."""
     n = normal(e, 0.5)
-    v = (fa * (1.0 if n[0] >= -1e-9 else -1.0), fb * (1.0 if n[1] >= -1e-9 else -1.0))
+    return (fa * (1.0 if n[0] >= -1e-9 else -1.0), fb * (1.0 if n[1] >= -1e-9 else -1.0))
+
+
+def _shift(e, fa: float, fb: float, fal: float):
+    """One monotone piece moved out of the part: by the allowance box's corner (fa along a, fb
+    along b) and by ``fal`` along its normal."""
+    n = normal(e, 0.5)
+    v = _box(e, fa, fb)
     if e[0] == "L":
         return ("L", (e[1][0] + v[0] + fal * n[0], e[1][1] + v[1] + fal * n[1]),
                 (e[2][0] + v[0] + fal * n[0], e[2][1] + v[1] + fal * n[1]))
@@ -194,6 +200,23 @@ def _with_end(e, pt, start: bool):
     return (e[0], e[1], pt) + tuple(e[3:])
 
 
+def _bridge(p, q, prev, here, fa: float, fb: float, fal: float) -> list:
+    """Across an outer corner (where ``prev`` ends and ``here`` starts) from p to q: the allowance
+    box's side (a line) where the box turns its corner, and the arc of radius FAL about the vertex
+    moved by the box (cw False: it turns as the convex arcs do)."""
+    if fal <= EPS:
+        return [("L", p, q)]
+    v = _box(here, fa, fb)
+    c = (here[1][0] + v[0], here[1][1] + v[1])
+    n = normal(prev, 1.0)
+    mid = (c[0] + fal * n[0], c[1] + fal * n[1])
+    out = []
+    if math.hypot(mid[0] - p[0], mid[1] - p[1]) > 1e-9:
+        out.append(("L", p, mid))
+    out.append(("A", mid, q, c, False))
+    return out
+
+
 def offset(elems: list, fa: float, fb: float, fal: float) -> list:
     """The contour moved out of the part by the allowances: each monotone piece moved (``_shift``);
     where the pieces overlap (an inner corner) both are cut back to their crossing, where they part
@@ -217,7 +240,7 @@ def offset(elems: list, fa: float, fb: float, fal: float) -> list:
                 out[-1] = _with_end(last, meet, False)
                 moved = _with_end(moved, meet, True)
             else:
-                out.append(("L", last[2], moved[1]))
+                out.extend(_bridge(last[2], moved[1], prev, here, fa, fb, fal))
         out.append(moved)
     return [x for e in out for x in split_quadrants(e)
             if math.hypot(e[2][0] - e[1][0], e[2][1] - e[1][1]) > 1e-9]
@@ -279,7 +302,7 @@ def first_below(elems, s, level: float, stop=None):
         t0 = s[1] if i == s[0] else 0.0
         if at(e, t0)[0] < level - EPS:
             return (i, t0)
-        if falling(e) and e[2][0] < level - EPS:
+        if falling(e) and e[2][0] < level + EPS:
             t = _solve(e, level, t0)
             if (i, t) > end:
                 return None

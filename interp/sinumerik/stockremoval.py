@@ -149,7 +149,6 @@ def _main(pl: _Plan, overlap: bool) -> list:
     bottom = point(off, s0)[0]
     if lowest(off, s0, prev_c) < bottom - EPS:  # the contour dips below its start: a relief cut
         subs.insert(0, (bottom, s0, prev_c))
-    pl.up()
     return subs
 
 

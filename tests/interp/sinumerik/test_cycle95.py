@@ -1,0 +1,290 @@
+"""CYCLE95 stock removal (interp/sinumerik/stockremoval.py, docs/dialects/sinumerik-turning.md
+"CYCLE95"): every machining type, relief cuts, the allowances, and the parts -- their volumes by
+Pappus (frustums of the profile) and the design compare against the contour.
+
+The numbers are derived by hand from the contour and the parameters: the levels spread evenly from
+the blank's surface down to the contour's start moved by the allowances, ceil(depth / MID) of them;
+each cut ends where it meets the contour moved by FALX (radially) and FALZ (axially, towards the
+side the face looks to); the roughed part is the region under that moved contour, the finished
+part the contour itself. Volumes are compared as part / stock against the exact ratio (the solids
+are revolved with the same segments, so the chordal error cancels in the ratio).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import manifold3d as m3d
+import numpy as np
+import pytest
+
+import cutsim
+from cutsim.interp.canon import Arc, Feed, Rapid
+from cutsim.kinematics.paths import circle_segments
+from cutsim.reports.measure import plane_section, radii_at
+from cutsim.testing import assert_matches_design
+
+SETUP = """
+[machine]
+kind = "lathe"
+dialect = "sinumerik"
+diameter_programming = true
+start = [60.0, 0.0, 20.0]
+[stock]
+shape = "revolve"
+profile = {profile}
+[[tool]]
+number = 1
+kind = "turning"
+insert = "V"
+size = 9.525
+tip_radius = 0.0
+approach = 93.0
+hand = "R"
+[[tool]]
+number = 2
+kind = "turning"
+insert = "V"
+size = 6.35
+tip_radius = 0.0
+approach = 93.0
+hand = "R"
+side = "inside"
+[simulation]
+tolerance = 0.005
+"""
+BAR = "[[0, 0], [15, 0], [15, -40], [0, -40]]"  # a bar of 30, 40 long, its face at Z0
+TUBE = "[[10, 0], [25, 0], [25, -40], [10, -40]]"  # a tube 50 / 20
+TOL = 0.005
+
+
+def prog(contour: str, call: str, tool: int = 1, start: str = "X40 Z5") -> str:
+    return (f"N10 G18 G90 G95 DIAMON\nN20 T{tool} D1\nN30 S500 M3 F0.2\nN40 G0 {start}\nN50 {call}\n"
+            f"N60 G0 X60 Z20\nN70 M30\n{contour}")
+
+
+def c95(vari, mid=2.0, falz=0.1, falx=0.2, fal=0.0, vrt=1.0):
+    return f'CYCLE95("KONT_A:KONT_E", {mid:g}, {falz:g}, {falx:g}, {fal:g}, 0.25, 0.15, 0.1, {vari}, 0, 0, {vrt:g})'
+
+
+def sim(tmp_path: Path, text: str, profile: str = BAR):
+    (tmp_path / "setup.toml").write_text(SETUP.format(profile=profile))
+    return cutsim.simulate("c95.mpf", str(tmp_path / "setup.toml"), text=text)
+
+
+def frustums(profile) -> float:
+    """The volume of revolution under the radius profile [(r, z), ...] (Pappus for each piece: a
+    frustum pi h (r1^2 + r1 r2 + r2^2) / 3)."""
+    return sum(math.pi * abs(z2 - z1) * (r1 * r1 + r1 * r2 + r2 * r2) / 3
+               for (r1, z1), (r2, z2) in zip(profile, profile[1:]))
+
+
+def ratio(res) -> float:
+    return res.report["part_volume"] / res.report["stock_volume"]
+
+
+def design(outline, r_max: float):
+    """The design solid: the region between the axis and the radius outline [(r, z)...] (from the
+    top Z down), revolved with the stock's segments."""
+    pts = [(0.0, outline[0][1])] + list(outline) + [(0.0, outline[-1][1])]
+    region = m3d.CrossSection([pts[::-1]])  # counter-clockwise
+    assert region.area() > 0
+    return m3d.Manifold.revolve(region, circular_segments=circle_segments(r_max, TOL))
+
+
+def cuts(res, feed):
+    return [r for r in res.program.records if r.src.line == 5 and isinstance(r, (Feed, Arc)) and r.feed == feed]
+
+
+# ---------------------------------------------------------------------------------------------
+# a shaft with a relief cut: the cylinder of 20, a 1:3 flank down to the floor of 16, a rising
+# flank to 26, the collar of 26 and the shoulder to the blank's 30
+RELIEF = """KONT_A: G1 X20 Z0
+Z-10
+X16 Z-16
+Z-22
+X26 Z-28
+Z-35
+KONT_E: X30
+"""
+EXACT = [(10, 0), (10, -10), (8, -16), (8, -22), (13, -28), (13, -35), (15, -35), (15, -40)]
+# moved by FALX 0.2 / FALZ 0.1: the falling flank towards -Z (its face looks to -Z), the rising
+# flank towards +Z; the floor's corners where the moved flanks meet it: (8.2, -16.1), (8.2, -21.9)
+ROUGH = [(10.2, 0), (10.2, -10.1), (8.2, -16.1), (8.2, -21.9), (13.2, -27.9), (13.2, -34.9), (15, -34.9),
+         (15, -40)]
+STOCK = math.pi * 15 ** 2 * 40
+
+
+def test_relief_cut_roughing_levels_and_the_pocket(tmp_path):
+    res = sim(tmp_path, prog(RELIEF, c95(201)))
+    rough = cuts(res, 0.25)
+    # the levels from radius 15 down to the start's 10 + 0.2: ceil(4.8 / 2) = 3 cuts of 1.6 from
+    # Z 0 + 0.1 + 1; 13.4 meets the shoulder (Z-35 + 0.1), 11.8 and 10.2 the rising flank
+    # (8.2 + 5 t = level, Z = -21.9 - 6 t), passing over the relief cut
+    lines = [(r.start[0], r.end[2]) for r in rough if r.start[2] == pytest.approx(1.1) and r.start[0] == r.end[0]]
+    want = [(13.4, -34.9), (11.8, -21.9 - 6 * 0.72), (10.2, -21.9 - 6 * 0.4)]
+    assert lines == [pytest.approx(w) for w in want]
+    # the relief cut: reached along the moved contour at FF2 0.15, down the falling flank to the
+    # floor's corner (8.2, -16.1), the floor at FF1 to (8.2, -21.9), up the flank to the level 10.2
+    plunge = cuts(res, 0.15)
+    assert (plunge[-1].end[0], plunge[-1].end[2]) == pytest.approx((8.2, -16.1))
+    floor = [r for r in rough if r.start[0] == pytest.approx(8.2) and r.end[0] == pytest.approx(8.2)]
+    assert len(floor) == 1 and floor[0].end[2] == pytest.approx(-21.9)
+    assert (rough[-1].end[0], rough[-1].end[2]) == pytest.approx((10.2, -24.3))
+    # the roughed part is the moved contour's solid
+    assert ratio(res) == pytest.approx(frustums(ROUGH) / STOCK, rel=1e-6)
+    assert not res.warnings
+
+
+@pytest.mark.parametrize("vari", [9, 209])
+def test_relief_cut_complete_is_the_contour_and_matches_its_design(tmp_path, vari):
+    res = sim(tmp_path, prog(RELIEF, c95(vari)))
+    assert ratio(res) == pytest.approx(frustums(EXACT) / STOCK, rel=1e-6)
+    for z, d in ((-5, 20), (-19, 16), (-31, 26), (-38, 30)):
+        assert 2 * radii_at(res.part, z).min() == pytest.approx(d, abs=0.01)
+    assert_matches_design(res, design(EXACT, 15), tol=0.01, max_gouge=0.01, max_excess=0.01)
+
+
+def test_roughed_part_matches_its_design_within_the_allowance(tmp_path):
+    res = sim(tmp_path, prog(RELIEF, c95(1)))
+    target = design(EXACT, 15)
+    # the farthest the moved contour gets from the design: at the outer corners, where the allowance
+    # box's corner (FALX 0.2, FALZ 0.1) is hypot(0.2, 0.1) away; nothing of the design removed
+    far = math.hypot(0.2, 0.1)
+    rec = assert_matches_design(res, target, tol=far + 2e-3, max_gouge=0.01)
+    assert rec["details"]["worst_deviation"] == pytest.approx(far, abs=2e-3)
+    assert rec["details"]["excess_volume"] == pytest.approx(frustums(ROUGH) - frustums(EXACT), rel=1e-3)
+    with pytest.raises(AssertionError):  # the allowance is left: not the finished part
+        assert_matches_design(res, target, tol=0.05)
+
+
+@pytest.mark.parametrize("wrong", [("X16 Z-16\nZ-22", "X14 Z-16\nZ-22"), ("X26 Z-28\nZ-35", "X24 Z-28\nZ-35")])
+def test_a_wrong_contour_fails_the_design_compare(tmp_path, wrong):
+    # a contour point moved in the program (the floor 1 mm deeper, the collar 1 mm smaller): the
+    # finished part gouges the design
+    res = sim(tmp_path, prog(RELIEF.replace(*wrong), c95(9)))
+    with pytest.raises(AssertionError):
+        assert_matches_design(res, design(EXACT, 15), tol=0.01, max_gouge=0.01)
+
+
+def test_the_rounding_digit(tmp_path):
+    # hundreds digit 0: the rounding of a cut runs over the intersection before it up to the one
+    # before that (two levels up); 2: up to the intersection before (the level 11.8 ends at 13.4)
+    ups = {}
+    for vari in (1, 201):
+        res = sim(tmp_path, prog(RELIEF, c95(vari)))
+        rough = cuts(res, 0.25)
+        k = next(i for i, r in enumerate(rough) if r.start[0] == pytest.approx(11.8) and r.end[0] == r.start[0])
+        ups[vari] = rough[k + 3].end
+        assert ratio(res) == pytest.approx(frustums(ROUGH) / STOCK, rel=1e-6)
+    assert ups[201][0] == pytest.approx(13.4) and ups[1][0] == pytest.approx(15.0)
+
+
+def test_the_contour_programmed_backwards_is_the_same_cycle(tmp_path):
+    back = """KONT_A: G1 X30 Z-35
+X26
+Z-28
+X16 Z-22
+Z-16
+X20 Z-10
+KONT_E: Z0
+"""
+    fwd = sim(tmp_path, prog(RELIEF, c95(9)))
+    rev = sim(tmp_path, prog(back, c95(9)))
+    pos = [(round(r.end[0], 9), round(r.end[2], 9)) for r in fwd.program.records if r.src.line == 5]
+    assert pos == [(round(r.end[0], 9), round(r.end[2], 9)) for r in rev.program.records if r.src.line == 5]
+
+
+# ---------------------------------------------------------------------------------------------
+# inside: a bore from the pre-drilled 20: the mouth 36 with a 1 x 45 degree chamfer to 32, a
+# shoulder at Z-15 down to 24, the end face at Z-30 down to the bore's 20
+BORE = """KONT_A: G1 X36 Z0
+X32 Z-2
+Z-15
+X24
+Z-30
+KONT_E: X20
+"""
+BORE_EXACT = [(18, 0), (16, -2), (16, -15), (12, -15), (12, -30), (10, -30), (10, -40)]
+TUBE_VOL = math.pi * (25 ** 2 - 10 ** 2) * 40
+
+
+def _tube(profile) -> float:
+    return math.pi * 25 ** 2 * 40 - frustums(profile)
+
+
+def test_inside_roughing_levels(tmp_path):
+    res = sim(tmp_path, prog(BORE, c95(3), tool=2, start="X10 Z5"), TUBE)
+    # from the bore's radius 10 out to the start's 18 - 0.2: ceil(7.8 / 2) = 4 cuts of 1.95; the
+    # two inner ones meet the shoulder moved to Z-15 + 0.1, the outer two the chamfer moved by
+    # (-0.2, +0.1): radius 17.8 - 2 t at Z 0.1 - 2 t
+    rough = cuts(res, 0.25)
+    lines = [(r.start[0], r.end[2]) for r in rough if r.start[2] == pytest.approx(1.1) and r.start[0] == r.end[0]]
+    want = [(11.95, -14.9), (13.9, -14.9), (15.85, 0.1 - 2 * 0.975), (17.8, 0.1)]
+    assert lines == [pytest.approx(w) for w in want]
+    rough_profile = [(17.8, 0), (17.7, -0.1 + 0.0), (15.8, -1.9), (15.8, -14.9), (11.8, -14.9), (11.8, -29.9),
+                     (10, -29.9), (10, -40)]
+    # the chamfer moved: through (17.8, 0.1) and (15.8, -1.9): at Z0 radius 17.7
+    rough_profile = [(17.7, 0), (15.8, -1.9)] + rough_profile[3:]
+    assert ratio(res) == pytest.approx(_tube(rough_profile) / TUBE_VOL, rel=1e-6)
+
+
+def test_inside_complete_is_the_bore(tmp_path):
+    res = sim(tmp_path, prog(BORE, c95(11), tool=2, start="X10 Z5"), TUBE)
+    assert ratio(res) == pytest.approx(_tube(BORE_EXACT) / TUBE_VOL, rel=1e-6)
+    for z, d in ((-8, 32), (-20, 24), (-35, 20)):  # the bore's diameters (the section's inner ring)
+        pts = np.concatenate(plane_section(res.part, "z", z))
+        assert 2 * float(np.hypot(pts[:, 0], pts[:, 1]).min()) == pytest.approx(d, abs=0.01)
+    tube = design([(25, 0), (25, -40)], 25) - design(BORE_EXACT, 25)
+    assert_matches_design(res, tube, tol=0.01, max_gouge=0.01)
+
+
+# ---------------------------------------------------------------------------------------------
+# face: the end of a bar of 30 turned to a spigot of 20, 8 long, with a 2 x 2.5 chamfer to Z0
+FACE = """KONT_A: G1 X30 Z-8
+X20
+Z-2
+X10 Z0
+KONT_E: X0
+"""
+
+
+def test_face_roughing_levels(tmp_path):
+    res = sim(tmp_path, prog(FACE, c95(2), start="X40 Z5"))
+    # infeed along Z from the face Z0 down to the start's -8 + FALZ 0.1: ceil(7.9 / 2) = 4 cuts of
+    # 1.975, each along -X from radius 15 + FALX 0.2 + 1 to the spigot moved by FALX: radius 10.2
+    rough = cuts(res, 0.25)
+    lines = [(r.start[2], r.end[0]) for r in rough if r.start[0] == pytest.approx(16.2) and r.start[2] == r.end[2]]
+    assert lines == [pytest.approx((-1.975 * k, 10.2)) for k in range(1, 5)]
+    # the roughed part: the bar to Z-7.9, the spigot of 10.2 to Z-1.9, the chamfer moved by
+    # (0.2, 0.1) from (10.2, -1.9) towards (5.2, 0.1): radius 5.45 at the face Z0
+    prof = [(5.45, 0), (10.2, -1.9), (10.2, -7.9), (15, -7.9), (15, -40)]
+    assert ratio(res) == pytest.approx(frustums(prof) / STOCK, rel=1e-6)
+
+
+def test_face_complete_is_the_spigot(tmp_path):
+    res = sim(tmp_path, prog(FACE, c95(10), start="X40 Z5"))
+    prof = [(5, 0), (10, -2), (10, -8), (15, -8), (15, -40)]
+    assert ratio(res) == pytest.approx(frustums(prof) / STOCK, rel=1e-6)
+    assert_matches_design(res, design(prof, 15), tol=0.01, max_gouge=0.01)
+
+
+# ---------------------------------------------------------------------------------------------
+# FAL: the allowance along the contour's normal
+def test_fal_moves_the_contour_along_its_normal(tmp_path):
+    # the chamfer 1 x 45 from (9, 0) to (10, -1) moved by FAL 0.3 along its normal (1, 1) / sqrt 2,
+    # the cylinder of 20 by 0.3 radially, the shoulder at Z-20 by 0.3 towards +Z; the outer corner
+    # (10, -1) rounded with 0.3 about it
+    text = prog("KONT_A: G1 X18 Z0\nX20 Z-1\nZ-20\nKONT_E: X30\n", c95(1, mid=2.5, falz=0, falx=0, fal=0.3))
+    res = sim(tmp_path, text)
+    rough = cuts(res, 0.25)
+    s = 0.3 / math.sqrt(2)
+    # levels from 15 to 9 + s (the moved start): ceil((6 - s) / 2.5) = 3 of (6 - s) / 3
+    d = (6 - s) / 3
+    lines = [(r.start[0], r.end[2]) for r in rough if r.start[0] == r.end[0] and r.start[2] > 1]
+    assert [x[0] for x in lines] == pytest.approx([15 - d, 15 - 2 * d, 15 - 3 * d])
+    assert lines[0][1] == pytest.approx(-19.7)  # the shoulder moved by 0.3 towards +Z
+    # the last level meets the moved chamfer at its start: Z 0 + s
+    assert lines[-1][1] == pytest.approx(s)
+    arc = [r for r in rough if isinstance(r, Arc)]
+    assert arc and arc[0].center[0] == pytest.approx(10) and arc[0].center[2] == pytest.approx(-1)
