@@ -41,7 +41,7 @@ def _reverse(e):
 
 def _where(frame: Frame, pt) -> str:
     r, z = frame.back(*pt)
-    return f"X{2 * r:g} Z{z:g}"
+    return f"radius {r:g}, Z{z:g}"
 
 
 def _canonical(frame: Frame, elems: list) -> list:
@@ -61,7 +61,7 @@ def _canonical(frame: Frame, elems: list) -> list:
         lo, hi = bulge(e, 1)
         if hi > e[1][1] + EPS or lo < e[2][1] - EPS:
             num = n - k if rev else k + 1
-            raise GrooveParamError("NPP", f"the contour's element {num} (at {_where(frame, e[2])}) runs back "
+            raise GrooveParamError("NPP", f"the contour's element {num} (ending at {_where(frame, e[2])}) runs back "
                                           f"along {cut}: CYCLE95 cuts paraxially, its contour must advance "
                                           f"along {cut} all the way")
     top = con[-1][2][0]
@@ -70,7 +70,7 @@ def _canonical(frame: Frame, elems: list) -> list:
             side = "largest" if not frame.inside else "smallest"
             num = n - k if rev else k + 1
             what = "diameter" if not frame.face else "Z" if not frame.inside else "-Z"
-            raise GrooveParamError("NPP", f"the contour's element {num} (at {_where(frame, e[2])}) goes beyond "
+            raise GrooveParamError("NPP", f"the contour's element {num} (ending at {_where(frame, e[2])}) goes beyond "
                                           f"its end point: the end point must be its {side} {what} (the "
                                           "blank's surface the roughing starts from)")
     return con
