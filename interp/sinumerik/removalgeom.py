@@ -234,7 +234,9 @@ def offset(elems: list, fa: float, fb: float, fal: float) -> list:
         if gap > 1e-9:
             t1, t2 = tangent(prev, 1.0), tangent(here, 0.0)
             turn = t1[0] * t2[1] - t1[1] * t2[0]
-            meet = _meet(last, moved, here[1]) if turn > 1e-9 else None
+            # an inner corner, or a concave arc's piece where the box turns its corner
+            inner = turn > 1e-9 or (abs(turn) <= 1e-9 and any(x[0] == "A" and x[4] for x in (prev, here)))
+            meet = _meet(last, moved, here[1]) if inner else None
             if meet is not None and math.hypot(meet[0] - here[1][0], meet[1] - here[1][1]) \
                     < 4 * (fa + fb + fal) + 1e-6:
                 out[-1] = _with_end(last, meet, False)

@@ -288,3 +288,83 @@ def test_fal_moves_the_contour_along_its_normal(tmp_path):
     assert lines[-1][1] == pytest.approx(s)
     arc = [r for r in rough if isinstance(r, Arc)]
     assert arc and arc[0].center[0] == pytest.approx(10) and arc[0].center[2] == pytest.approx(-1)
+
+
+# ---------------------------------------------------------------------------------------------
+# a round relief cut: an arc of radius 8 (G2 CR=8) from (10, -10) to (10, -20), its centre at
+# (10 + sqrt 39, -15): the floor at 16.245 - 8 = 8.245 (diameter 16.49)
+ROUND = """KONT_A: G1 X20 Z0
+Z-10
+G2 X20 Z-20 CR=8
+G1 Z-30
+KONT_E: X30
+"""
+
+
+def _round_part() -> float:
+    # the cylinder of 20 to Z-30 less the ring the arc cuts (Pappus: the circular segment's area
+    # times the path of its centroid), the bar of 30 behind
+    R, half = 8.0, math.asin(5 / 8)
+    area = R * R * (2 * half - math.sin(2 * half)) / 2
+    centroid = 4 * R * math.sin(half) ** 3 / (3 * (2 * half - math.sin(2 * half)))
+    ring = 2 * math.pi * (10 + math.sqrt(39) - centroid) * area
+    return math.pi * 100 * 30 - ring + math.pi * 225 * 10
+
+
+def test_round_relief_cut_complete_and_roughed(tmp_path):
+    res = sim(tmp_path, prog(ROUND, c95(9)))
+    # the arc is cut along chords at the tolerance 0.005: the groove's 2 pi 9 x 10.8 = 610 mm^2 keep
+    # up to 2/3 x 0.005 x 610 = 2.0 mm^3 more
+    assert ratio(res) * STOCK == pytest.approx(_round_part() + 1.0, abs=1.05)
+    assert 2 * radii_at(res.part, -15).min() == pytest.approx(2 * (10 + math.sqrt(39) - 8), abs=0.01)
+    outline = [(10, 0), (10, -10)] + [(10 + math.sqrt(39) - 8 * math.cos(a), -15 + 8 * math.sin(a))
+                                      for a in np.linspace(math.asin(5 / 8), -math.asin(5 / 8), 400)[1:-1]] \
+        + [(10, -20), (10, -30), (15, -30), (15, -40)]
+    assert_matches_design(res, design(outline, 15), tol=0.02, max_gouge=0.5)
+    rough = sim(tmp_path, prog(ROUND, c95(1)))
+    # roughed: nothing of the design removed, the allowance left (at most the box's corner away,
+    # plus the chords of the moved arcs at the tolerance 0.005)
+    rec = assert_matches_design(rough, design(outline, 15), tol=math.hypot(0.2, 0.1) + TOL, max_gouge=0.5)
+    # the floor of the relief cut: the two quarter arcs moved by (0.2, -0.1) and (0.2, +0.1) meet
+    # at Z-15, 8.245 + 0.2 - (8 - sqrt(64 - 0.1^2)) out
+    floor = 10 + math.sqrt(39) + 0.2 - math.sqrt(64 - 0.01)
+    assert radii_at(rough.part, -15).min() == pytest.approx(floor, abs=0.01)
+    assert rec["passed"]
+
+
+# ---------------------------------------------------------------------------------------------
+# finishing only, and the face inside, in the records (no cutting)
+def records(tmp_path, text):
+    from cutsim import interp_config, load_setup
+    from cutsim.interp import interpret
+
+    (tmp_path / "setup.toml").write_text(SETUP.format(profile=BAR))
+    s = load_setup(str(tmp_path / "setup.toml"))
+    return [r for r in interpret("c95.mpf", text, interp_config(s, s.machine.start)).records if r.src.line == 5]
+
+
+@pytest.mark.parametrize("vari, contour, tool, path", [
+    (5, RELIEF, 1, [(10, 0), (10, -10), (8, -16), (8, -22), (13, -28), (13, -35), (15, -35)]),
+    (7, BORE, 2, [(18, 0), (16, -2), (16, -15), (12, -15), (12, -30), (10, -30)]),
+    (6, FACE, 1, [(15, -8), (10, -8), (10, -2), (5, 0), (0, 0)]),
+])
+def test_finishing_runs_the_contour_at_ff3(tmp_path, vari, contour, tool, path):
+    recs = records(tmp_path, prog(contour, c95(vari), tool=tool))
+    fin = [r for r in recs if isinstance(r, Feed) and r.feed == 0.1]
+    assert not [r for r in recs if isinstance(r, Feed) and r.feed in (0.25, 0.15)]  # no roughing
+    assert [(r.end[0], r.end[2]) for r in fin] == [pytest.approx(p) for p in path]
+    # approached in G0 before the start on the cutting axis, _VRT 1 off
+    before = [r for r in recs if isinstance(r, Rapid) and r.end == fin[0].start][0]
+    assert before.end == pytest.approx(((fin[0].end[0], 0, 1.0) if vari != 6 else (16.0, 0, -8.0)))
+
+
+def test_face_inside_levels(tmp_path):
+    # VARI 4: infeed towards +Z, the material on the -Z side of the contour (a back face): the
+    # contour from radius 15 at Z-30 to the step of 10 at Z-30..-34 and the end at (0, -36);
+    # levels from Z-36 up to -30 - FALZ 0.1: ceil(5.9 / 2) = 3 of 5.9 / 3, each along -X from
+    # 15 + 0.2 + 1 to the step moved by FALX to radius 10.2
+    contour = "KONT_A: G1 X30 Z-30\nX20\nZ-34\nKONT_E: X0 Z-36\n"
+    recs = records(tmp_path, prog(contour, c95(4), start="X40 Z-50"))
+    rough = [r for r in recs if isinstance(r, Feed) and r.feed == 0.25]
+    lines = [(r.start[2], r.end[0]) for r in rough if r.start[0] == pytest.approx(16.2) and r.start[2] == r.end[2]]
+    assert lines == [pytest.approx((-36 + 5.9 / 3 * k, 10.2)) for k in range(1, 4)]
