@@ -432,7 +432,7 @@ def _c95(tmp_path, vari):
 def test_cycle95_roughing_levels_and_the_finished_part(tmp_path):
     # the material between the contour and its largest radius 15, from its start Z0: roughed from
     # radius 15 down to 8 + FALX 0.2 in ceil(6.8 / 1.5) = 5 equal cuts of 1.36, each along Z to the
-    # contour moved by FALX 0.2 / FALZ 0.1, then up along it to the level before
+    # contour moved by FALX 0.2 / FALZ 0.1, then up along it over the level before (VARI 9)
     res = _c95(tmp_path, 9)
     rough = [r for r in res.program.records if r.src.line == 5 and isinstance(r, Feed) and r.feed == 0.25]
     levels = sorted({round(r.start[0], 6) for r in rough if r.start[0] == r.end[0] and r.start[2] == 1.1},
