@@ -96,7 +96,7 @@ class _Plan:
         self.moves.append(("F", _num(self.v, name)))
 
     def here(self):
-        return self.moves[-1][1]
+        return next(m[1] for m in reversed(self.moves) if m[0] != "F")
 
     def along(self, s0, s1):
         for e in pieces(self.off, s0, s1):
@@ -112,9 +112,9 @@ class _Plan:
         return n
 
     def lift(self, b_back: float):
-        """G0 off the contour by the clearance and back along b."""
+        """G0 off the contour by the clearance in both axes (out and back along b), then back along b."""
         a, b = self.here()
-        self.g0(a + self.clear, b)
+        self.g0(a + self.clear, b + self.clear)
         self.g0(a + self.clear, b_back)
 
     def up(self):
@@ -206,6 +206,9 @@ def _finish(pl: _Plan, con: list) -> None:
     """G0 before the contour's start, along the contour at FF3, G0 out over the blank."""
     pl.feed("FF3")
     a_s, b_s = con[0][1]
+    if any(m[0] != "F" for m in pl.moves) and abs(pl.here()[1] - pl.b_air) > EPS:  # over a relief cut: out and along first
+        pl.up()
+        pl.g0(pl.here()[0], pl.b_air)
     pl.g0(a_s, pl.b_air)
     pl.g1(a_s, b_s)
     for e in con:

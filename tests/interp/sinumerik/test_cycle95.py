@@ -368,3 +368,54 @@ def test_face_inside_levels(tmp_path):
     rough = [r for r in recs if isinstance(r, Feed) and r.feed == 0.25]
     lines = [(r.start[2], r.end[0]) for r in rough if r.start[0] == pytest.approx(16.2) and r.start[2] == r.end[2]]
     assert lines == [pytest.approx((-36 + 5.9 / 3 * k, 10.2)) for k in range(1, 4)]
+
+
+# ---------------------------------------------------------------------------------------------
+# property: random shafts with relief cuts (falling flanks at most 1:2, which the 93 degree V
+# insert's minor edge clears), random MID and allowances: the finished part is the contour (its
+# volume and its design), the roughed part keeps the allowance (no design material removed, at
+# most hypot(FALX, FALZ) away), a contour point moved 0.5 mm in the program fails the compare
+def _shaft(seed: int):
+    rng = np.random.default_rng(seed)
+    r, z = float(rng.uniform(6, 9)), 0.0
+    pts = [(r, z)]
+    for _ in range(int(rng.integers(3, 6))):
+        z -= float(rng.uniform(3, 6))
+        if rng.random() < 0.4:  # a falling flank into a relief cut, then its floor
+            nr = max(5.0, r - float(rng.uniform(1, 2)))
+            pts.append((nr, z))
+            r, z = nr, z - float(rng.uniform(3, 5))
+            pts.append((r, z))
+        else:  # a step up (a shoulder) and a cylinder
+            r = min(13.0, r + float(rng.uniform(0.5, 3)))
+            pts += [(r, pts[-1][1]), (r, z)]
+    pts.append((15.0, z))
+    pts = [(round(r, 3), round(z, 3)) for r, z in pts]
+    mid, falx, falz = float(rng.uniform(1, 3)), float(rng.uniform(0.1, 0.4)), float(rng.uniform(0.05, 0.3))
+    return pts, mid, falx, falz
+
+
+def _kont(pts) -> str:
+    lines = [f"G1 X{2 * r:.4f} Z{z:.4f}" for r, z in pts]
+    return "KONT_A: " + "\n".join(lines[:-1]) + "\nKONT_E: " + lines[-1] + "\n"
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_random_shafts_against_their_design(tmp_path, seed):
+    pts, mid, falx, falz = _shaft(seed)
+    exact = pts + [(15.0, -40.0)]
+    target = design(exact, 15)
+    for vari in (9, 209):
+        res = sim(tmp_path, prog(_kont(pts), c95(vari, mid=mid, falx=falx, falz=falz)))
+        assert ratio(res) == pytest.approx(frustums(exact) / STOCK, rel=1e-6), vari
+        assert_matches_design(res, target, tol=0.01, max_gouge=0.01)
+        assert not res.warnings  # no rapid touches the stock
+    for vari in (1, 201):
+        res = sim(tmp_path, prog(_kont(pts), c95(vari, mid=mid, falx=falx, falz=falz)))
+        rec = assert_matches_design(res, target, tol=math.hypot(falx, falz) + 2e-3, max_gouge=0.01)
+        assert rec["details"]["excess_volume"] > 0 and not res.warnings
+    k = 1 + seed % (len(pts) - 2)  # an inner point moved 0.5 towards the axis
+    wrong = [(r - 0.5, z) if i == k else (r, z) for i, (r, z) in enumerate(pts)]
+    res = sim(tmp_path, prog(_kont(wrong), c95(9, mid=mid, falx=falx, falz=falz)))
+    with pytest.raises(AssertionError):
+        assert_matches_design(res, target, tol=0.01, max_gouge=0.01)
