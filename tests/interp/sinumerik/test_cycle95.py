@@ -419,3 +419,33 @@ def test_random_shafts_against_their_design(tmp_path, seed):
     res = sim(tmp_path, prog(_kont(wrong), c95(9, mid=mid, falx=falx, falz=falz)))
     with pytest.raises(AssertionError):
         assert_matches_design(res, target, tol=0.01, max_gouge=0.01)
+
+
+# an inside relief cut: the bore of 36, a 1:2 flank out to the groove of 40, back in to 30, the
+# end face at Z-30 down to the pre-drilled 20
+BORE_RELIEF = """KONT_A: G1 X36 Z0
+Z-8
+X40 Z-12
+Z-18
+X30 Z-22
+Z-30
+KONT_E: X20
+"""
+BORE_RELIEF_EXACT = [(18, 0), (18, -8), (20, -12), (20, -18), (15, -22), (15, -30), (10, -30), (10, -40)]
+
+
+@pytest.mark.parametrize("vari", [11, 211])
+def test_inside_relief_cut_complete(tmp_path, vari):
+    res = sim(tmp_path, prog(BORE_RELIEF, c95(vari), tool=2, start="X10 Z5"), TUBE)
+    assert ratio(res) == pytest.approx(_tube(BORE_RELIEF_EXACT) / TUBE_VOL, rel=1e-6)
+    assert not res.warnings
+    tube = design([(25, 0), (25, -40)], 25) - design(BORE_RELIEF_EXACT, 25)
+    assert_matches_design(res, tube, tol=0.01, max_gouge=0.01)
+    # the relief cut: from the main section's last level (radius 18 - 0.2) out to the groove's
+    # floor 20 - 0.2: one cut of 1.6 along the floor, entered at FF2 down the flank, which looks
+    # to -Z: moved by (-FALX, -FALZ), it meets the moved floor at (19.8, -12.1); the floor cut at
+    # FF1 to the far flank moved by (-0.2, +0.1): it starts at (19.8, -17.9), on the moved floor
+    plunge = cuts(res, 0.15)
+    assert (plunge[-1].end[0], plunge[-1].end[2]) == pytest.approx((19.8, -12.1))
+    floor = [r for r in cuts(res, 0.25) if r.start[0] == pytest.approx(19.8) and r.end[0] == pytest.approx(19.8)]
+    assert [r.end[2] for r in floor] == [pytest.approx(-17.9)]
