@@ -449,3 +449,17 @@ def test_inside_relief_cut_complete(tmp_path, vari):
     assert (plunge[-1].end[0], plunge[-1].end[2]) == pytest.approx((19.8, -12.1))
     floor = [r for r in cuts(res, 0.25) if r.start[0] == pytest.approx(19.8) and r.end[0] == pytest.approx(19.8)]
     assert [r.end[2] for r in floor] == [pytest.approx(-17.9)]
+
+
+def test_the_contour_from_a_subprogram(tmp_path):
+    # NPP the name of a subprogram (KONTUR.spf beside the program): the same cycle as the labels
+    (tmp_path / "setup.toml").write_text(SETUP.format(profile=BAR))
+    body = "".join(line.split(": ", 1)[-1] + "\n" for line in RELIEF.splitlines()) + "M17\n"
+    (tmp_path / "KONTUR.spf").write_text(body)
+    main = prog("", c95(9).replace('"KONT_A:KONT_E"', '"KONTUR"'))
+    (tmp_path / "c95.mpf").write_text(main)
+    sub = cutsim.simulate(str(tmp_path / "c95.mpf"), str(tmp_path / "setup.toml"))
+    lab = sim(tmp_path, prog(RELIEF, c95(9)))
+    ends = [[(r.end[0], r.end[2]) for r in res.program.records if r.src.line == 5] for res in (sub, lab)]
+    assert ends[0] == ends[1] and len(ends[0]) > 30
+    assert ratio(sub) == pytest.approx(frustums(EXACT) / STOCK, rel=1e-6)
