@@ -463,3 +463,52 @@ def test_the_contour_from_a_subprogram(tmp_path):
     ends = [[(r.end[0], r.end[2]) for r in res.program.records if r.src.line == 5] for res in (sub, lab)]
     assert ends[0] == ends[1] and len(ends[0]) > 30
     assert ratio(sub) == pytest.approx(frustums(EXACT) / STOCK, rel=1e-6)
+
+
+# a face relief cut: the bar's end at Z-8 out to radius 12, a 1:2 flank down to the ring groove's
+# floor Z-9 (radii 11..9), up to the spigot of 16 at Z-6, the spigot to Z-2, a chamfer to (5, 0)
+FACE_RELIEF = """KONT_A: G1 X30 Z-8
+X24
+X22 Z-9
+X18
+X16 Z-6
+Z-2
+X10 Z0
+KONT_E: X0
+"""
+FACE_RELIEF_EXACT = [(15, -8), (12, -8), (11, -9), (9, -9), (8, -6), (8, -2), (5, 0), (0, 0)]
+
+
+def shells(profile, bottom: float = -40.0) -> float:
+    """The volume of revolution under the face profile [(r, z), ...] (z the part's top at radius
+    r, linear between the points) down to ``bottom``: the shells 2 pi r (z - bottom) dr."""
+    v = 0.0
+    for (r1, z1), (r2, z2) in zip(profile, profile[1:]):
+        if abs(r2 - r1) < 1e-12:
+            continue
+        beta = (z2 - z1) / (r2 - r1)
+        alpha = z1 - beta * r1 - bottom
+        v += 2 * math.pi * abs(alpha * (r2 ** 2 - r1 ** 2) / 2 + beta * (r2 ** 3 - r1 ** 3) / 3)
+    return v
+
+
+def test_face_relief_cut(tmp_path):
+    # in the records (the 93 degree hand R tool's minor edge would cut into the face beside the
+    # groove: the cycle does not consult the tool's shape, docs "cutsim assumes" 5)
+    assert shells(FACE_RELIEF_EXACT[::-1][:1] + [(15, 0)]) == pytest.approx(STOCK)  # the bar
+    recs = records(tmp_path, prog(FACE_RELIEF, c95(10), start="X40 Z5"))
+    # the main section: from the face Z0 down to Z-8 + 0.1 in ceil(7.9 / 2) = 4 cuts of 1.975 along
+    # -X from 15 + 0.2 + 1; the deepest passes over the groove to its inner flank moved by
+    # (+FALZ, +FALX): through (9.2, -8.9) and (8.2, -5.9), radius 9.2 - 1 / 3 at Z-7.9
+    rough = [r for r in recs if isinstance(r, Feed) and r.feed == 0.25]
+    lines = [(r.start[2], r.end[0]) for r in rough if r.start[0] == pytest.approx(16.2) and r.start[2] == r.end[2]]
+    assert lines[-1] == pytest.approx((-7.9, 9.2 - 1 / 3))
+    # the groove: its top the last level Z-7.9, its floor -9 + 0.1: one cut of 1, entered at FF2
+    # down the outer flank, which looks to -X: moved by (+0.1 in Z, -0.2 in X) it meets the moved
+    # floor at (10.8, -8.9); the floor cut at FF1 to the inner flank's (9.2, -8.9)
+    plunge = [r for r in recs if isinstance(r, Feed) and r.feed == 0.15]
+    assert (plunge[-1].end[0], plunge[-1].end[2]) == pytest.approx((10.8, -8.9))
+    floor = [r for r in rough if r.start[2] == pytest.approx(-8.9) and r.end[2] == pytest.approx(-8.9)]
+    assert [(r.start[0], r.end[0]) for r in floor] == [pytest.approx((10.8, 9.2))]
+    fin = [(r.end[0], r.end[2]) for r in recs if isinstance(r, Feed) and r.feed == 0.1]
+    assert fin == [pytest.approx(p) for p in FACE_RELIEF_EXACT]
