@@ -112,9 +112,10 @@ class _Plan:
         return n
 
     def lift(self, b_back: float):
-        """G0 off the contour by the clearance in both axes (out and back along b), then back along b."""
+        """G0 off the contour by the clearance in both axes (out, and back along b but not past
+        ``b_back``, a relief cut's entry), then back along b to ``b_back``."""
         a, b = self.here()
-        self.g0(a + self.clear, b + self.clear)
+        self.g0(a + self.clear, min(b + self.clear, max(b, b_back)))
         self.g0(a + self.clear, b_back)
 
     def up(self):
@@ -206,7 +207,8 @@ def _finish(pl: _Plan, con: list) -> None:
     """G0 before the contour's start, along the contour at FF3, G0 out over the blank."""
     pl.feed("FF3")
     a_s, b_s = con[0][1]
-    if any(m[0] != "F" for m in pl.moves) and abs(pl.here()[1] - pl.b_air) > EPS:  # over a relief cut: out and along first
+    moved = any(m[0] != "F" for m in pl.moves)
+    if moved and abs(pl.here()[1] - pl.b_air) > EPS:  # over a relief cut: out and along first
         pl.up()
         pl.g0(pl.here()[0], pl.b_air)
     pl.g0(a_s, pl.b_air)
