@@ -358,16 +358,21 @@ def test_finishing_runs_the_contour_at_ff3(tmp_path, vari, contour, tool, path):
     assert before.end == pytest.approx(((fin[0].end[0], 0, 1.0) if vari != 6 else (16.0, 0, -8.0)))
 
 
-def test_face_inside_levels(tmp_path):
+@pytest.mark.parametrize("vari", [4, 8, 12])
+def test_face_inside_levels(tmp_path, vari):
     # VARI 4: infeed towards +Z, the material on the -Z side of the contour (a back face): the
     # contour from radius 15 at Z-30 to the step of 10 at Z-30..-34 and the end at (0, -36);
     # levels from Z-36 up to -30 - FALZ 0.1: ceil(5.9 / 2) = 3 of 5.9 / 3, each along -X from
     # 15 + 0.2 + 1 to the step moved by FALX to radius 10.2
     contour = "KONT_A: G1 X30 Z-30\nX20\nZ-34\nKONT_E: X0 Z-36\n"
-    recs = records(tmp_path, prog(contour, c95(4), start="X40 Z-50"))
+    recs = records(tmp_path, prog(contour, c95(vari), start="X40 Z-50"))
     rough = [r for r in recs if isinstance(r, Feed) and r.feed == 0.25]
     lines = [(r.start[2], r.end[0]) for r in rough if r.start[0] == pytest.approx(16.2) and r.start[2] == r.end[2]]
-    assert lines == [pytest.approx((-36 + 5.9 / 3 * k, 10.2)) for k in range(1, 4)]
+    assert lines == ([pytest.approx((-36 + 5.9 / 3 * k, 10.2)) for k in range(1, 4)] if vari != 8 else [])
+    # finishing (8, 12): along the contour at FF3 from the start; 4 does not finish
+    fin = [(r.end[0], r.end[2]) for r in recs if isinstance(r, Feed) and r.feed == 0.1]
+    path = [(15, -30), (10, -30), (10, -34), (0, -36)]
+    assert fin == ([pytest.approx(p) for p in path] if vari != 4 else [])
 
 
 # ---------------------------------------------------------------------------------------------
