@@ -517,3 +517,18 @@ def test_face_relief_cut(tmp_path):
     assert [(r.start[0], r.end[0]) for r in floor] == [pytest.approx((10.8, 9.2))]
     fin = [(r.end[0], r.end[2]) for r in recs if isinstance(r, Feed) and r.feed == 0.1]
     assert fin == [pytest.approx(p) for p in FACE_RELIEF_EXACT]
+
+
+def test_inside_arc_rounding_the_bore_mouth(tmp_path):
+    # the bore's mouth rounded with R2 (G2 about (18, -2)) instead of the chamfer: the air beside
+    # the bore of 32 at Z0..-2 is the square 2 x 2 less the quarter disc, by Pappus
+    contour = BORE.replace("X32 Z-2", "G2 X32 Z-2 CR=2\nG1")
+    res = sim(tmp_path, prog(contour, c95(11), tool=2, start="X10 Z5"), TUBE)
+    fillet = 2 * math.pi * (17 * 4 - (18 - 8 / (3 * math.pi)) * math.pi)
+    air = math.pi * 16 ** 2 * 2 + fillet + frustums([(16, -2), (16, -15)]) + frustums([(12, -15), (12, -30)]) \
+        + frustums([(10, -30), (10, -40)])
+    # the arc is cut along chords at 0.005 and the rounded edge is convex: the chords cut into it,
+    # over its 2 pi 17 x pi = 335 mm^2 up to 2/3 x 0.005 x 335 = 1.1 mm^3
+    assert ratio(res) * TUBE_VOL == pytest.approx(math.pi * 25 ** 2 * 40 - air - 0.55, abs=0.6)
+    pts = np.concatenate(plane_section(res.part, "z", -1.0))  # r = 18 - sqrt(4 - 1) at Z-1
+    assert float(np.hypot(pts[:, 0], pts[:, 1]).min()) == pytest.approx(18 - math.sqrt(3), abs=0.01)
