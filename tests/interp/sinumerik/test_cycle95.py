@@ -532,3 +532,11 @@ def test_inside_arc_rounding_the_bore_mouth(tmp_path):
     assert ratio(res) * TUBE_VOL == pytest.approx(math.pi * 25 ** 2 * 40 - air - 0.55, abs=0.6)
     pts = np.concatenate(plane_section(res.part, "z", -1.0))  # r = 18 - sqrt(4 - 1) at Z-1
     assert float(np.hypot(pts[:, 0], pts[:, 1]).min()) == pytest.approx(18 - math.sqrt(3), abs=0.01)
+    # roughed (VARI 3): nothing of the rounded bore removed, at most the allowance box's corner away
+    arc = [(18 - 2 * math.sin(a), -2 + 2 * math.cos(a)) for a in np.linspace(0, math.pi / 2, 200)]
+    outline = arc + [(16, -15), (12, -15), (12, -30), (10, -30), (10, -40)]
+    tube = design([(25, 0), (25, -40)], 25) - design(outline, 25)
+    assert_matches_design(res, tube, tol=0.01, max_gouge=1.2)
+    rough = sim(tmp_path, prog(contour, c95(3), tool=2, start="X10 Z5"), TUBE)
+    assert_matches_design(rough, tube, tol=math.hypot(0.2, 0.1) + TOL, max_gouge=0.01)
+    assert not rough.warnings
