@@ -540,3 +540,31 @@ def test_inside_arc_rounding_the_bore_mouth(tmp_path):
     rough = sim(tmp_path, prog(contour, c95(3), tool=2, start="X10 Z5"), TUBE)
     assert_matches_design(rough, tube, tol=math.hypot(0.2, 0.1) + TOL, max_gouge=0.01)
     assert not rough.warnings
+
+
+# ---------------------------------------------------------------------------------------------
+# the example examples/sinumerik/relief-shaft: its design is what make_relief_design.py writes,
+# its checks pass, and a contour point moved in the program fails the design check
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "sinumerik"
+
+
+def test_relief_shaft_design_is_what_the_script_writes():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_relief_design", EXAMPLES / "make_relief_design.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.stl_bytes(mod.design()) == (EXAMPLES / "relief-shaft-design.stl").read_bytes()
+    assert mod.design().volume() == pytest.approx(frustums(EXACT[:-1] + [(15, -45)]), rel=1e-3)
+
+
+@pytest.mark.parametrize("spoil", [None, ("X16 Z-16", "X15 Z-16"), ("X26 Z-28", "X26.6 Z-28")])
+def test_relief_shaft_example_fails_when_the_contour_is_moved(tmp_path, spoil):
+    text = (EXAMPLES / "relief-shaft.mpf").read_text()
+    if spoil:
+        text = text.replace(*spoil)
+    (tmp_path / "relief-shaft-design.stl").write_bytes((EXAMPLES / "relief-shaft-design.stl").read_bytes())
+    (tmp_path / "setup.toml").write_text((EXAMPLES / "relief-shaft.toml").read_text())
+    res = cutsim.simulate("relief-shaft.mpf", str(tmp_path / "setup.toml"), text=text, checks=True)
+    design_ok = [c["passed"] for c in res.checks if c["kind"] == "design"]
+    assert design_ok == [spoil is None]
