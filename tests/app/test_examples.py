@@ -79,8 +79,9 @@ def test_repository_example_simulates_cleanly(setup, tmp_path):
         from PIL import Image
         view = "top.png" if rep["machine"]["kind"] == "mill" else "section.png"
         for name in ("iso.png", view, "deviation.png"):
-            with Image.open(out / name) as im:
-                assert im.size == (1024, 768), name
+            with Image.open(out / name) as im:  # section.png: 360 to 768 high (docs/checks.md)
+                assert im.size[0] == 1024 and (360 <= im.size[1] <= 768 if name == "section.png"
+                                               else im.size[1] == 768), (name, im.size)
                 # a drawn view, not a blank canvas: many distinct colours
                 assert len(im.convert("RGB").getcolors(1 << 20) or []) > 50, name
         assert (out / "report.html").is_file()
