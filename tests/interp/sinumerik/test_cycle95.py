@@ -568,3 +568,20 @@ def test_relief_shaft_example_fails_when_the_contour_is_moved(tmp_path, spoil):
     res = cutsim.simulate("relief-shaft.mpf", str(tmp_path / "setup.toml"), text=text, checks=True)
     design_ok = [c["passed"] for c in res.checks if c["kind"] == "design"]
     assert design_ok == [spoil is None]
+
+
+def test_face_relief_with_the_turning_tool_cuts_beside_the_groove(tmp_path):
+    # no clearance angle check (docs "cutsim assumes" 5): entering the face groove down its 1:2
+    # flank, the 93 degree hand R tool's minor edge reaches into the face Z-8 outside the groove
+    # (radii 11..15); the design compare finds the gouge there
+    res = sim(tmp_path, prog(FACE_RELIEF, c95(10), start="X40 Z5"))
+    poly = [(0.0, -40.0), (15.0, -40.0)] + [(float(r), float(z)) for r, z in FACE_RELIEF_EXACT]
+    target = m3d.Manifold.revolve(m3d.CrossSection([poly]), circular_segments=circle_segments(15, TOL))
+    assert target.volume() == pytest.approx(shells(FACE_RELIEF_EXACT), rel=1e-3)
+    with pytest.raises(AssertionError):
+        assert_matches_design(res, target, tol=0.01, max_gouge=0.01)
+    from cutsim.reports.measure import compare_design
+
+    c = compare_design(res.part, target, res.stock)
+    x, y, z = c["worst_location"]
+    assert c["worst_deviation"] < -0.1 and z == pytest.approx(-8, abs=0.05) and 11 < math.hypot(x, y) < 15
