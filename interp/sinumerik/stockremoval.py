@@ -56,23 +56,22 @@ def _canonical(frame: Frame, elems: list) -> list:
     rev = b0 < b1
     if rev:
         con = [_reverse(e) for e in reversed(con)]
-    n = len(con)
+    def name(k, e):  # as programmed: the element's number and its end point
+        return f"element {len(con) - k if rev else k + 1} (ending at {_where(frame, e[1] if rev else e[2])})"
+
     for k, e in enumerate(con):
         lo, hi = bulge(e, 1)
         if hi > e[1][1] + EPS or lo < e[2][1] - EPS:
-            num = n - k if rev else k + 1
-            raise GrooveParamError("NPP", f"the contour's element {num} (ending at {_where(frame, e[2])}) runs back "
-                                          f"along {cut}: CYCLE95 cuts paraxially, its contour must advance "
-                                          f"along {cut} all the way")
+            raise GrooveParamError("NPP", f"the contour's {name(k, e)} runs back along {cut}: CYCLE95 cuts "
+                                          f"paraxially, its contour must advance along {cut} all the way")
     top = con[-1][2][0]
     for k, e in enumerate(con):
         if bulge(e, 0)[1] > top + EPS:
-            side = "largest" if not frame.inside else "smallest"
-            num = n - k if rev else k + 1
-            what = "diameter" if not frame.face else "Z" if not frame.inside else "-Z"
-            raise GrooveParamError("NPP", f"the contour's element {num} (ending at {_where(frame, e[2])}) goes beyond "
-                                          f"its end point: the end point must be its {side} {what} (the "
-                                          "blank's surface the roughing starts from)")
+            side = "smallest" if frame.inside else "largest"
+            what = "Z" if frame.face else "diameter"
+            raise GrooveParamError("NPP", f"the contour's {name(k, e)} goes beyond its end point: the end point "
+                                          f"must be its {side} {what} (the blank's surface the roughing starts "
+                                          "from)")
     return con
 
 
