@@ -585,3 +585,20 @@ def test_face_relief_with_the_turning_tool_cuts_beside_the_groove(tmp_path):
     c = compare_design(res.part, target, res.stock)
     x, y, z = c["worst_location"]
     assert c["worst_deviation"] < -0.1 and z == pytest.approx(-8, abs=0.05) and 11 < math.hypot(x, y) < 15
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_random_bores_against_their_design(tmp_path, seed):
+    # the random shafts turned inside out: radius 25 - r, so the relief cuts go outwards into the
+    # tube's wall and the contour ends at the pre-drilled bore's 10 (VARI 11 / 3 with the boring tool)
+    pts, mid, falx, falz = _shaft(seed)
+    bore = [(round(25 - r, 3), z) for r, z in pts]
+    exact = bore + [(10.0, -40.0)]
+    target = design([(25, 0), (25, -40)], 25) - design(exact, 25)
+    res = sim(tmp_path, prog(_kont(bore), c95(11, mid=mid, falx=falx, falz=falz), tool=2, start="X10 Z5"), TUBE)
+    assert ratio(res) == pytest.approx(_tube(exact) / TUBE_VOL, rel=1e-6)
+    assert_matches_design(res, target, tol=0.01, max_gouge=0.01)
+    assert not res.warnings
+    res = sim(tmp_path, prog(_kont(bore), c95(3, mid=mid, falx=falx, falz=falz), tool=2, start="X10 Z5"), TUBE)
+    assert_matches_design(res, target, tol=math.hypot(falx, falz) + 2e-3, max_gouge=0.01)
+    assert not res.warnings
