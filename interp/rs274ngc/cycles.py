@@ -17,7 +17,7 @@ from cutsim.interp.core import MOTION, Step
 from cutsim.interp.core.lexer import Word
 from cutsim.interp.core.modal import PLANE_AXES
 
-from . import polar
+from . import exact, polar
 from .tables import CYCLES
 
 CYCLE_CODES = frozenset(CYCLES)
@@ -34,6 +34,7 @@ LETTERS = "XYZ"
 @dataclass
 class CycleState:
     initial: float | None = None  # the initial level (mm, machine frame) of the current series
+    initial_exact: float | None = None  # the same as rs274 holds it (program units, exact.py) or None
     code: float | None = None  # the cycle of the previous block (sticky words belong to it)
     r: float | None = None  # R as programmed (sticky)
     depth: float | None = None  # the hole-axis word as programmed (sticky)
@@ -59,7 +60,7 @@ def run(m, st: Step) -> None:
     cy = m.cycle
     new_series = cy.code != code
     if cy.initial is None:
-        cy.initial = m.base()[c]
+        cy.initial, cy.initial_exact = m.base()[c], exact.value(m, c)
     cy.r = sticky(m, st, "R", cy.r, new_series, "R clearance plane")
     cy.depth = sticky(m, st, LETTERS[c], cy.depth, new_series, "hole depth")
     if code in (73, 83):
@@ -92,12 +93,13 @@ def run(m, st: Step) -> None:
     rounds = polar.take(m, st) if polar.present(st) else None  # @ ^: each repeat from where the tool is
     words = {i: st.words.pop(LETTERS[i]) for i in (a, b) if LETTERS[i] in st.words}
     src = m.src(st)
-    if cy.initial < r - 1e-9:  # not for the last bits of a tool change's arithmetic (rs274: equal)
+    up, clear, clear_exact = levels(m, c, r)
+    if up:  # to R from where the tool stands: up, or down when the tool is above an initial level under R
         m.rapid(src, point(m, {c: r}))
-    clear = r if not m.retract_old else max(cy.initial, r)
     # the first hole is approached where the tool is when that is above R, else at the retract level
     # (as rs274 2.9 moves)
     height = m.base()[c] if m.base()[c] > r else clear
+    plane_exact = {i: exact.value(m, i) for i in (a, b)}
     for _ in range(repeats):
         hole = {c: height}
         if rounds is not None:
@@ -107,6 +109,11 @@ def run(m, st: Step) -> None:
         for i, w in words.items():
             hole[i] = (w.value * m.unit(i) + m.shift(i)) if m.absolute else m.base()[i] + w.value * m.unit(i)
         m.check_position(line, point(m, hole), {i: w.col for i, w in words.items()})
+        for i, w in words.items():  # rs274's own values of the hole's position (exact.py)
+            v = plane_exact[i]
+            plane_exact[i] = w.value if m.absolute else (None if v is None else v + w.value)
+            if rounds is not None:
+                plane_exact[i] = None
         m.rapid(src, point(m, hole))
         if height != r:
             m.rapid(src, point(m, {c: r}))
@@ -118,6 +125,26 @@ def run(m, st: Step) -> None:
                    "without having moved there (as LinuxCNC's interpreter goes on)")
             cy.warned_manual = True
         m.moved(point(m, {c: clear}))
+    for i, v in plane_exact.items():
+        exact.note(m, i, v, m.pos[i])
+    exact.note(m, c, clear_exact, m.pos[c])
+
+
+def levels(m, c: int, r: float) -> tuple[bool, float, float | None]:
+    """Whether the initial level lies under R (the tool goes to R first), the clear level (mm) and
+    the clear level as rs274 holds it (program units, or None). rs274 compares the initial level with
+    R in its program units, to the last bit (exact.py): where cutsim knows its values it does the same,
+    else it compares in mm (a last-bit difference after a tool change's arithmetic taken as equal, as
+    rs274 found them)."""
+    cy = m.cycle
+    il = cy.initial_exact
+    r_exact = cy.r if m.absolute else (None if il is None else il + cy.r)
+    if c == 0 and m.lathe_diameter:
+        il = r_exact = None
+    up = il < r_exact if il is not None and r_exact is not None else cy.initial < r - 1e-9
+    if not m.retract_old or up:
+        return up, r, r_exact
+    return up, cy.initial, il
 
 
 def point(m, values: dict[int, float]) -> tuple:

@@ -134,6 +134,30 @@ def _differential(seed: int, count: int, tools: str, tmp_path: Path) -> None:
     assert not bad, f"seed {seed}: {len(bad)} of {count} diverge, first {bad[0]}"
 
 
+# G92 Z-15.565 at Z-10.025 (G20) makes the offset 25.831; a G81 retracts to R 4.569; G92.3 then moves
+# rs274's program Z by its arithmetic, 4.569 + 25.831 - 25.831 = 4.568999999999999 (a last bit under
+# 4.569). That is the next series' initial level: its second block (R4.569 after R6.241) finds it under
+# R and goes down to R where the tool stands before the next hole, then retracts to R (G98: the
+# initial level is below it). Without G92.3 the level is 4.569 exactly: the move to the hole at 6.241.
+CYCLE_AFTER_G92_3 = ("G20 G90 F100\nG0 Z-10.025\nG92 Z-15.565\nG98 G81 X12.155 R4.569 Z0.118\nG0 Y-4.841\n"
+                     "{g92_3}G81 X16.294 Y19.605 R6.241 Z0.118\nX12.155 R4.569\nM2\n")
+
+
+@pytest.mark.parametrize("g92_3", ["G92.3\n", ""], ids=["after-g92.3", "without"])
+def test_a_cycles_initial_level_is_compared_with_r_to_rs274s_last_bit(rs274, tmp_path, g92_3):
+    path = tmp_path / "il.ngc"
+    path.write_text(CYCLE_AFTER_G92_3.format(g92_3=g92_3))
+    assert compare(str(path)) == "same"
+    theirs = run_rs274(str(path)).moves
+    # the move after the first hole of the R6.241 block (its feed down and rapid out)
+    feed = max(i for i, m in enumerate(theirs) if m.kind == "FEED" and m.end[0] == pytest.approx(16.294 * 25.4))
+    after = theirs[feed + 2]
+    if g92_3:  # down to R at the first hole: only Z moves
+        assert after.end[0] == pytest.approx(16.294 * 25.4) and after.end[2] < after.start[2]
+    else:  # straight to the second hole at the clear level
+        assert after.end[0] == pytest.approx(12.155 * 25.4) and after.end[2] == pytest.approx(after.start[2])
+
+
 # -- rs274's own differences: documented, and shown to be still there --------------------------------
 
 DO_AFTER_WHILE_IF = ("G21 F100\n#<n> = 0\no1 while [#<n> lt 3]\n#<n> = [#<n> + 1]\no2 if [#<n> gt 5]\no1 break\no2 endif\n"
