@@ -1,4 +1,4 @@
-"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G88 G89 (with G98/G99 and L) and the arcs' geometry
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G87 G88 G89 (with G98/G99 and L) and the arcs' geometry
 (multi-turn arcs, R centres, the radius check), as LinuxCNC
 2.9 moves them (checked move by move against its rs274, docs/dialects/rs274ngc.md).
 
@@ -40,6 +40,7 @@ class CycleState:
     depth: float | None = None  # the hole-axis word as programmed (sticky)
     q: float | None = None
     p: float | None = None
+    ijk: tuple | None = None  # G87's I J K as programmed (sticky)
     warned_manual: bool = False  # G88's manual retract warned about
 
 
@@ -73,8 +74,10 @@ def run(m, st: Step) -> None:
         if code == 88 and pw is None and (new_series or cy.p is None):
             raise m.error(line, col, "G88 needs the dwell time P")
         cy.p = pw.value if pw is not None else (0.0 if new_series or cy.p is None else cy.p)
+    if code == 87:
+        back_bore_words(m, st, new_series, col)
     cy.code = code
-    if code in (86, 88) and m.spindle_dir == 0:
+    if code in (86, 87, 88) and m.spindle_dir == 0:
         raise m.error(line, col, f"spindle not turning in G{code:g}")
     if code in (74, 84) and m.spindle_dir != (1 if code == 84 else -1):
         turning = {0: "not turning", 1: "turning clockwise", -1: "turning counter-clockwise"}[m.spindle_dir]
@@ -191,6 +194,8 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
     elif code == 89:
         feed(z)
         feed(clear)
+    elif code == 87:
+        back_bore(m, st, src, c, r, z, clear)
     elif code in (86, 88):  # G88: the manual retract is the operator's: the tool stays down (rs274)
         feed(z)
         direction = m.spindle_dir
@@ -206,6 +211,47 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
         feed(clear)
         m.spindle(src, 0, None)
         m.spindle(src, direction, None)
+
+
+def back_bore_words(m, st: Step, new_series: bool, col: int) -> None:
+    """G87's I J K, each required in the first block of a G87 series (rs274 2.9) and kept after."""
+    given = {letter: st.words.pop(letter) for letter in "IJK" if letter in st.words}
+    if new_series or m.cycle.ijk is None:
+        for letter in "IJK":
+            if letter not in given:
+                raise m.error(st.block.line, col, f"{letter} word missing with G87")
+        m.cycle.ijk = (0.0, 0.0, 0.0)
+    m.cycle.ijk = tuple(given[letter].value if letter in given else m.cycle.ijk[i] for i, letter in enumerate("IJK"))
+
+
+def back_bore(m, st: Step, src: Src, c: int, r: float, z: float, clear: float) -> None:
+    """G87 from the hole at R, as LinuxCNC 2.9 moves it: to the offset point (the I J K words of the
+    plane's two axes, always from the hole), the spindle stopped (LinuxCNC orients it: not simulated),
+    down to the bottom there, over to the hole, the spindle started, feed up to the back bore's top (the
+    hole axis's word: absolute in G90, from the bottom in G91), back down to the bottom, stopped, out
+    through the offset point to the clear level, back over the hole, the spindle started again."""
+    a, b, _ = PLANE_AXES[m.plane]
+    ijk = m.cycle.ijk
+    hole = m.base()
+    off = {a: hole[a] + ijk[a] * m.scale, b: hole[b] + ijk[b] * m.scale}
+    top = z + ijk[c] * m.scale if not m.absolute else ijk[c] * m.scale + m.shift(c)
+    direction = m.spindle_dir
+
+    def at(values, feed=False):
+        (m.linear_to(st, point(m, values)) if feed else m.rapid(src, point(m, values)))
+
+    at({**off, c: r})
+    m.spindle(src, 0, None)
+    at({**off, c: z})
+    at({a: hole[a], b: hole[b], c: z})
+    m.spindle(src, direction, None)
+    at({c: top}, feed=True)
+    at({c: z}, feed=True)
+    m.spindle(src, 0, None)
+    at({**off, c: z})
+    at({**off, c: clear})
+    at({a: hole[a], b: hole[b], c: clear})
+    m.spindle(src, direction, None)
 
 
 def arc_turns(m, src: Src, start, end, centre, clockwise: bool, turns: int) -> None:
