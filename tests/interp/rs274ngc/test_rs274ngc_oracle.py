@@ -31,7 +31,7 @@ SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/sha
 REFUSED_SAMPLES = {
     "b-index.ngc": "axis B", "cone.ngc": "axis B", "daisy.ngc": "axis A",
     "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
-    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "fillet",
+    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "pocket",
     "systems.ngc": "G5.1",
 }
 BOTH_REFUSE = {"increment.ngc", "probe-hole.ngc", "nestedcall.ngc"}  # files meant to be called, a bad call
