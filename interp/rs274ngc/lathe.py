@@ -180,11 +180,29 @@ def finish(m, st, src, y, segs, start, d, e, passes) -> None:
     levelled = level_start(path, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
     side = side_of(segs[0], levelled) or side_of(segs[0], start)
     start = levelled
+    cut = cut_axis([Seg(tuple(start), segs[0].p0)] + segs)
     for k in range(1, passes + 1):
-        prof = offset(segs, d - (d - e) * k / passes, side, SMALL * m.scale)  # rs274's rounding at the 0.01 rule
+        prof = offset(segs, d - (d - e) * k / passes, side, SMALL * m.scale, cut)  # rs274's rounding at the 0.01 rule
         path.rapid(start)
         path.rapid(prof[0].p0)
         path.follow(prof)
+
+
+def cut_axis(segs: list[Seg]) -> tuple[int, int]:
+    """G70's axis along the cut and the profile's direction on it, as rs274 2.9 takes them: Z, unless
+    a segment (the line from S to P0 among them) runs towards +Z (more than 0.001; an arc also when
+    it does not keep to one side of its centre along X), then X."""
+    def along_z(s: Seg) -> bool:
+        dz = s.p1[Z] - s.p0[Z]
+        if s.centre is None:
+            return dz <= 1e-3
+        entry, leave = s.p0[X] - s.centre[X], s.p1[X] - s.centre[X]
+        if s.ccw:
+            return entry >= -1e-3 and leave >= -1e-3 and dz <= -1e-3
+        return entry <= 1e-3 and leave <= 1e-3 and dz <= -1e-3
+
+    v = Z if all(along_z(s) for s in segs) else X
+    return v, _sign(segs[-1].p1[v] - segs[0].p1[v])
 
 
 def _sign(v: float) -> int:
@@ -209,7 +227,7 @@ def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
     if vdir == 0:
         raise ValueError("the profile ends where it starts along the cut")
     s = level_start(path, start, segs[0].p0, v, vdir)
-    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale)
+    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale, (v, vdir))
     p0, pe = prof[0].p0, prof[-1].p1
     su = _sign(p0[u] - s[u])
     monotonic(segs, u, v, su, vdir)

@@ -318,9 +318,10 @@ class Gen:
 
 
 def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
-    """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs),
-    outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
+    """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs; fillets
+    A and chamfers C between straight moves), outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
     its own modes set first (G18 G21 G90 G94 G8, then F)."""
+    finishes = random.Random(str(rng.getstate()[1]) + "AC")  # A and C from their own draws: the rest unchanged
     bore = rng.random() < 0.3
 
     def r4(lo: float, hi: float) -> float:  # 4 decimals, so an arc's printed end lies on its circle
@@ -354,10 +355,14 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
     lines = ["o9001 sub"]
     diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
     scale = 2.0 if diameter else 1.0  # G7: every X word a diameter (the profile's too)
-    for px, pz, code, centre in pts:
+    for k, (px, pz, code, centre) in enumerate(pts):
         if bore and code != "G1":
             code, centre = ("G2" if code == "G3" else "G3"), (centre.replace("I", "I-") if "I" in centre else centre)
-        lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}")
+        # a fillet or chamfer (0.1-0.4: room on sides of 1 mm and more) between two straight moves
+        finish = ""
+        if 0 < k < len(pts) - 1 and code == "G1" and pts[k + 1][2] == "G1" and finishes.random() < 0.3:
+            finish = f" {finishes.choice('AC')}{finishes.uniform(0.1, 0.4):.3f}"
+        lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}{finish}")
     lines.append("o9001 endsub")
     sub, lines = lines, ["G18 G21 G90 G94 G8 G40 G80", "F" + num(rng, 50, 500, 1)]  # F after G21 (rs274: F first)
     lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
@@ -368,6 +373,8 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
         words += [f"E{num(rng, 0.02, 0.1)}" if rng.random() < 0.7 else "E0", f"P{rng.randint(1, 3)}"]
     else:
         words += [f"I{num(rng, 0.5, 2.5)}", f"R{num(rng, 0.1, 1)}"]
+    if any(" A" in line or " C" in line for line in sub):  # no D or E with A or C: rs274 offsets those
+        words = [w if w[0] not in "DE" else w[0] + "0" for w in words]  # in steps (docs/dialects/rs274ngc.md)
     lines.append(f"{code} " + " ".join(words))
     if code != "G70" and rng.random() < 0.5:
         lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")

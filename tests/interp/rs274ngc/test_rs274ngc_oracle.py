@@ -330,6 +330,23 @@ def test_rs274_roughs_a_pocket_that_cutsim_refuses(rs274, tmp_path):
     assert theirs.error is None and len(theirs.moves) > 10
 
 
+def test_rs274_offsets_past_an_inside_fillet_that_cutsim_refuses(rs274, tmp_path):
+    # a fillet A0.2 on the inside corner where the run along Z meets the taper out, roughed with D0.3:
+    # rs274 offsets in steps and drops the arc once it has shrunk to nothing; cutsim refuses a D larger
+    # than an inside arc's radius. With D0.1 both cut the same.
+    for d, same in ((0.3, False), (0.1, True)):
+        path = tmp_path / f"d{d}.ngc"
+        path.write_text("G18 G21 G90 F100\nO100 SUB\nG1 X4 Z1\nG1 Z-5 A0.2\nG1 X8 Z-6\nG1 Z-10\nG1 X10\n"
+                        f"O100 ENDSUB\nG0 X12 Z2\nG71 Q100 X12 Z2 I1 D{d}\nM2\n")
+        verdict = compare(str(path))
+        if same:
+            assert verdict == "same", verdict
+        else:
+            assert "larger than an inside arc's radius" in cutsim_moves(str(path)).error
+            theirs = run_rs274(str(path))
+            assert theirs.error is None and len(theirs.moves) > 20
+
+
 def test_a_position_beyond_the_simulators_range_is_a_documented_difference(rs274, tmp_path):
     # 729 000 in is 18 516 600 mm: beyond cutsim's ±99 999.9999 mm, which rs274 does not have
     path = tmp_path / "far.ngc"
