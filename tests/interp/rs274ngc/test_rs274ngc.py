@@ -253,3 +253,22 @@ def test_g87_in_g91_tops_from_the_bottom_and_keeps_ijk():
     feeds = [r.end for r in m if isinstance(r, Feed)]
     assert feeds == [(5, 0, 1), (5, 0, -2), (10, 0, 1), (10, 0, -2)]
     assert (11, 0, -2) in [r.end for r in m if isinstance(r, Rapid)]
+
+
+def test_a_cycle_after_g92_3_compares_its_initial_level_with_r_as_rs274_holds_them():
+    # G20: G92 Z-15.565 at Z-10.025 makes the offset 25.831; the first G81 retracts to R 4.569 (G99:
+    # its initial level -15.565 is under R); G92.3 moves rs274's program Z by 4.569 + 25.831 - 25.831,
+    # a last bit under 4.569 in doubles, and that is the next series' initial level: its second block
+    # (R4.569 again, after R6.241) goes down to R where the tool stands, before the next hole
+    assert (4.569 + 25.831) - 25.831 < 4.569
+    text = ("G20 G90 F100\nG0 Z-10.025\nG92 Z-15.565\nG98 G81 X12.155 R4.569 Z0.118\nG0 Y-4.841\n"
+            "{}G81 X16.294 Y19.605 R6.241 Z0.118\nX12.155 R4.569\nM2\n")
+    inch = 25.4
+    for g92_3, down in (("G92.3\n", True), ("", False)):
+        m = moves(text.format(g92_3))
+        first = max(i for i, r in enumerate(m) if isinstance(r, Feed) and r.end[0] == pytest.approx(16.294 * inch))
+        after = m[first + 2]  # after the feed down and the rapid out
+        if down:
+            assert after.end[0] == pytest.approx(16.294 * inch) and after.end[2] < after.start[2]
+        else:
+            assert after.end[0] == pytest.approx(12.155 * inch) and after.end[2] == pytest.approx(after.start[2])
