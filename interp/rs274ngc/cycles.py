@@ -1,4 +1,4 @@
-"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G88 G89 (with G98/G99 and L) and the arcs' geometry
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G87 G88 G89 (with G98/G99 and L) and the arcs' geometry
 (multi-turn arcs, R centres, the radius check), as LinuxCNC
 2.9 moves them (checked move by move against its rs274, docs/dialects/rs274ngc.md).
 
@@ -17,7 +17,7 @@ from cutsim.interp.core import MOTION, Step
 from cutsim.interp.core.lexer import Word
 from cutsim.interp.core.modal import PLANE_AXES
 
-from . import polar
+from . import exact, polar
 from .tables import CYCLES
 
 CYCLE_CODES = frozenset(CYCLES)
@@ -34,11 +34,13 @@ LETTERS = "XYZ"
 @dataclass
 class CycleState:
     initial: float | None = None  # the initial level (mm, machine frame) of the current series
+    initial_exact: float | None = None  # the same as rs274 holds it (program units, exact.py) or None
     code: float | None = None  # the cycle of the previous block (sticky words belong to it)
     r: float | None = None  # R as programmed (sticky)
     depth: float | None = None  # the hole-axis word as programmed (sticky)
     q: float | None = None
     p: float | None = None
+    ijk: tuple | None = None  # G87's I J K as programmed (sticky)
     warned_manual: bool = False  # G88's manual retract warned about
 
 
@@ -59,7 +61,7 @@ def run(m, st: Step) -> None:
     cy = m.cycle
     new_series = cy.code != code
     if cy.initial is None:
-        cy.initial = m.base()[c]
+        cy.initial, cy.initial_exact = m.base()[c], exact.value(m, c)
     cy.r = sticky(m, st, "R", cy.r, new_series, "R clearance plane")
     cy.depth = sticky(m, st, LETTERS[c], cy.depth, new_series, "hole depth")
     if code in (73, 83):
@@ -72,8 +74,10 @@ def run(m, st: Step) -> None:
         if code == 88 and pw is None and (new_series or cy.p is None):
             raise m.error(line, col, "G88 needs the dwell time P")
         cy.p = pw.value if pw is not None else (0.0 if new_series or cy.p is None else cy.p)
+    if code == 87:
+        back_bore_words(m, st, new_series, col)
     cy.code = code
-    if code in (86, 88) and m.spindle_dir == 0:
+    if code in (86, 87, 88) and m.spindle_dir == 0:
         raise m.error(line, col, f"spindle not turning in G{code:g}")
     if code in (74, 84) and m.spindle_dir != (1 if code == 84 else -1):
         turning = {0: "not turning", 1: "turning clockwise", -1: "turning counter-clockwise"}[m.spindle_dir]
@@ -92,12 +96,13 @@ def run(m, st: Step) -> None:
     rounds = polar.take(m, st) if polar.present(st) else None  # @ ^: each repeat from where the tool is
     words = {i: st.words.pop(LETTERS[i]) for i in (a, b) if LETTERS[i] in st.words}
     src = m.src(st)
-    if cy.initial < r - 1e-9:  # not for the last bits of a tool change's arithmetic (rs274: equal)
+    up, clear, clear_exact = levels(m, c, r)
+    if up:  # to R from where the tool stands: up, or down when the tool is above an initial level under R
         m.rapid(src, point(m, {c: r}))
-    clear = r if not m.retract_old else max(cy.initial, r)
     # the first hole is approached where the tool is when that is above R, else at the retract level
     # (as rs274 2.9 moves)
     height = m.base()[c] if m.base()[c] > r else clear
+    plane_exact = {i: exact.value(m, i) for i in (a, b)}
     for _ in range(repeats):
         hole = {c: height}
         if rounds is not None:
@@ -107,6 +112,11 @@ def run(m, st: Step) -> None:
         for i, w in words.items():
             hole[i] = (w.value * m.unit(i) + m.shift(i)) if m.absolute else m.base()[i] + w.value * m.unit(i)
         m.check_position(line, point(m, hole), {i: w.col for i, w in words.items()})
+        for i, w in words.items():  # rs274's own values of the hole's position (exact.py)
+            v = plane_exact[i]
+            plane_exact[i] = w.value if m.absolute else (None if v is None else v + w.value)
+            if rounds is not None:
+                plane_exact[i] = None
         m.rapid(src, point(m, hole))
         if height != r:
             m.rapid(src, point(m, {c: r}))
@@ -118,6 +128,26 @@ def run(m, st: Step) -> None:
                    "without having moved there (as LinuxCNC's interpreter goes on)")
             cy.warned_manual = True
         m.moved(point(m, {c: clear}))
+    for i, v in plane_exact.items():
+        exact.note(m, i, v, m.pos[i])
+    exact.note(m, c, clear_exact, m.pos[c])
+
+
+def levels(m, c: int, r: float) -> tuple[bool, float, float | None]:
+    """Whether the initial level lies under R (the tool goes to R first), the clear level (mm) and
+    the clear level as rs274 holds it (program units, or None). rs274 compares the initial level with
+    R in its program units, to the last bit (exact.py): where cutsim knows its values it does the same,
+    else it compares in mm (a last-bit difference after a tool change's arithmetic taken as equal, as
+    rs274 found them)."""
+    cy = m.cycle
+    il = cy.initial_exact
+    r_exact = cy.r if m.absolute else (None if il is None else il + cy.r)
+    if c == 0 and m.lathe_diameter:
+        il = r_exact = None
+    up = il < r_exact if il is not None and r_exact is not None else cy.initial < r - 1e-9
+    if not m.retract_old or up:
+        return up, r, r_exact
+    return up, cy.initial, il
 
 
 def point(m, values: dict[int, float]) -> tuple:
@@ -164,6 +194,8 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
     elif code == 89:
         feed(z)
         feed(clear)
+    elif code == 87:
+        back_bore(m, st, src, c, r, z, clear)
     elif code in (86, 88):  # G88: the manual retract is the operator's: the tool stays down (rs274)
         feed(z)
         direction = m.spindle_dir
@@ -179,6 +211,47 @@ def body(m, st: Step, src: Src, code, c: int, r: float, z: float, clear: float) 
         feed(clear)
         m.spindle(src, 0, None)
         m.spindle(src, direction, None)
+
+
+def back_bore_words(m, st: Step, new_series: bool, col: int) -> None:
+    """G87's I J K, each required in the first block of a G87 series (rs274 2.9) and kept after."""
+    given = {letter: st.words.pop(letter) for letter in "IJK" if letter in st.words}
+    if new_series or m.cycle.ijk is None:
+        for letter in "IJK":
+            if letter not in given:
+                raise m.error(st.block.line, col, f"{letter} word missing with G87")
+        m.cycle.ijk = (0.0, 0.0, 0.0)
+    m.cycle.ijk = tuple(given[letter].value if letter in given else m.cycle.ijk[i] for i, letter in enumerate("IJK"))
+
+
+def back_bore(m, st: Step, src: Src, c: int, r: float, z: float, clear: float) -> None:
+    """G87 from the hole at R, as LinuxCNC 2.9 moves it: to the offset point (the I J K words of the
+    plane's two axes, always from the hole), the spindle stopped (LinuxCNC orients it: not simulated),
+    down to the bottom there, over to the hole, the spindle started, feed up to the back bore's top (the
+    hole axis's word: absolute in G90, from the bottom in G91), back down to the bottom, stopped, out
+    through the offset point to the clear level, back over the hole, the spindle started again."""
+    a, b, _ = PLANE_AXES[m.plane]
+    ijk = m.cycle.ijk
+    hole = m.base()
+    off = {a: hole[a] + ijk[a] * m.scale, b: hole[b] + ijk[b] * m.scale}
+    top = z + ijk[c] * m.scale if not m.absolute else ijk[c] * m.scale + m.shift(c)
+    direction = m.spindle_dir
+
+    def at(values, feed=False):
+        (m.linear_to(st, point(m, values)) if feed else m.rapid(src, point(m, values)))
+
+    at({**off, c: r})
+    m.spindle(src, 0, None)
+    at({**off, c: z})
+    at({a: hole[a], b: hole[b], c: z})
+    m.spindle(src, direction, None)
+    at({c: top}, feed=True)
+    at({c: z}, feed=True)
+    m.spindle(src, 0, None)
+    at({**off, c: z})
+    at({**off, c: clear})
+    at({a: hole[a], b: hole[b], c: clear})
+    m.spindle(src, direction, None)
 
 
 def arc_turns(m, src: Src, start, end, centre, clockwise: bool, turns: int) -> None:

@@ -25,6 +25,7 @@ import math
 
 from cutsim.interp.core import MOTION, Step
 
+from . import corners
 from .profile import EPS, Seg, crossings, offset, side_of
 
 LATHE_CYCLES = (70, 71, 71.1, 71.2, 72, 72.1, 72.2)
@@ -76,12 +77,13 @@ def check_profile(m, st: Step, has_axes: bool) -> None:
     """A block of a G70-G72 profile: straight moves and arcs only, absolute (LinuxCNC's
     incremental profiles are not simulated)."""
     col = st.groups[MOTION].col if MOTION in st.groups else 1
-    for letter, what in (("A", "fillet"), ("C", "chamfer")):
-        if letter in st.words:
-            raise m.error(st.block.line, st.words[letter].col,
-                             f"{letter} ({what}) in a G70-G72 profile is not simulated")
+    finish = [st.words.pop(letter) for letter in "AC" if letter in st.words]
+    if len(finish) == 2:
+        raise m.error(st.block.line, finish[1].col, "A (fillet) and C (chamfer) on one corner of a G70-G72 profile")
     if not has_axes:
         return
+    if finish:  # the corner at the end of this block's move (corners.py): noted before the move
+        m.profile.append((finish[0].letter, finish[0].value * m.scale, st.block.line, finish[0].col))
     if m.motion not in (0, 1, 2, 3):
         raise m.error(st.block.line, col, f"G{m.motion:g} in a G70-G72 profile (G0-G3 only)")
     if not m.absolute:
@@ -104,17 +106,31 @@ def capture(m, st: Step, q, col: int) -> list[Seg]:
         m.profile = None
     m.moved(pos)
     m.feed_units, m.feed_scale = feed, scale
-    if len(moves) < 2:
+    if sum(1 for mv in moves if not isinstance(mv[0], str)) < 2:
         raise m.error(st.block.line, col, f"the profile o{q.value:g} needs a move to its start and at least one more")
-    segs = []
-    for p0, p1, centre, clockwise in moves[1:]:
-        a, b = (p0[2], p0[0]), (p1[2], p1[0])
-        if centre is None and math.dist(a, b) < 1e-7:
+    segs, finish, pending, first = [], {}, None, True  # segs[0]: the move to the start
+    for move in moves:
+        if isinstance(move[0], str):  # A or C for the corner after the next move
+            pending = move
             continue
+        p0, p1, centre, clockwise = move
+        a, b = (p0[2], p0[0]), (p1[2], p1[0])
+        if not first and centre is None and math.dist(a, b) < 1e-7:
+            pending = None
+            continue
+        # the move to the start is kept until the corners are made: A or C on it rounds or cuts the
+        # corner at the profile's start with the line from the cycle's start point (rs274 2.9)
+        first = False
         segs.append(Seg(a, b, None if centre is None else (centre[2], centre[0]), not clockwise))
-    if not segs:
+        if pending is not None:
+            finish[len(segs) - 1], pending = pending, None
+    if len(segs) < 2:
         raise m.error(st.block.line, col, f"the profile o{q.value:g} has no moves after its start")
-    return segs
+    try:
+        return corners.apply(segs, {i: (f[0], f[1]) for i, f in finish.items()})[1:]
+    except ValueError as e:
+        f = finish[e.args[1] if len(e.args) > 1 else max(finish)]
+        raise m.error(f[2], f[3], e.args[0]) from None
 
 
 class Path:
@@ -164,11 +180,29 @@ def finish(m, st, src, y, segs, start, d, e, passes) -> None:
     levelled = level_start(path, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
     side = side_of(segs[0], levelled) or side_of(segs[0], start)
     start = levelled
+    cut = cut_axis([Seg(tuple(start), segs[0].p0)] + segs)
     for k in range(1, passes + 1):
-        prof = offset(segs, d - (d - e) * k / passes, side, SMALL * m.scale)  # rs274's rounding at the 0.01 rule
+        prof = offset(segs, d - (d - e) * k / passes, side, SMALL * m.scale, cut)  # rs274's rounding at the 0.01 rule
         path.rapid(start)
         path.rapid(prof[0].p0)
         path.follow(prof)
+
+
+def cut_axis(segs: list[Seg]) -> tuple[int, int]:
+    """G70's axis along the cut and the profile's direction on it, as rs274 2.9 takes them: Z, unless
+    a segment (the line from S to P0 among them) runs towards +Z (more than 0.001; an arc also when
+    it does not keep to one side of its centre along X), then X."""
+    def along_z(s: Seg) -> bool:
+        dz = s.p1[Z] - s.p0[Z]
+        if s.centre is None:
+            return dz <= 1e-3
+        entry, leave = s.p0[X] - s.centre[X], s.p1[X] - s.centre[X]
+        if s.ccw:
+            return entry >= -1e-3 and leave >= -1e-3 and dz <= -1e-3
+        return entry <= 1e-3 and leave <= 1e-3 and dz <= -1e-3
+
+    v = Z if all(along_z(s) for s in segs) else X
+    return v, _sign(segs[-1].p1[v] - segs[0].p1[v])
 
 
 def _sign(v: float) -> int:
@@ -193,7 +227,7 @@ def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
     if vdir == 0:
         raise ValueError("the profile ends where it starts along the cut")
     s = level_start(path, start, segs[0].p0, v, vdir)
-    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale)
+    prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale, (v, vdir))
     p0, pe = prof[0].p0, prof[-1].p1
     su = _sign(p0[u] - s[u])
     monotonic(segs, u, v, su, vdir)

@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import compensation, context, cycles, lathe, offsets, polar, threading
+from . import compensation, context, cycles, exact, lathe, offsets, polar, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters, Unreadable
 
@@ -55,6 +55,7 @@ class Ngc(Interpreter):
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
         compensation.init(self)
         offsets.load(self)
+        exact.start(self)
 
     def emit(self, rec) -> None:
         if (self.comp is None and self.comp_exit is None) or not compensation.route(self, rec):
@@ -88,6 +89,7 @@ class Ngc(Interpreter):
                 end[i] = w.value * self.unit(i) + self.shift(i)
             else:
                 end[i] = end[i] + w.value * self.unit(i)
+            exact.goal(self, i, w, end[i]) if not machine else exact.note(self, i, None, end[i])
         self.check_position(st.block.line, end, {i: w.col for i, w in words.items()})
         return (end[0], end[1], end[2]), words
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 from cutsim.interp.core import Group, Step
 from cutsim.interp.core.lexer import Word
 
+from . import exact
+
 SYSTEMS = {54: 1, 55: 2, 56: 3, 57: 4, 58: 5, 59: 6, 59.1: 7, 59.2: 8, 59.3: 9}
 
 
@@ -83,6 +85,12 @@ def nonmodal(m, st: Step, code: float, g: Word) -> None:
     if code in COMP_REFUSED and m.comp_side:
         raise m.error(st.block.line, g.col, f"G{g.raw}: {COMP_REFUSED[code]} with cutter radius compensation on "
                       "(G40 first)")
+    if code in (92, 92.1, 92.2, 92.3):
+        before = exact.before_g92(m)
+        words = {i: st.words[a] for i, a in enumerate("XYZ") if a in st.words}
+        g92(m, st, code, g)
+        exact.g92(m, code, words, before)
+        return
     if code == 10:
         g10(m, st, g)
     elif code in (28, 30):
@@ -91,14 +99,18 @@ def nonmodal(m, st: Step, code: float, g: Word) -> None:
         first = 5161 if code == 28.1 else 5181
         for i in range(3):
             m.params.numbered[first + i] = m.base()[i] + m.tool_len[i]
-    elif code == 92:
-        set_g92(m, st, g)
     elif code == 52:  # LinuxCNC 2.9: the G92 offsets of the axes given set to their values (G90 or G91)
         for i, w in axis_words(st).items():
             m.g92[i] = w.value * m.unit(i)
         m.params.numbered[5210] = 1.0
         for i in range(3):
             m.params.numbered[5211 + i] = m.g92[i]
+        exact.forget_g92(m)
+
+
+def g92(m, st: Step, code: float, g: Word) -> None:
+    if code == 92:
+        set_g92(m, st, g)
     elif code in (92.1, 92.2):  # #5210 (G92 applied) 0 after both; G92.1 clears the stored offsets too
         m.g92 = [0.0, 0.0, 0.0]
         for i in range(5210, 5214 if code == 92.1 else 5211):

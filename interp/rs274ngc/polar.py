@@ -39,6 +39,9 @@ def target(m, line: int, dist, ang) -> tuple[float, float]:
         a = ang.value if ang is not None else a
     else:
         r += dist.value if dist is not None else 0.0
+        if ang is not None and r == 0.0:  # the @ step reached the origin: rs274 then finds no angle to turn
+            raise m.error(line, ang.col, "polar coordinates at the XY origin: G91 has no angle to go on from "
+                          "(the @ increment reached it)")
         a += ang.value if ang is not None else 0.0
     return r * math.cos(math.radians(a)), r * math.sin(math.radians(a))
 

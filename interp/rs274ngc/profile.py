@@ -81,10 +81,11 @@ def shifted(s: Seg, d: float, side: float) -> Seg:
                (c[0] + (s.p1[0] - c[0]) * k, c[1] + (s.p1[1] - c[1]) * k), c, s.ccw)
 
 
-def offset(segs: list[Seg], d: float, side: float, small: float) -> list[Seg]:
+def offset(segs: list[Seg], d: float, side: float, small: float, cut: tuple[int, int]) -> list[Seg]:
     """The profile ``d`` to ``side``: each segment moved, an arc of radius d about each corner the
-    offset goes round (convex) unless d x sin(the turn) is ``small`` or less (LinuxCNC 2.9: 0.01
-    program units), the neighbours cut back to where they meet at the others."""
+    offset goes round (convex) where the moved segments' ends lie more than ``small`` (LinuxCNC 2.9:
+    0.01 program units) apart along the cut, the later one ahead of the earlier (``cut``: the axis
+    and the profile's direction along it), the neighbours cut back to where they meet at the others."""
     if d == 0.0:
         return list(segs)
     moved = [shifted(s, d, side) for s in segs]
@@ -99,7 +100,8 @@ def offset(segs: list[Seg], d: float, side: float, small: float) -> list[Seg]:
         if abs(turn) < TANGENT and t0[0] * t1[0] + t0[1] * t1[1] > 0:  # tangent but for rounding
             out.append(cur)
             continue
-        p = None if turn * side < 0 and d * abs(turn) > small else meet(prev, cur, corner)
+        gap = (prev.p1[cut[0]] - cur.p0[cut[0]]) * -cut[1]
+        p = None if turn * side < 0 and gap > small else meet(prev, cur, corner)
         if p is None and turn * side < 0:
             out.append(Seg(prev.p1, cur.p0, corner, turn > 0))
             out.append(cur)

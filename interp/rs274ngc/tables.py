@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from cutsim.interp.core import Code, Group
 
-CYCLES = (73, 74, 81, 82, 83, 84, 85, 86, 88, 89)  # canned cycles simulated
+CYCLES = (73, 74, 81, 82, 83, 84, 85, 86, 87, 88, 89)  # canned cycles simulated
 G_CODES: dict[float, Code] = {
     0: Code(Group.MOTION, "XYZ", "rapid"),
     1: Code(Group.MOTION, "XYZF", "linear feed"),
@@ -19,6 +19,7 @@ G_CODES: dict[float, Code] = {
     73: Code(Group.MOTION, "XYZRQL", "drilling cycle with chip breaking"),
     74: Code(Group.MOTION, "XYZRLP", "left-hand tapping cycle with dwell"),
     84: Code(Group.MOTION, "XYZRLP", "right-hand tapping cycle with dwell"),
+    87: Code(Group.MOTION, "XYZRLIJK", "back boring cycle"),
     88: Code(Group.MOTION, "XYZRLP", "boring cycle, spindle stop, manual out"),
     76: Code(Group.MOTION, "XYZPIJKRQHEL", "threading cycle"),
     80: Code(Group.MOTION, "", "cancel canned cycle"),
@@ -82,7 +83,6 @@ REFUSED: dict[float, str] = {
     5: "cubic spline", 5.1: "quadratic spline", 5.2: "NURBS", 5.3: "NURBS end",
     17.1: "plane UV", 18.1: "plane WU", 19.1: "plane VW",
     38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
-    87: "back boring cycle",
 }
 M_CODES: dict[int, Code] = {
     0: Code(Group.STOP, "", "program pause"),

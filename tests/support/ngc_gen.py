@@ -3,7 +3,7 @@
 ``program(rng)`` writes one program: motions in the three planes (arcs by centre and radius, full
 circles, helices with P turns, G90.1 centres from ``#<_x>``; polar @ ^ in G17), units and distance modes, work
 offsets (G10 L1/L2/L10/L11/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
-offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L), G96, G33/G33.1, G76
+offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L; G87 from its own draws), G96, G33/G33.1, G76
 and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) M70-M73 (M73 in the subroutine) (G76 never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
@@ -318,9 +318,10 @@ class Gen:
 
 
 def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
-    """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs),
-    outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
+    """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs; fillets
+    A and chamfers C between straight moves), outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
     its own modes set first (G18 G21 G90 G94 G8, then F)."""
+    finishes = random.Random(str(rng.getstate()[1]) + "AC")  # A and C from their own draws: the rest unchanged
     bore = rng.random() < 0.3
 
     def r4(lo: float, hi: float) -> float:  # 4 decimals, so an arc's printed end lies on its circle
@@ -354,10 +355,14 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
     lines = ["o9001 sub"]
     diameter = rng.random() < 0.3 and all(code == "G1" for _, _, code, _ in pts)
     scale = 2.0 if diameter else 1.0  # G7: every X word a diameter (the profile's too)
-    for px, pz, code, centre in pts:
+    for k, (px, pz, code, centre) in enumerate(pts):
         if bore and code != "G1":
             code, centre = ("G2" if code == "G3" else "G3"), (centre.replace("I", "I-") if "I" in centre else centre)
-        lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}")
+        # a fillet or chamfer (0.1-0.4: room on sides of 1 mm and more) between two straight moves
+        finish = ""
+        if 0 < k < len(pts) - 1 and code == "G1" and pts[k + 1][2] == "G1" and finishes.random() < 0.3:
+            finish = f" {finishes.choice('AC')}{finishes.uniform(0.1, 0.4):.3f}"
+        lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}{finish}")
     lines.append("o9001 endsub")
     sub, lines = lines, ["G18 G21 G90 G94 G8 G40 G80", "F" + num(rng, 50, 500, 1)]  # F after G21 (rs274: F first)
     lines.append(("G7 " if diameter else "") + f"G0 X{xw(top) * scale:.4f} Z{rng.uniform(-0.5, 3):.4f}")
@@ -368,11 +373,36 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
         words += [f"E{num(rng, 0.02, 0.1)}" if rng.random() < 0.7 else "E0", f"P{rng.randint(1, 3)}"]
     else:
         words += [f"I{num(rng, 0.5, 2.5)}", f"R{num(rng, 0.1, 1)}"]
+    if any(" A" in line or " C" in line for line in sub):  # no D or E with A or C: rs274 offsets those
+        words = [w if w[0] not in "DE" else w[0] + "0" for w in words]  # in steps (docs/dialects/rs274ngc.md)
     lines.append(f"{code} " + " ".join(words))
     if code != "G70" and rng.random() < 0.5:
         lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")
     lines.append("G8 G0 X40 Z40")
     return sub, lines
+
+
+def back_bore(g: Gen, rng: random.Random) -> None:
+    """A G87 series in the current plane (the spindle started first): the offset I J K of the plane's
+    axes, the top by the hole axis's letter (absolute in G90, from the bottom in G91), G98/G99, L."""
+    a, b, n, _, _ = PLANE_LETTERS[g.plane]
+    ijk = {"X": "I", "Y": "J", "Z": "K"}
+    g.emit(f"S{rng.randint(100, 2000)} M{rng.choice([3, 4])}")
+    retract = rng.choice(["G98", "G99", ""])
+    repeat = f" L{rng.randint(1, 3)}" if rng.random() < 0.3 else ""
+    off = f"{ijk[a]}{num(rng, -3, 3)} {ijk[b]}{num(rng, -3, 3)}"
+    if rng.random() < 0.5:
+        top = rng.uniform(-5, 10)
+        bottom = top - rng.uniform(2, 12)
+        g.emit(f"G90 {retract} G87 {a}{num(rng, -20, 20)} {b}{num(rng, -20, 20)} R{top:.3f} {n}{bottom:.3f} "
+               f"{off} {ijk[n]}{bottom + rng.uniform(0.5, 2):.3f}{repeat}")
+        if rng.random() < 0.5:
+            g.emit(f"{rng.choice(['', 'G98 ', 'G99 '])}{a}{num(rng, -20, 20)}"
+                   + (f" {ijk[a]}{num(rng, -3, 3)}" if rng.random() < 0.3 else ""))
+    else:
+        g.emit(f"G91 {retract} G87 {a}{num(rng, -10, 10)} {b}{num(rng, -10, 10)} R{num(rng, -4, 8)} "
+               f"{n}{-rng.uniform(2, 12):.3f} {off} {ijk[n]}{num(rng, 0.5, 2)}{repeat}")
+    g.emit(rng.choice(["G80", "G90 G80", f"G0 {n}{num(rng, -5, 5)}"]))
 
 
 class Comp:
@@ -475,10 +505,13 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str
         g.out[1:1] = subs
     numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
     comp = Comp(random.Random(str(rng.getstate()[1])))  # its own draws (Comp's docstring)
+    bore = random.Random(str(rng.getstate()[1]) + "G87")  # G87's own draws too: the rest stays as it was
     for _ in range(statements):
         g.statement()
         if comp.rng.random() < 0.12:
             comp.sequence(g)
+        if bore.random() < 0.04:
+            back_bore(g, bore)
         if subs and rng.random() < 0.1:
             g.emit("G17")
             g.plane = "G17"

@@ -233,3 +233,42 @@ def test_m98_m99_refusals(text, message):
 def test_inverse_time_feed_is_length_times_f_at_least_a_tenth_unit_per_minute(units, move, f, feed):
     m = moves(f"{units}\nG93 G1 {move} F{f}\nM2\n")
     assert m[-1].feed == pytest.approx(feed)
+
+
+def test_g87_back_bores_through_its_offset_point():
+    # G98 G87 X10 Y5 R3 Z-15 I2 J-1 K-8 from Z20: the hole (10, 5), the offset point (10 + 2, 5 - 1);
+    # in at the offset point from R down to the bottom Z-15, over to the hole, feed up to the top
+    # K-8 and back to the bottom, out through the offset point to the initial level 20, over the hole
+    m = moves("G21 F100 S500 M3\nG0 X0 Y0 Z20\nG98 G87 X10 Y5 R3 Z-15 I2 J-1 K-8\nG80\nM2\n")[1:]
+    ends = [(r.end, type(r).__name__) for r in m]
+    assert ends == [((10, 5, 20), "Rapid"), ((10, 5, 3), "Rapid"), ((12, 4, 3), "Rapid"), ((12, 4, -15), "Rapid"),
+                    ((10, 5, -15), "Rapid"), ((10, 5, -8), "Feed"), ((10, 5, -15), "Feed"),
+                    ((12, 4, -15), "Rapid"), ((12, 4, 20), "Rapid"), ((10, 5, 20), "Rapid")]
+
+
+def test_g87_in_g91_tops_from_the_bottom_and_keeps_ijk():
+    # G91 from Z10: R-2 is 8, the bottom Z-10 from R is -2, K3 the top 3 above it (1); the second
+    # block (X5, no I J K) keeps I1 J0 K3: the offset point 1 mm along X from the hole at X10
+    m = moves("G21 F100 S500 M3\nG0 X0 Y0 Z10\nG91 G99 G87 X5 R-2 Z-10 I1 J0 K3\nX5\nG90 G80\nM2\n")
+    feeds = [r.end for r in m if isinstance(r, Feed)]
+    assert feeds == [(5, 0, 1), (5, 0, -2), (10, 0, 1), (10, 0, -2)]
+    assert (11, 0, -2) in [r.end for r in m if isinstance(r, Rapid)]
+
+
+def test_a_cycle_after_g92_3_compares_its_initial_level_with_r_as_rs274_holds_them():
+    # G20: G92 Z-15.565 at Z-10.025 makes the offset 25.831; the first G81 retracts to R 4.569 (G99:
+    # its initial level -15.565 is under R); G92.3 moves rs274's program Z by 4.569 + 25.831 - 25.831,
+    # a last bit under 4.569 in doubles, and that is the next series' initial level: its second block
+    # (R4.569 again, after R6.241) goes down to R where the tool stands, before the next hole
+    assert (4.569 + 25.831) - 25.831 < 4.569
+    text = ("G20 G90 F100\nG0 Z-10.025\nG92 Z-15.565\nG98 G81 X12.155 R4.569 Z0.118\nG0 Y-4.841\n"
+            "{}G81 X16.294 Y19.605 R6.241 Z0.118\nX12.155 R4.569\nM2\n")
+    inch = 25.4
+    for g92_3, down in (("G92.3\n", True), ("", False)):
+        m = moves(text.format(g92_3))
+        first = max(i for i, r in enumerate(m) if isinstance(r, Feed) and r.end[0] == pytest.approx(16.294 * inch))
+        after = m[first + 2]  # after the feed down and the rapid out
+        if down:
+            assert after.end[0] == pytest.approx(16.294 * inch) and after.end[2] < after.start[2]
+        else:
+            assert after.end[0] == pytest.approx(12.155 * inch) and after.end[2] == pytest.approx(after.start[2])

@@ -139,3 +139,29 @@ def test_the_example_fails_its_checks_without_the_finishing_pass(tmp_path):
     report = json.loads((tmp_path / "out" / "report.json").read_text())
     failed = {c["name"] for c in report["checks"] if not c["passed"]}
     assert failed == {"journal 12", "taper", "journal 20", "quarter round", "collar 26", "volume #7"}, res.output
+
+
+def test_a_fillet_rounds_the_corner_at_the_end_of_its_move_with_an_arc_of_radius_a():
+    # G70 on X4 Z1 / Z-5 / X8 A0.5 / Z-10: the corner (Z-5, X8) between the step out along X and the
+    # run along -Z; the circle of radius 0.5 inside it touches the step at X 8 - 0.5 and the run at
+    # Z -5 - 0.5, its centre (Z-5.5, X7.5); from +X to -Z is a left turn in G18's (Z, X): a G3
+    ms = moves("o100 sub\nG1 X4 Z1\nG1 Z-5\nG1 X8 A0.5\nG1 Z-10\no100 endsub\nG0 X12 Z2\nG70 Q100 X12 Z2")
+    feeds = [r for r in ms if isinstance(r, (Feed, Arc))]
+    assert [xz(r) for r in feeds] == [(4, -5), (7.5, -5), (8, -5.5), (8, -10)]
+    arc = feeds[2]
+    assert isinstance(arc, Arc) and not arc.clockwise
+    assert arc.center[0] == pytest.approx(7.5) and arc.center[2] == pytest.approx(-5.5)
+
+
+@pytest.mark.parametrize("turn", [90, 45])
+def test_a_chamfer_is_the_chord_of_the_fillet_circle(turn):
+    # C0.5 after the run along -Z, the next line turning `turn` degrees towards +X: the circle of radius
+    # 0.5 tangent to both touches each line 0.5 * tan(turn / 2) from the corner (0.5 on a right angle)
+    t = math.radians(turn)
+    end = (-5 - 4 * math.cos(t), 4 + 4 * math.sin(t))  # (z, x) 4 mm along the turned line
+    prog = f"o100 sub\nG1 X4 Z1\nG1 Z-5 C0.5\nG1 X{end[1]:.6f} Z{end[0]:.6f}\no100 endsub\nG0 X12 Z2\nG70 Q100 X12 Z2"
+    feeds = [r for r in moves(prog) if isinstance(r, (Feed, Arc))]
+    cut = 0.5 * math.tan(t / 2)
+    assert all(isinstance(r, Feed) for r in feeds)
+    assert xz(feeds[0]) == pytest.approx((4, -5 + cut))
+    assert xz(feeds[1]) == pytest.approx((4 + cut * math.sin(t), -5 - cut * math.cos(t)))

@@ -31,7 +31,7 @@ SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/sha
 REFUSED_SAMPLES = {
     "b-index.ngc": "axis B", "cone.ngc": "axis B", "daisy.ngc": "axis A",
     "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
-    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "fillet",
+    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "pocket",
     "systems.ngc": "G5.1",
 }
 BOTH_REFUSE = {"increment.ngc", "probe-hole.ngc", "nestedcall.ngc"}  # files meant to be called, a bad call
@@ -132,6 +132,30 @@ def _differential(seed: int, count: int, tools: str, tmp_path: Path) -> None:
         if not verdict.startswith(("same", "documented difference")):
             bad.append((i, verdict))
     assert not bad, f"seed {seed}: {len(bad)} of {count} diverge, first {bad[0]}"
+
+
+# G92 Z-15.565 at Z-10.025 (G20) makes the offset 25.831; a G81 retracts to R 4.569; G92.3 then moves
+# rs274's program Z by its arithmetic, 4.569 + 25.831 - 25.831 = 4.568999999999999 (a last bit under
+# 4.569). That is the next series' initial level: its second block (R4.569 after R6.241) finds it under
+# R and goes down to R where the tool stands before the next hole, then retracts to R (G98: the
+# initial level is below it). Without G92.3 the level is 4.569 exactly: the move to the hole at 6.241.
+CYCLE_AFTER_G92_3 = ("G20 G90 F100\nG0 Z-10.025\nG92 Z-15.565\nG98 G81 X12.155 R4.569 Z0.118\nG0 Y-4.841\n"
+                     "{g92_3}G81 X16.294 Y19.605 R6.241 Z0.118\nX12.155 R4.569\nM2\n")
+
+
+@pytest.mark.parametrize("g92_3", ["G92.3\n", ""], ids=["after-g92.3", "without"])
+def test_a_cycles_initial_level_is_compared_with_r_to_rs274s_last_bit(rs274, tmp_path, g92_3):
+    path = tmp_path / "il.ngc"
+    path.write_text(CYCLE_AFTER_G92_3.format(g92_3=g92_3))
+    assert compare(str(path)) == "same"
+    theirs = run_rs274(str(path)).moves
+    # the move after the first hole of the R6.241 block (its feed down and rapid out)
+    feed = max(i for i, m in enumerate(theirs) if m.kind == "FEED" and m.end[0] == pytest.approx(16.294 * 25.4))
+    after = theirs[feed + 2]
+    if g92_3:  # down to R at the first hole: only Z moves
+        assert after.end[0] == pytest.approx(16.294 * 25.4) and after.end[2] < after.start[2]
+    else:  # straight to the second hole at the clear level
+        assert after.end[0] == pytest.approx(12.155 * 25.4) and after.end[2] == pytest.approx(after.start[2])
 
 
 # -- rs274's own differences: documented, and shown to be still there --------------------------------
@@ -304,6 +328,23 @@ def test_rs274_roughs_a_pocket_that_cutsim_refuses(rs274, tmp_path):
     assert "pocket" in cutsim_moves(str(path), kind="lathe").error
     theirs = run_rs274(str(path))
     assert theirs.error is None and len(theirs.moves) > 10
+
+
+def test_rs274_offsets_past_an_inside_fillet_that_cutsim_refuses(rs274, tmp_path):
+    # a fillet A0.2 on the inside corner where the run along Z meets the taper out, roughed with D0.3:
+    # rs274 offsets in steps and drops the arc once it has shrunk to nothing; cutsim refuses a D larger
+    # than an inside arc's radius. With D0.1 both cut the same.
+    for d, same in ((0.3, False), (0.1, True)):
+        path = tmp_path / f"d{d}.ngc"
+        path.write_text("G18 G21 G90 F100\nO100 SUB\nG1 X4 Z1\nG1 Z-5 A0.2\nG1 X8 Z-6\nG1 Z-10\nG1 X10\n"
+                        f"O100 ENDSUB\nG0 X12 Z2\nG71 Q100 X12 Z2 I1 D{d}\nM2\n")
+        verdict = compare(str(path))
+        if same:
+            assert verdict == "same", verdict
+        else:
+            assert "larger than an inside arc's radius" in cutsim_moves(str(path)).error
+            theirs = run_rs274(str(path))
+            assert theirs.error is None and len(theirs.moves) > 20
 
 
 def test_a_position_beyond_the_simulators_range_is_a_documented_difference(rs274, tmp_path):
