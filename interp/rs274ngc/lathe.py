@@ -13,8 +13,8 @@ level with P0. Pass k runs at u = S + k I towards P0 while short of P0: from the
 feed to the first point of the offset profile or the closing line (the profile's end to S's u),
 then rapid back r = min(R, half the pass) in both axes, along v back to r past its start, and
 to its start. Then the tool goes to P0 (rapid; a feed when no pass was cut) and follows the
-offset profile and the closing line at feed. G7x.1 and G7x.2 differ from G7x only in pockets,
-which cutsim refuses: G7x.2 cuts the finishing contour alone.
+offset profile and the closing line at feed. G7x.2 cuts the finishing contour alone; G7x.1 differs
+from G7x only in pockets (a profile stepping away from S in u and back: pocket.py).
 
 G70: P passes, pass k (1..P) at distance D - (D - E) k / P from the profile: rapid to S
 (after the first), rapid to the start, the profile at feed; no closing line.
@@ -25,7 +25,7 @@ import math
 
 from cutsim.interp.core import MOTION, Step
 
-from . import corners
+from . import corners, pocket
 from .profile import EPS, Seg, crossings, offset, side_of
 
 LATHE_CYCLES = (70, 71, 71.1, 71.2, 72, 72.1, 72.2)
@@ -153,14 +153,17 @@ class Path:
             self.m.feed = self.m.feed_for(self.st, math.dist(self.m.pos, end))
             self.m.linear(self.src, end)
 
+    def arc(self, p1, centre, ccw: bool) -> None:
+        _, sweep = Seg((self.m.pos[2], self.m.pos[0]), tuple(p1), tuple(centre), ccw).angles()
+        self.m.feed = self.m.feed_for(self.st, abs(sweep) * math.dist(p1, centre))
+        self.m.arc(self.src, self.at(p1), self.at(centre), not ccw)
+
     def follow(self, segs: list[Seg]) -> None:
         for s in segs:
             if s.centre is None:
                 self.feed(s.p1)
-                continue
-            _, sweep = s.angles()
-            self.m.feed = self.m.feed_for(self.st, abs(sweep) * s.radius)
-            self.m.arc(self.src, self.at(s.p1), self.at(s.centre), not s.ccw)
+            else:
+                self.arc(s.p1, s.centre, s.ccw)
 
 
 def level_start(path: Path, start, p0, v: int, vdir: int) -> list:
@@ -209,15 +212,16 @@ def _sign(v: float) -> int:
     return 0 if abs(v) < 1e-7 else (1 if v > 0 else -1)
 
 
-def monotonic(segs: list[Seg], u: int, v: int, su: int, sv: int) -> None:
-    """The profile steps back towards the start in u and runs one way in v (no pockets)."""
+def monotonic(segs: list[Seg], u: int, v: int, su: int, sv: int) -> bool:
+    """The profile runs one way in v; True when it steps away from the start in u (a pocket)."""
+    away = False
     for s in segs:
         pts = s.points()
         for a, b in zip(pts, pts[1:]):
-            if (b[u] - a[u]) * su > 1e-7:
-                raise ValueError("a profile stepping away from the start point (a pocket) is not simulated")
+            away = away or (b[u] - a[u]) * su > 1e-7
             if (b[v] - a[v]) * sv < -1e-7:
                 raise ValueError("the profile is not monotonic along the cut")
+    return away
 
 
 def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
@@ -230,7 +234,9 @@ def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
     prof = offset(segs, d, side_of(segs[0], s) or side_of(segs[0], start), SMALL * m.scale, (v, vdir))
     p0, pe = prof[0].p0, prof[-1].p1
     su = _sign(p0[u] - s[u])
-    monotonic(segs, u, v, su, vdir)
+    if monotonic(segs, u, v, su, vdir):
+        pockets(path, [Seg(tuple(s), p0)] + prof, code, u, v, inc, retract)
+        return
     close = [0.0, 0.0]
     close[u], close[v] = s[u], pe[v]
     # the closing line back to S's u (none when S is level with P0: rs274 2.9)
@@ -250,6 +256,44 @@ def rough(m, st, src, y, segs, start, code, d, inc, retract) -> None:
             k += 1
     (path.rapid if cut or code in (71.2, 72.2) else path.feed)(p0)
     path.follow(contour)
+
+
+def pockets(path: Path, chain: list[Seg], code, u: int, v: int, inc: float, retract: float) -> None:
+    """A profile with pockets (pocket.py): the normalised frame's a = sa v, b = sb u, sa and sb
+    making the profile run down a and up b from P0 to its end (rs274's choice where level)."""
+    p0, pe = chain[1].p0, chain[-1].p1
+    sa = -1 if p0[v] < pe[v] else 1
+    base = 1 if v == Z else -1  # G72 turns the plane a quarter: b = -z before any flip
+    sb = -base if base * (p0[u] - pe[u]) > 0 else base
+    flip = (sa < 0) != (sb < 0) != (v == X)
+
+    def norm(p) -> complex:
+        return complex(sa * p[v], sb * p[u])
+
+    def back(c: complex) -> tuple:
+        p = [0.0, 0.0]
+        p[v], p[u] = sa * c.real, sb * c.imag
+        return tuple(p)
+
+    segs = [pocket.Seg(norm(s.p0), norm(s.p1), None if s.centre is None else norm(s.centre), s.ccw != flip)
+            for s in chain]
+    for a, b in zip(segs, segs[1:]):  # the offset's ends left apart (tangent but for the program's
+        if abs(a.p1 - b.p0) < 1e-3:   # decimals) meet, as rs274's do
+            if b.centre is None:
+                b.p0 = a.p1
+            elif a.centre is None:
+                a.p1 = b.p0
+    if segs[-1].p1.imag < segs[0].p0.imag:  # the closing line up to S's level
+        segs.append(pocket.Seg(segs[-1].p1, complex(segs[-1].p1.real, segs[0].p0.imag)))
+
+    def out(kind, p, centre=None, ccw=False):
+        if kind == "arc":
+            path.arc(back(p), back(centre), ccw != flip)
+        else:
+            (path.rapid if kind == "rapid" else path.feed)(back(p))
+
+    cycle = {71: 0, 72: 0, 71.1: 1, 72.1: 1, 71.2: 2, 72.2: 2}[code]
+    pocket.rough(segs, out, cycle, inc, retract)
 
 
 def one_pass(path: Path, u, v, level, vs, ve, su, vdir, r) -> None:

@@ -105,12 +105,44 @@ def test_a_corner_gets_its_arc_only_when_d_sin_turn_is_over_a_hundredth(d, arc):
         assert any(xz(r) == pytest.approx((5 + d, -5 + d)) for r in ms)
 
 
+# a V pocket: P0 (6, 0) down to (5, -10), up to the end (10, -12); S (11, 2)
+POCKET = "o200 sub\nG1 X6 Z0\nG1 X5 Z-10\nG1 X10 Z-12\no200 endsub\nG0 X11 Z2\n"
+
+
+def climb_z(x: float) -> float:  # the line (5, -10) - (10, -12)
+    return -10 - 2 * (x - 5) / 5
+
+
+def test_g71_roughs_a_pocket_on_the_levels_from_s_down_to_its_bottom():
+    ms = moves(POCKET + "G71 Q200 I0.5 R0.5")
+    passes = [r for r in ms if isinstance(r, Feed) and r.start[0] == r.end[0] and r.end[2] < r.start[2] - 1]
+    # levels 11 - 0.5 k down to 5.5 (at 5, the bottom, the pass has no length)
+    assert [round(r.end[0], 6) for r in passes] == [11 - 0.5 * k for k in range(12)]
+    for r in passes:
+        x = r.end[0]
+        # from the line S-P0 above P0, from the dive (6, 0) - (5, -10) inside the pocket
+        assert r.start[2] == pytest.approx(2 * (x - 6) / 5 if x > 6 else -10 * (6 - x))
+        assert r.end[2] == pytest.approx(-12 if x > 10 else climb_z(x))
+    # inside the pocket the tool goes back to the pass's start at feed, then down the dive at feed
+    last = ms.index(passes[-1])
+    assert [type(r) for r in ms[last + 1:last + 4]] == [Rapid, Rapid, Feed]
+    assert xz(ms[last + 3]) == (5.5, -5.0) and isinstance(ms[last + 4], Feed) and xz(ms[last + 4]) == (5, -10)
+    assert [xz(r) for r in ms[-2:]] == [(10, -12), (11, -12)]
+
+
+def test_g71_1_leaves_the_pocket_and_g71_2_cuts_only_the_contour_here():
+    # I2: levels 11, 9, 7 above P0; the next (5) is the bottom: G71.1 and G71 alike
+    rough = [xz(r) for r in moves(POCKET + "G71.1 Q200 I2") if isinstance(r, Feed)]
+    assert rough == [(11, -12), (9, climb_z(9)), (7, climb_z(7)), (5, -10), (10, -12), (11, -12)]
+    # G71.2: down the profile to the bottom and up it (one pocket: no passes)
+    assert [xz(r) for r in moves(POCKET + "G71.2 Q200 I0.5")][-4:] == [(6, 0), (5, -10), (10, -12), (11, -12)]
+
+
 @pytest.mark.parametrize("text, message", [
     ("G0 X11 Z2\nG71 I2", "subroutine number Q"),
     ("G17 G0 X11 Z2\nG71 Q100", "ZX plane"),
     ("G0 X22 Z3\nG71 Q100 I0", "more than 0"),
     ("G0 X22 Z3\nG71 Q100 I1 E2", "E word"),
-    ("G0 X22 Z3\nG72 Q100 I1", "pocket"),  # a G71 profile runs away from S along Z
     ("G0 X22 Z3\nG71 Q7", "not defined"),
 ])
 def test_refused_blocks(text, message):

@@ -31,7 +31,7 @@ SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/sha
 REFUSED_SAMPLES = {
     "b-index.ngc": "axis B", "cone.ngc": "axis B", "daisy.ngc": "axis A",
     "gridprobe.ngc": "G38.2", "smartprobe.ngc": "G38.5",
-    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "pocket",
+    "tool-length-probe.ngc": "G38.2", "x-trim.ngc": "G38.2", "lathe_g70_71_demo.ngc": "cutter radius compensation",
     "systems.ngc": "G5.1",
 }
 BOTH_REFUSE = {"increment.ngc", "probe-hole.ngc", "nestedcall.ngc"}  # files meant to be called, a bad call
@@ -320,14 +320,15 @@ def test_rs274_m72_finds_no_state_after_an_m98_l0(rs274, tmp_path):
     assert results["L1"][1].moves[-1].end[0] == pytest.approx(1.0)
 
 
-def test_rs274_roughs_a_pocket_that_cutsim_refuses(rs274, tmp_path):
-    # a profile stepping back down (X6 -> X5 -> X10): rs274 cuts it, cutsim refuses pockets
-    path = tmp_path / "pocket.ngc"
-    path.write_text("G21 G18 F100\nG0 X11 Z2\no100 sub\nG1 X6 Z0\nG1 Z-10 X5\nG1 X10 Z-12\no100 endsub\n"
-                    "G71.1 Q100 I2\nM2\n")
-    assert "pocket" in cutsim_moves(str(path), kind="lathe").error
-    theirs = run_rs274(str(path))
-    assert theirs.error is None and len(theirs.moves) > 10
+def test_rs274_and_cutsim_rough_a_pocket_alike(rs274, tmp_path):
+    # a profile stepping back down (X6 -> X5 -> X10): G7x.1 leaves the pocket, G7x and G7x.2 cut it
+    # (more in lathe-pockets.ngc: G72, arcs, bores, several pockets)
+    text = "G21 G18 F100\nG0 X11 Z2\no100 sub\nG1 X6 Z0\nG1 Z-10 X5\nG1 X10 Z-12\no100 endsub\n"
+    for i, block in enumerate(("G71.1 Q100 I2", "G71 Q100 I0.5", "G71.2 Q100 I0.5 D0.2")):
+        path = tmp_path / f"pocket{i}.ngc"
+        path.write_text(text + block + "\nM2\n")
+        assert compare(str(path), kind="lathe") == "same", block
+        assert len(run_rs274(str(path)).moves) >= 4
 
 
 def test_rs274_offsets_past_an_inside_fillet_that_cutsim_refuses(rs274, tmp_path):
