@@ -319,7 +319,7 @@ class Gen:
 
 def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
     """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs; fillets
-    A and chamfers C between straight moves), outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
+    A and chamfers C between straight moves; at times a pocket), outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
     its own modes set first (G18 G21 G90 G94 G8, then F)."""
     finishes = random.Random(str(rng.getstate()[1]) + "AC")  # A and C from their own draws: the rest unchanged
     bore = rng.random() < 0.3
@@ -348,6 +348,7 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
     z = round(z - r4(1, 5), 4)
     pts.append((x, z, "G1", ""))
     top = round(x + r4(0.5, 3), 4)
+    pts = pocket(pts, random.Random(str(rng.getstate()[1]) + "pocket"))
 
     def xw(v: float) -> float:
         return 30 - v if bore else v
@@ -380,6 +381,20 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
         lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")
     lines.append("G8 G0 X40 Z40")
     return sub, lines
+
+
+def pocket(pts: list, rng: random.Random) -> list:
+    """At times (from its own generator: the rest of the profile unchanged) a V pocket in a run along Z
+    of 2 mm or more: down 0.3-1.5 (never below X 0.5) to a point 30-70 % along it and back up."""
+    runs = [k for k in range(1, len(pts)) if pts[k][0] == pts[k - 1][0] and pts[k - 1][1] - pts[k][1] >= 2
+            and pts[k][2] == "G1" and pts[k][0] > 1]
+    if not runs or rng.random() < 0.6:
+        return pts
+    k = rng.choice(runs)
+    (x, z0), z1 = pts[k - 1][:2], pts[k][1]
+    depth = round(rng.uniform(0.3, min(1.5, x - 0.5)), 4)
+    zm = round(z0 + (z1 - z0) * rng.uniform(0.3, 0.7), 4)
+    return pts[:k] + [(round(x - depth, 4), zm, "G1", "")] + pts[k:]
 
 
 def back_bore(g: Gen, rng: random.Random) -> None:
