@@ -265,7 +265,7 @@ def pockets(path: Path, chain: list[Seg], code, u: int, v: int, inc: float, retr
     sa = -1 if p0[v] < pe[v] else 1
     base = 1 if v == Z else -1  # G72 turns the plane a quarter: b = -z before any flip
     sb = -base if base * (p0[u] - pe[u]) > 0 else base
-    flip = (sa < 0) != (sb < 0) != (v == X)
+    flip = (sa < 0) ^ (sb < 0) ^ (v == X)
 
     def norm(p) -> complex:
         return complex(sa * p[v], sb * p[u])

@@ -138,6 +138,25 @@ def test_g71_1_leaves_the_pocket_and_g71_2_cuts_only_the_contour_here():
     assert [xz(r) for r in moves(POCKET + "G71.2 Q200 I0.5")][-4:] == [(6, 0), (5, -10), (10, -12), (11, -12)]
 
 
+@pytest.mark.parametrize("prof, start, code", [
+    # G71 cutting towards +Z: a concave G2 arc, up a taper, a G3 arc (a pocket between them)
+    ("G1 X6 Z-20\nG2 X6 Z-12 R6\nG1 X8 Z-10\nG3 X8 Z-4 R4\nG1 X10 Z-2", "X11 Z-22", "G71.2"),
+    # G72 with P0 below the profile's end in Z: a pocket between a G3 and a G2 arc
+    ("G1 X13 Z-7\nG1 X10 Z-6\nG1 X8 Z-7.5\nG3 X5 Z-5.5 R2.5\nG1 X3 Z-6\nG2 X1 Z-4 R2\nG1 X0 Z-3", "X14 Z1", "G72.2"),
+])
+def test_a_pockets_arcs_keep_their_sense_in_every_frame(prof, start, code):
+    # without D every arc cut is a part of one of the profile's (told by its radius R), in its sense:
+    # G2 clockwise
+    ms = moves(f"o300 sub\n{prof}\no300 endsub\nG0 {start}\n{code} Q300 I0.3")
+    sense = {float(line.split("R")[1]): line.startswith("G2") for line in prof.splitlines() if "R" in line}
+    arcs = [r for r in ms if isinstance(r, Arc)]
+    assert len(arcs) >= 2
+    for r in arcs:
+        radius = math.dist((r.start[0], r.start[2]), (r.center[0], r.center[2]))
+        assert r.clockwise == sense[min(sense, key=lambda k: abs(k - radius))]
+        assert min(abs(k - radius) for k in sense) < 1e-6
+
+
 @pytest.mark.parametrize("text, message", [
     ("G0 X11 Z2\nG71 I2", "subroutine number Q"),
     ("G17 G0 X11 Z2\nG71 Q100", "ZX plane"),
