@@ -60,11 +60,18 @@ def spawn(out, *extra, tol="0.05", **kw):
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
 
+def _as_from_a_terminal() -> None:
+    # a run started from a terminal gets Ctrl-C; the test suite itself may run in the background, where
+    # the shell ignores SIGINT and the child would inherit that (Python then installs no KeyboardInterrupt)
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def spawn_held(out, ready: Path):
     """A run stopped inside the simulation once ``ready`` exists (HOLD_IN_REMOVAL)."""
     return subprocess.Popen([sys.executable, "-c", HOLD_IN_REMOVAL, str(ready), "simulate", str(PROG), "--setup",
                              str(SETUP), "--out", str(out), "--tolerance", "0.05", "-q"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_as_from_a_terminal)
 
 
 def wait_held(proc, ready: Path, timeout=120.0):
