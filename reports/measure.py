@@ -278,11 +278,12 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     (angle, z, r) profile of every section, for the measurements of cutsim.reports.threads.
 
     The grooves' roots are found in half-plane sections at ``angles`` angles (``thread_angles``:
-    about equally spaced, none on a construction seam). One groove near the middle of the range is
-    followed from angle to angle (the nearest root at the next angle); the slope of its z against
-    the angle gives the lead (mm per turn) and the hand (z rising with the angle about +Z:
-    right-hand). The pitch is the median distance between neighbouring roots at one angle;
-    starts = lead / pitch rounded. The root diameter is twice the median root radius.
+    about equally spaced, none on a construction seam). The pitch is the median distance between
+    neighbouring roots at one angle. Lead and hand come from every root at once (``lead_fit``):
+    modulo the pitch all the roots at one angle share one z, which travels s * lead * phi / 360 as
+    phi goes round (s = +1 right-hand: z rising with the angle about +Z); the roots that a chamfer,
+    a lead-in or a runout displaced are a minority and left out. starts = lead / pitch rounded.
+    The root diameter is twice the median root radius.
     """
     phis = thread_angles(part, angles)
     per_angle, profiles = [], []
@@ -304,18 +305,66 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     gaps = np.concatenate([np.diff(np.sort(rs[:, 0])) for rs in per_angle if len(rs) > 1] or [np.zeros(0)])
     pitch = float(np.median(gaps)) if len(gaps) else None
     out["pitch"] = pitch
-    track = _follow_groove(per_angle, phis, 0.5 * (zlo + zhi), 0.45 * pitch if pitch else 0.45 * (zhi - zlo))
-    if len(track) >= 3:
-        a = np.array(track)
-        slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0])
+    if pitch:
+        fit = lead_fit(np.array([(phi, z) for phi, z, _ in roots]), pitch)
+    else:  # at most one root at each angle: follow it
+        track = _follow_groove(per_angle, phis, 0.5 * (zlo + zhi), 0.45 * (zhi - zlo))
+        fit = _line(np.array(track)) + (np.array(track)[:, 0],) if len(track) >= 3 else None
+    if fit is not None:
+        slope, _z0, used = fit
         out["lead"] = abs(slope) * 360.0
         out["hand"] = "right" if slope > 0 else "left"
-        out["track_degrees"] = float(a[-1, 0])
-        if pitch:
-            out["starts"] = max(1, int(round(out["lead"] / pitch)))
-        else:
-            out["starts"] = 1
+        out["track_degrees"] = float(np.ptp(used))
+        out["lead_roots"] = int(len(used))
+        out["starts"] = max(1, int(round(out["lead"] / pitch))) if pitch else 1
     return out
+
+
+LEAD_OUTLIER = 3.0  # a root farther off the fitted helix than this many robust deviations is left out
+LEAD_NOISE = 0.002  # ... but never one within this fraction of the pitch
+
+
+def _line(a: np.ndarray) -> tuple[float, float]:
+    """Slope and intercept of the least-squares line through the points ``a`` (n, 2)."""
+    slope, z0 = np.polyfit(a[:, 0], a[:, 1], 1)
+    return float(slope), float(z0)
+
+
+def _wrap(d, p: float):
+    """``d`` reduced modulo ``p`` into [-p/2, p/2)."""
+    return (np.asarray(d, dtype=np.float64) + 0.5 * p) % p - 0.5 * p
+
+
+def lead_fit(roots: np.ndarray, pitch: float) -> tuple[float, float, np.ndarray] | None:
+    """Slope (mm per degree; its sign is the hand), intercept and the angles of the roots used, of
+    the helix through the grooves' roots ``roots`` (n, 2) of (angle in degrees, z), ``pitch`` apart.
+
+    Modulo the pitch every groove at one angle has the same z (the starts of a multi-start thread
+    are a pitch apart); per angle the circular median of the roots' z modulo the pitch is taken
+    (the root nearest the others: a minority of displaced roots cannot move it), unwrapped over the
+    angles (between neighbouring angles the grooves move less than half a pitch as long as
+    starts < angles / 2) and a line fitted. Then every root is put on the turn of the helix
+    nearest that line and the line refitted to the roots within LEAD_OUTLIER robust deviations
+    (1.4826 x the median absolute residual; at least LEAD_NOISE x pitch) of it, twice. Over one
+    turn the line rises s * lead: the lead with every start. None with roots at fewer than 3
+    angles."""
+    phis = np.unique(roots[:, 0])
+    if len(phis) < 3:
+        return None
+    med = []
+    for phi in phis:
+        u = roots[roots[:, 0] == phi, 1] % pitch
+        cost = np.abs(_wrap(u[:, None] - u[None, :], pitch)).sum(axis=1)
+        med.append(u[int(np.argmin(cost))])
+    slope, z0 = _line(np.stack([phis, np.unwrap(np.array(med), period=pitch)], axis=1))
+    keep = np.ones(len(roots), dtype=bool)
+    for _ in range(3):
+        res = _wrap(roots[:, 1] - (z0 + slope * roots[:, 0]), pitch)
+        near = np.abs(res) <= max(LEAD_OUTLIER * 1.4826 * float(np.median(np.abs(res))), LEAD_NOISE * pitch)
+        keep = near if len(np.unique(roots[near, 0])) >= 3 else keep
+        on = np.stack([roots[:, 0], z0 + slope * roots[:, 0] + res], axis=1)[keep]
+        slope, z0 = _line(on)
+    return slope, z0, roots[keep, 0]
 
 
 def _follow_groove(per_angle: list[np.ndarray], phis: np.ndarray, mid: float, limit: float) -> list[tuple]:
