@@ -283,7 +283,9 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     modulo the pitch all the roots at one angle share one z, which travels s * lead * phi / 360 as
     phi goes round (s = +1 right-hand: z rising with the angle about +Z); the roots that a chamfer,
     a lead-in or a runout displaced are a minority and left out. starts = lead / pitch rounded.
-    The root diameter is twice the median root radius.
+    ``lead_roots`` counts the roots the lead was fitted to, ``track_degrees`` the span of their
+    angles. With at most one root at each angle (no pitch) one groove is followed from angle to
+    angle instead. The root diameter is twice the median root radius.
     """
     phis = thread_angles(part, angles)
     per_angle, profiles = [], []
