@@ -345,11 +345,12 @@ def lead_fit(roots: np.ndarray, pitch: float) -> tuple[float, float, np.ndarray]
     are a pitch apart); per angle the circular median of the roots' z modulo the pitch is taken
     (the root nearest the others: a minority of displaced roots cannot move it), unwrapped over the
     angles (between neighbouring angles the grooves move less than half a pitch as long as
-    starts < angles / 2) and a line fitted. Then every root is put on the turn of the helix
-    nearest that line and the line refitted to the roots within LEAD_OUTLIER robust deviations
-    (1.4826 x the median absolute residual; at least LEAD_NOISE x pitch) of it, twice. Over one
-    turn the line rises s * lead: the lead with every start. None with roots at fewer than 3
+    starts < angles / 2) and a line fitted. Then, three times, every root is put on the turn of
+    the helix nearest that line and the line refitted to the roots within LEAD_OUTLIER robust
+    deviations (1.4826 x the median absolute residual; at least LEAD_NOISE x pitch) of it. Over
+    one turn the line rises s * lead: the lead with every start. None with roots at fewer than 3
     angles."""
+    roots = roots[np.isfinite(roots).all(axis=1)]  # a root a section could not place
     phis = np.unique(roots[:, 0])
     if len(phis) < 3:
         return None
