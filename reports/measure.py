@@ -280,12 +280,12 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     The grooves' roots are found in half-plane sections at ``angles`` angles (``thread_angles``:
     about equally spaced, none on a construction seam). The pitch is the median distance between
     neighbouring roots at one angle. Lead and hand come from every root at once (``lead_fit``):
-    modulo the pitch all the roots at one angle share one z, which travels s * lead * phi / 360 as
-    phi goes round (s = +1 right-hand: z rising with the angle about +Z); the roots that a chamfer,
-    a lead-in or a runout displaced are a minority and left out. starts = lead / pitch rounded.
-    ``lead_roots`` counts the roots the lead was fitted to, ``track_degrees`` the span of their
-    angles. With at most one root at each angle (no pitch) one groove is followed from angle to
-    angle instead. The root diameter is twice the median root radius.
+    each root linked to the nearest at the next angle, the slope of z against the angle fitted to
+    the links near the median one (z rising with the angle about +Z: right-hand). Roots that a
+    chamfer, a lead-in or a runout cut shallow or lopsided, where they are a minority, change
+    nothing. starts = lead / pitch rounded. ``lead_links`` counts the links the lead was fitted
+    to, ``track_degrees`` the degrees of the turn they cover. The root diameter is twice the
+    median root radius.
     """
     phis = thread_angles(part, angles)
     per_angle, profiles = [], []
@@ -307,93 +307,52 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     gaps = np.concatenate([np.diff(np.sort(rs[:, 0])) for rs in per_angle if len(rs) > 1] or [np.zeros(0)])
     pitch = float(np.median(gaps)) if len(gaps) else None
     out["pitch"] = pitch
-    if pitch:
-        fit = lead_fit(np.array([(phi, z) for phi, z, _ in roots]), pitch)
-    else:  # at most one root at each angle: follow it
-        track = _follow_groove(per_angle, phis, 0.5 * (zlo + zhi), 0.45 * (zhi - zlo))
-        fit = _line(np.array(track)) + (np.array(track)[:, 0],) if len(track) >= 3 else None
+    fit = lead_fit(per_angle, phis, pitch)
     if fit is not None:
-        slope, _z0, used = fit
+        slope, out["lead_links"], out["track_degrees"] = fit
         out["lead"] = abs(slope) * 360.0
         out["hand"] = "right" if slope > 0 else "left"
-        out["track_degrees"] = float(np.ptp(used))
-        out["lead_roots"] = int(len(used))
         out["starts"] = max(1, int(round(out["lead"] / pitch))) if pitch else 1
     return out
 
 
-LEAD_OUTLIER = 3.0  # a root farther off the fitted helix than this many robust deviations is left out
-LEAD_NOISE = 0.002  # ... but never one within this fraction of the pitch
+LEAD_LINK = 0.01  # a link between roots farther than this fraction of the pitch off the median slope is left out
 
 
-def _line(a: np.ndarray) -> tuple[float, float]:
-    """Slope and intercept of the least-squares line through the points ``a`` (n, 2)."""
-    slope, z0 = np.polyfit(a[:, 0], a[:, 1], 1)
-    return float(slope), float(z0)
+def lead_fit(per_angle: list[np.ndarray], phis: np.ndarray, pitch: float | None) -> tuple[float, int, float] | None:
+    """Slope of the grooves (mm of z per degree; its sign is the hand), the number of links it was
+    fitted to and the degrees of the turn they cover, from the roots ``per_angle`` (z, r) at the
+    increasing angles ``phis`` (degrees, less than a turn) of grooves ``pitch`` apart.
 
-
-def _wrap(d, p: float):
-    """``d`` reduced modulo ``p`` into [-p/2, p/2)."""
-    return (np.asarray(d, dtype=np.float64) + 0.5 * p) % p - 0.5 * p
-
-
-def lead_fit(roots: np.ndarray, pitch: float) -> tuple[float, float, np.ndarray] | None:
-    """Slope (mm per degree; its sign is the hand), intercept and the angles of the roots used, of
-    the helix through the grooves' roots ``roots`` (n, 2) of (angle in degrees, z), ``pitch`` apart.
-
-    Modulo the pitch every groove at one angle has the same z (the starts of a multi-start thread
-    are a pitch apart); per angle the circular median of the roots' z modulo the pitch is taken
-    (the root nearest the others: a minority of displaced roots cannot move it), unwrapped over the
-    angles (between neighbouring angles the grooves move less than half a pitch as long as
-    starts < angles / 2) and a line fitted. Then, three times, every root is put on the turn of
-    the helix nearest that line and the line refitted to the roots within LEAD_OUTLIER robust
-    deviations (1.4826 x the median absolute residual; at least LEAD_NOISE x pitch) of it. Over
-    one turn the line rises s * lead: the lead with every start. None with roots at fewer than 3
-    angles."""
-    roots = roots[np.isfinite(roots).all(axis=1)]  # a root a section could not place
-    phis = np.unique(roots[:, 0])
-    if len(phis) < 3:
-        return None
-    med = []
-    for phi in phis:
-        u = roots[roots[:, 0] == phi, 1] % pitch
-        cost = np.abs(_wrap(u[:, None] - u[None, :], pitch)).sum(axis=1)
-        med.append(u[int(np.argmin(cost))])
-    slope, z0 = _line(np.stack([phis, np.unwrap(np.array(med), period=pitch)], axis=1))
-    keep = np.ones(len(roots), dtype=bool)
-    for _ in range(3):
-        res = _wrap(roots[:, 1] - (z0 + slope * roots[:, 0]), pitch)
-        near = np.abs(res) <= max(LEAD_OUTLIER * 1.4826 * float(np.median(np.abs(res))), LEAD_NOISE * pitch)
-        keep = near if len(np.unique(roots[near, 0])) >= 3 else keep
-        on = np.stack([roots[:, 0], z0 + slope * roots[:, 0] + res], axis=1)[keep]
-        slope, z0 = _line(on)
-    return slope, z0, roots[keep, 0]
-
-
-def _follow_groove(per_angle: list[np.ndarray], phis: np.ndarray, mid: float, limit: float) -> list[tuple]:
-    """(angle travelled, z) of one groove followed once around from the root nearest ``mid``: at
-    each next angle the root nearest the line fitted so far, until none lies within ``limit``."""
+    Every root is linked to the root nearest it at the next angle (from the last angle to the
+    first a turn on): between neighbouring angles a groove moves lead x spacing / 360, under half
+    a pitch as long as starts < angles / 2, so a link stays in its groove. A link's slope is its
+    dz / dphi. Links that cross from a complete groove to one a chamfer, lead-in or runout cut
+    shallow or lopsided, or from one groove to the next where a groove leaves the range, are
+    off the median slope by a sizeable part of a pitch; those farther than LEAD_LINK x pitch (x
+    the lead without a pitch) from it are left out and the slope is the least-squares one of the
+    rest. Links within a displaced groove, and within a start cut late, keep the slope: the
+    lead is that of every groove. None with fewer than 3 links."""
     n = len(phis)
-    j0 = min((j for j in range(n) if len(per_angle[j])),
-             key=lambda j: (np.min(np.abs(per_angle[j][:, 0] - mid)), j))
-    zs = per_angle[j0][:, 0]
-    zcur = float(zs[np.argmin(np.abs(zs - mid))])
-    track = [(0.0, zcur)]
-    slope = None
-    for k in range(1, n + 1):
-        rs = per_angle[(j0 + k) % n]
-        if not len(rs):
-            break
-        t = float(phis[(j0 + k) % n] + 360.0 * ((j0 + k) // n) - phis[j0])
-        guess = zcur + (slope or 0.0) * (t - track[-1][0])
-        i = int(np.argmin(np.abs(rs[:, 0] - guess)))
-        if abs(rs[i, 0] - guess) > limit:
-            break
-        zcur = float(rs[i, 0])
-        track.append((t, zcur))
-        a = np.array(track)
-        slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0]) if len(a) > 2 else (a[1, 1] - a[0, 1]) / (a[1, 0] - a[0, 0])
-    return track
+    links = []  # (step, dphi, dz)
+    for j in range(n if n > 1 else 0):
+        a, b = per_angle[j][:, 0], per_angle[(j + 1) % n][:, 0]
+        a, b = a[np.isfinite(a)], b[np.isfinite(b)]  # a root a section could not place
+        if len(a) and len(b):
+            dphi = float((phis[(j + 1) % n] - phis[j]) % 360.0)
+            dz = b[np.argmin(np.abs(b[None, :] - a[:, None]), axis=1)] - a
+            links += [(j, dphi, float(d)) for d in dz]
+    if len(links) < 3:
+        return None
+    k = np.array(links)
+    med = float(np.median(k[:, 2] / k[:, 1]))
+    tol = LEAD_LINK * (pitch or abs(med) * 360.0)
+    k = k[np.abs(k[:, 2] - med * k[:, 1]) <= tol]
+    if not len(k):
+        return None
+    slope = float(np.sum(k[:, 1] * k[:, 2]) / np.sum(k[:, 1] ** 2))
+    steps = np.unique(k[:, 0].astype(int))
+    return slope, int(len(k)), float(sum((phis[(j + 1) % n] - phis[j]) % 360.0 for j in steps))
 
 
 def thread_phases(roots, lead: float, hand: str, phase_z: float) -> np.ndarray:

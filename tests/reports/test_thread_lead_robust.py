@@ -39,20 +39,28 @@ def test_cycle840_left_hand_over_the_chamfer(tmp_path):
 
 
 # ---------------------------------------------------------------------------------------------
-# lead_fit on roots placed by the closed form z = z0 + s * lead * phi / 360 + k * pitch
-@pytest.mark.parametrize("seed", range(4))
+# lead_fit on roots placed by the closed form z = z0 + s * lead * phi / 360 + k * pitch (+ the start's
+# own shift), a third of the grooves displaced along their whole length or in single roots
+@pytest.mark.parametrize("seed", range(6))
 def test_lead_fit_ignores_a_minority_of_displaced_roots(seed):
     rng = np.random.default_rng(seed)
-    starts, pitch = int(rng.integers(1, 4)), float(rng.uniform(0.5, 3.0))
-    lead, s = starts * pitch, float(rng.choice([-1.0, 1.0]))
+    starts, pitch = 1 + seed % 3, float(rng.uniform(0.5, 3.0))
+    lead, s = starts * pitch, (1.0, -1.0)[seed % 2]
     phis = np.arange(36) * 10.0 + rng.uniform(-1.0, 1.0, 36)
+    shift = rng.uniform(-0.1, 0.1, starts) * pitch  # every start a little off its nominal phase
     z0 = float(rng.uniform(-5.0, 5.0))
-    roots = np.array([(phi, z0 + s * lead * phi / 360.0 + k * pitch) for phi in phis for k in range(5)])
-    bad = rng.random(len(roots)) < 0.3  # 30 % of the roots off by up to a third of the pitch
-    roots[bad, 1] += rng.uniform(0.03, 0.33, bad.sum()) * pitch * rng.choice([-1.0, 1.0], bad.sum())
-    slope, _z, used = lead_fit(roots, pitch)
+    grooves = range(6)
+    per = []
+    for j, phi in enumerate(phis):
+        z = np.array([z0 + s * lead * phi / 360.0 + k * pitch + shift[k % starts] for k in grooves])
+        z[0] += 0.25 * pitch  # a groove the chamfer cut shallow, its root off the helix
+        z[1] += 0.03 * pitch  # ... and the lopsided one above it
+        if j % 2 and rng.random() < 0.6:  # stray roots (never two in a row)
+            z[int(rng.integers(2, 6))] += float(rng.uniform(0.03, 0.3)) * pitch * rng.choice([-1.0, 1.0])
+        per.append(np.stack([z, np.full(len(z), 5.0)], axis=1))
+    slope, links, degrees = lead_fit(per, phis, pitch)
     assert abs(slope) * 360.0 == pytest.approx(lead, abs=1e-9) and np.sign(slope) == s
-    assert len(used) == (~bad).sum()
+    assert degrees == pytest.approx(360.0)
 
 
 # ---------------------------------------------------------------------------------------------
