@@ -278,11 +278,14 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     (angle, z, r) profile of every section, for the measurements of cutsim.reports.threads.
 
     The grooves' roots are found in half-plane sections at ``angles`` angles (``thread_angles``:
-    about equally spaced, none on a construction seam). One groove near the middle of the range is
-    followed from angle to angle (the nearest root at the next angle); the slope of its z against
-    the angle gives the lead (mm per turn) and the hand (z rising with the angle about +Z:
-    right-hand). The pitch is the median distance between neighbouring roots at one angle;
-    starts = lead / pitch rounded. The root diameter is twice the median root radius.
+    about equally spaced, none on a construction seam). The pitch is the median distance between
+    neighbouring roots at one angle. Lead and hand come from every root at once (``lead_fit``):
+    each root linked to the nearest at the next angle, the slope of z against the angle fitted to
+    the links near the median one (z rising with the angle about +Z: right-hand). Roots that a
+    chamfer, a lead-in or a runout cut shallow or lopsided, where they are a minority, change
+    nothing. starts = lead / pitch rounded. ``lead_links`` counts the links the lead was fitted
+    to, ``track_degrees`` the degrees of the turn they cover. The root diameter is twice the
+    median root radius.
     """
     phis = thread_angles(part, angles)
     per_angle, profiles = [], []
@@ -304,44 +307,52 @@ def measure_thread(part, zlo: float, zhi: float, angles: int = 36, step: float =
     gaps = np.concatenate([np.diff(np.sort(rs[:, 0])) for rs in per_angle if len(rs) > 1] or [np.zeros(0)])
     pitch = float(np.median(gaps)) if len(gaps) else None
     out["pitch"] = pitch
-    track = _follow_groove(per_angle, phis, 0.5 * (zlo + zhi), 0.45 * pitch if pitch else 0.45 * (zhi - zlo))
-    if len(track) >= 3:
-        a = np.array(track)
-        slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0])
+    fit = lead_fit(per_angle, phis, pitch)
+    if fit is not None:
+        slope, out["lead_links"], out["track_degrees"] = fit
         out["lead"] = abs(slope) * 360.0
         out["hand"] = "right" if slope > 0 else "left"
-        out["track_degrees"] = float(a[-1, 0])
-        if pitch:
-            out["starts"] = max(1, int(round(out["lead"] / pitch)))
-        else:
-            out["starts"] = 1
+        out["starts"] = max(1, int(round(out["lead"] / pitch))) if pitch else 1
     return out
 
 
-def _follow_groove(per_angle: list[np.ndarray], phis: np.ndarray, mid: float, limit: float) -> list[tuple]:
-    """(angle travelled, z) of one groove followed once around from the root nearest ``mid``: at
-    each next angle the root nearest the line fitted so far, until none lies within ``limit``."""
+LEAD_LINK = 0.01  # a link between roots farther than this fraction of the pitch off the median slope is left out
+
+
+def lead_fit(per_angle: list[np.ndarray], phis: np.ndarray, pitch: float | None) -> tuple[float, int, float] | None:
+    """Slope of the grooves (mm of z per degree; its sign is the hand), the number of links it was
+    fitted to and the degrees of the turn they cover, from the roots ``per_angle`` (z, r) at the
+    increasing angles ``phis`` (degrees, less than a turn) of grooves ``pitch`` apart.
+
+    Every root is linked to the root nearest it at the next angle (from the last angle to the
+    first a turn on): between neighbouring angles a groove moves lead x spacing / 360, under half
+    a pitch as long as starts < angles / 2, so a link stays in its groove. A link's slope is its
+    dz / dphi. Links that cross from a complete groove to one a chamfer, lead-in or runout cut
+    shallow or lopsided, or from one groove to the next where a groove leaves the range, are
+    off the median slope by a sizeable part of a pitch; those farther than LEAD_LINK x pitch (x
+    the lead without a pitch) from it are left out and the slope is the least-squares one of the
+    rest. Links within a displaced groove, and within a start cut late, keep the slope: the
+    lead is that of every groove. None with fewer than 3 links."""
     n = len(phis)
-    j0 = min((j for j in range(n) if len(per_angle[j])),
-             key=lambda j: (np.min(np.abs(per_angle[j][:, 0] - mid)), j))
-    zs = per_angle[j0][:, 0]
-    zcur = float(zs[np.argmin(np.abs(zs - mid))])
-    track = [(0.0, zcur)]
-    slope = None
-    for k in range(1, n + 1):
-        rs = per_angle[(j0 + k) % n]
-        if not len(rs):
-            break
-        t = float(phis[(j0 + k) % n] + 360.0 * ((j0 + k) // n) - phis[j0])
-        guess = zcur + (slope or 0.0) * (t - track[-1][0])
-        i = int(np.argmin(np.abs(rs[:, 0] - guess)))
-        if abs(rs[i, 0] - guess) > limit:
-            break
-        zcur = float(rs[i, 0])
-        track.append((t, zcur))
-        a = np.array(track)
-        slope = float(np.polyfit(a[:, 0], a[:, 1], 1)[0]) if len(a) > 2 else (a[1, 1] - a[0, 1]) / (a[1, 0] - a[0, 0])
-    return track
+    links = []  # (step, dphi, dz)
+    for j in range(n if n > 1 else 0):
+        a, b = per_angle[j][:, 0], per_angle[(j + 1) % n][:, 0]
+        a, b = a[np.isfinite(a)], b[np.isfinite(b)]  # a root a section could not place
+        if len(a) and len(b):
+            dphi = float((phis[(j + 1) % n] - phis[j]) % 360.0)
+            dz = b[np.argmin(np.abs(b[None, :] - a[:, None]), axis=1)] - a
+            links += [(j, dphi, float(d)) for d in dz]
+    if len(links) < 3:
+        return None
+    k = np.array(links)
+    med = float(np.median(k[:, 2] / k[:, 1]))
+    tol = LEAD_LINK * (pitch or abs(med) * 360.0)
+    k = k[np.abs(k[:, 2] - med * k[:, 1]) <= tol]
+    if not len(k):
+        return None
+    slope = float(np.sum(k[:, 1] * k[:, 2]) / np.sum(k[:, 1] ** 2))
+    steps = np.unique(k[:, 0].astype(int))
+    return slope, int(len(k)), float(sum((phis[(j + 1) % n] - phis[j]) % 360.0 for j in steps))
 
 
 def thread_phases(roots, lead: float, hand: str, phase_z: float) -> np.ndarray:
