@@ -74,7 +74,7 @@ class Walker:
     def dive(self, s: Seg, x: float, fast: bool) -> bool:
         """Down the segment to the level ``x`` (or its end); True when it does not dive."""
         if s.centre is None:
-            if s.p0.imag <= s.p1.imag:
+            if s.p0.imag <= s.p1.imag + NEAR:  # level (but for rounding) or climbing
                 return True
             if x < s.p1.imag:
                 self.line(s.p1, fast)
@@ -101,7 +101,7 @@ class Walker:
         """Up the segment; True when it dives again (a pocket begins: on a counter-clockwise arc
         always, after going up to its top)."""
         if s.centre is None:
-            if s.p1.imag < s.p0.imag:
+            if s.p1.imag < s.p0.imag - NEAR:
                 return True
             self.line(s.p1)
             return False
@@ -118,7 +118,7 @@ class Walker:
     def climb_only(self, s: Seg) -> None:
         """G7x.1 after the first pocket's bottom: up the climbing parts met at the tool's level."""
         found = s.levels(self.loc.imag)
-        if not found or (s.centre is None and s.p1.imag < s.p0.imag):
+        if not found or (s.centre is None and s.p1.imag < s.p0.imag - NEAR):
             return
         if s.centre is None:
             self.line(complex(found[0], self.loc.imag))

@@ -331,6 +331,31 @@ def test_rs274_and_cutsim_rough_a_pocket_alike(rs274, tmp_path):
         assert len(run_rs274(str(path)).moves) >= 4
 
 
+POCKET_THEN_LEVEL_RUNS = {
+    # reduced from the differential run (seed 20261127, cases 2953 and 7908): a V pocket at the start,
+    # then only climbing. A convex arc ending level is followed by a run along Z whose offset ends differ
+    # in X by a rounding bit; it must not count as a dive (a second pocket): G71.2 follows the rest at feed
+    "case2953": ("G1 X3.2275 Z0\nG1 X2.2319 Z-1.1764\nG1 X3.2275 Z-3.2624\nG3 X5.3156 Z-5.3505 K-2.0881\n"
+                 "G1 X5.3156 Z-8.2114\nG2 X8.5270 Z-11.4228 I3.2114\nG1 X8.5270 Z-19.2835\n"
+                 "G3 X10.5972 Z-21.3537 K-2.0702\nG1 X10.5972 Z-23.2368\nG2 X11.7824 Z-24.4220 I1.1852\n"
+                 "G1 X11.7824 Z-28.6260\n", "F282.1\nG0 X14.2306 Z0.6191\nG71.2 Q9001 D0.309 I2.322 R0.403"),
+    "case7908": ("G1 X3.2369 Z0\nG1 X2.6245 Z-4.0389\nG1 X3.2369 Z-6.7396\nG3 X6.6240 Z-10.1267 K-3.3871\n"
+                 "G1 X6.6240 Z-13.0155\nG1 X10.6128 Z-15.1347\nG1 X10.6128 Z-17.8400\n",
+                 "F202.1\nG0 X12.8721 Z-0.0779\nG71.2 Q9001 D0.452 I0.564 R0.751"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(POCKET_THEN_LEVEL_RUNS))
+def test_g71_2_follows_a_level_run_after_a_convex_arc_as_rs274(rs274, tmp_path, case):
+    profile, cycle = POCKET_THEN_LEVEL_RUNS[case]
+    path = tmp_path / f"{case}.ngc"
+    path.write_text(f"o9001 sub\n{profile}o9001 endsub\nG18 G21 G90 G94 G8 G40 G80\n{cycle}\nM2\n")
+    assert compare(str(path), kind="lathe") == "same"
+    kinds = [m.kind for m in cutsim_moves(str(path)).moves]
+    first_feed = kinds.index("FEED")
+    assert "RAPID" not in kinds[first_feed:]  # one pocket only: down it and up the profile at feed
+
+
 def test_rs274_offsets_past_an_inside_fillet_that_cutsim_refuses(rs274, tmp_path):
     # a fillet A0.2 on the inside corner where the run along Z meets the taper out, roughed with D0.3:
     # rs274 offsets in steps and drops the arc once it has shrunk to nothing; cutsim refuses a D larger
