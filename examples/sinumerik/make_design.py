@@ -54,7 +54,8 @@ def design() -> m3d.Manifold:
     return plate - pocket - round_pocket - slot
 
 
-def stl_bytes(solid: m3d.Manifold) -> bytes:
+def stl_bytes(solid: m3d.Manifold, title: str = "plate-design.stl: make_design.py (manifold3d)") -> bytes:
+    """Binary STL of ``solid``, ``title`` in its 80-byte header (no timestamp: the same bytes every run)."""
     mesh = solid.to_mesh()
     v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
     tri = np.asarray(mesh.tri_verts, dtype=np.int64)
@@ -64,7 +65,7 @@ def stl_bytes(solid: m3d.Manifold) -> bytes:
     rec = np.zeros(len(tri), dtype=[("n", "<f4", 3), ("v", "<f4", 9), ("attr", "<u2")])
     rec["n"] = n
     rec["v"] = np.hstack([a, b, c])
-    header = b"plate-design.stl: make_design.py (manifold3d)".ljust(80, b" ")
+    header = title.encode("ascii").ljust(80, b" ")
     return header + struct.pack("<I", len(tri)) + rec.tobytes()
 
 

@@ -12,14 +12,14 @@ byte-for-byte the same on every run (binary STL without a timestamp).
 """
 from __future__ import annotations
 
-import struct
 import sys
 from pathlib import Path
 
 import manifold3d as m3d
-import numpy as np
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import make_design  # noqa: E402  (the plate's binary STL writer)
 SEGMENTS = 88
 OUTLINE = [(0, 0), (10, 0), (10, -10), (8, -16), (8, -22), (13, -28), (13, -35), (15, -35), (15, -45), (0, -45)]
 
@@ -30,17 +30,7 @@ def design() -> m3d.Manifold:
 
 
 def stl_bytes(solid: m3d.Manifold) -> bytes:
-    mesh = solid.to_mesh()
-    v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
-    tri = np.asarray(mesh.tri_verts, dtype=np.int64)
-    a, b, c = v[tri[:, 0]], v[tri[:, 1]], v[tri[:, 2]]
-    n = np.cross(b - a, c - a)
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    rec = np.zeros(len(tri), dtype=[("n", "<f4", 3), ("v", "<f4", 9), ("attr", "<u2")])
-    rec["n"] = n
-    rec["v"] = np.hstack([a, b, c])
-    header = b"relief-shaft-design.stl: make_relief_design.py (manifold3d)".ljust(80, b" ")
-    return header + struct.pack("<I", len(tri)) + rec.tobytes()
+    return make_design.stl_bytes(solid, "relief-shaft-design.stl: make_relief_design.py (manifold3d)")
 
 
 def main(argv: list[str]) -> int:
