@@ -43,6 +43,13 @@ DIN76 = {0.5: (0.8, 1.75, 0.2, 0.3, 2.7, 0.2), 0.7: (1.1, 2.45, 0.4, 0.3, 3.8, 0
          4.5: (6.4, 16.0, 2.0, 0.5, 23.0, 2.0), 5.0: (7.0, 17.5, 2.5, 0.5, 26.0, 2.5),
          5.5: (7.7, 19.0, 3.2, 0.5, 28.0, 3.2)}
 DIN76_FLANK = 30.0
+# DIN 76-1 short thread undercuts, forms B (external) and D (internal), by pitch: the length from the
+# face (g2 max); depth and radius as the normal form's of the pitch. Tabulated here up to pitch 3.5
+# (M33): the rows two published transcriptions of DIN 76-1 tables 1 and 2 agree on (their normal
+# rows agree with DIN76 above; docs/dialects/sinumerik-turning.md "CYCLE96").
+DIN76_SHORT = {0.5: (1.25, 2.0), 0.7: (1.75, 2.75), 0.8: (2.0, 3.0), 1.0: (2.5, 3.7), 1.25: (3.2, 4.9),
+               1.5: (3.8, 5.6), 1.75: (4.3, 6.4), 2.0: (5.0, 7.3), 2.5: (6.3, 9.3), 3.0: (7.5, 10.7),
+               3.5: (9.0, 12.7)}
 
 
 class GrooveParamError(ValueError):
@@ -591,25 +598,32 @@ def plan_cycle94(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
 
 
 def plan_cycle96(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
-    """Thread undercut DIN 76 form A (outside) or C (inside), normal length, for the metric coarse
-    thread DIATH (M3..M60: its pitch from ISO 261), at the face SPL, in one pass."""
+    """Thread undercut DIN 76 form A / B (outside, normal / short) or C / D (inside, normal / short)
+    for the metric coarse thread DIATH (M3..M60: its pitch from ISO 261; the short forms up to pitch
+    3.5), at the face SPL, in one pass. A short form is the normal one of its pitch, shorter."""
     diath = _unsigned(v, "DIATH", positive=True)
     form = str(v.get("FORM", "")).strip().upper()
     if form not in ("A", "B", "C", "D"):
         raise GrooveParamError("FORM", f"FORM must be \"A\", \"B\", \"C\" or \"D\" (got \"{v.get('FORM', '')}\")")
-    if form in ("B", "D"):
-        raise GrooveParamError("FORM", f"FORM \"{form}\": the short undercuts B and D are not simulated yet (the "
-                                       "normal ones A outside, C inside are)")
     if diath != int(diath) or int(diath) not in METRIC_PITCH:
         sizes = ", ".join(str(k) for k in METRIC_PITCH)
         raise GrooveParamError("DIATH", f"DIATH must be a metric coarse thread size ({sizes}), got {diath:g}")
     pitch = METRIC_PITCH[int(diath)]
     row = DIN76[pitch]
     outside, s = _side(v, "_VARI", tool)
-    if outside != (form == "A"):
-        raise GrooveParamError("FORM", f"FORM \"{form}\" is an {'outside' if form == 'A' else 'inside'} undercut, "
-                                       f"the position (_VARI or the tool) an {'outside' if outside else 'inside'} one")
+    if outside != (form in ("A", "B")):
+        raise GrooveParamError("FORM", f"FORM \"{form}\" is an {'outside' if form in ('A', 'B') else 'inside'} "
+                                       f"undercut, the position (_VARI or the tool) an "
+                                       f"{'outside' if outside else 'inside'} one")
     dd, length, r = row[0:3] if outside else row[3:6]
+    if form in ("B", "D"):
+        if pitch not in DIN76_SHORT:
+            top = max(DIN76_SHORT)
+            normal = "A" if outside else "C"
+            raise GrooveParamError("FORM", f"FORM \"{form}\": the short undercuts B and D are simulated up to pitch "
+                                           f"{top:g} (M33), M{int(diath)} has pitch {pitch:g}: program the normal "
+                                           f"form \"{normal}\"")
+        length = DIN76_SHORT[pitch][0 if outside else 1]
     if outside:
         R, t1 = diath / 2.0, dd / 2.0
     else:  # the bore is the thread's minor diameter D1 = D - 1.0825 P; the undercut D + dd
