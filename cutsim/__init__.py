@@ -171,7 +171,8 @@ def interp_config(setup: Setup, start: tuple[float, float, float]) -> InterpConf
                         work_offsets=dict(setup.work_offsets), subprogram_path=tuple(setup.subprogram_path),
                         tool_names=dict(setup.tool_names),
                         external_subprograms=frozenset(setup.external_subprograms),
-                        tool_table=setup.tool_table, parameter_file=setup.parameter_file)
+                        tool_table=setup.tool_table, parameter_file=setup.parameter_file,
+                        thread_acceleration=setup.thread_acceleration)
 
 
 def simulate(program: str, setup: str | Setup, *, tolerance: float | None = None, text: str | None = None,

@@ -7,6 +7,7 @@ import math
 COORD_MAX = 100_000.0  # |coordinate| of the stock, the start position, profile points
 MIN_SIZE = 0.001  # smallest stock size (diameter, extent along an axis)
 RATE_MAX = 1_000_000.0  # mm/min: rapid and default feed
+ACCELERATION_MAX = 1_000_000.0  # mm/s^2: [machine] thread_acceleration (about 100 g)
 VALUE_MAX = 1e12  # |R parameter| and |machine constant|
 # The finest chordal tolerance: 0.1 um. The written mesh is snapped to a grid of at least 2^-16 mm
 # (1.5e-5 mm; docs/setup.md, reports/mesh.py), so a finer tolerance could not survive the export, and

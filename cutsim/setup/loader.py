@@ -61,7 +61,7 @@ def load(path: str, text: str, data: dict) -> Setup:
                  h_functions=m.h_functions, subprogram_path=m.subprogram_path, variables=variables,
                  work_offsets=work_offsets, tool_names=tool_names, transformations=m.transformations,
                  external_subprograms=m.external_subprograms, tool_table=m.tool_table,
-                 parameter_file=m.parameter_file)
+                 parameter_file=m.parameter_file, thread_acceleration=m.thread_acceleration)
 
 
 def load_setup(path: str) -> Setup:

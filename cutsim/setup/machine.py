@@ -12,7 +12,7 @@ from cutsim.base.specs import MachineSpec
 from cutsim.interp import DIALECTS
 from cutsim.interp.errors import CutsimError
 
-from .limits import (AXIS_KINDS, COORD_MAX, EXTERNAL_NAME_MAX, FUNCTION_MAX, RATE_MAX, STRING_MAX, TRANSFORMATIONS,
+from .limits import (ACCELERATION_MAX, AXIS_KINDS, COORD_MAX, EXTERNAL_NAME_MAX, FUNCTION_MAX, RATE_MAX, STRING_MAX, TRANSFORMATIONS,
                      VALUE_MAX, is_coord, is_number, show)
 from .reader import Locator, Reader
 
@@ -38,6 +38,7 @@ class Machine:
     external_subprograms: frozenset[str]
     tool_table: str = ""  # rs274ngc: LinuxCNC's .tbl, absolute path or ""
     parameter_file: str = ""  # rs274ngc: LinuxCNC's .var, absolute path or ""
+    thread_acceleration: float = 0.0  # sinumerik lathe: the thread axis' acceleration (mm/s^2; 0: not given)
 
 
 def read_machine(loc: Locator, table: dict) -> Machine:
@@ -58,6 +59,11 @@ def read_machine(loc: Locator, table: dict) -> Machine:
     rate = dict(check=lambda v: 0 < v <= RATE_MAX, why=f"must be more than 0 and at most {RATE_MAX:g} mm/min")
     rapid = m.get("rapid", float, 10000.0, **rate)
     feed = m.get("feed", float, 100.0, **rate)
+    accel = m.get("thread_acceleration", float, 0.0, check=lambda v: 0 < v <= ACCELERATION_MAX,
+                  why=f"must be more than 0 and at most {ACCELERATION_MAX:,.0f} mm/s^2")
+    if accel and (kind, dialect) != ("lathe", "sinumerik"):
+        raise m.fail("thread_acceleration", "is the acceleration a Sinumerik lathe's thread axis runs its DITS/DITE "
+                                            "= -1 ramps at: only for kind = \"lathe\", dialect = \"sinumerik\"")
     constants = {}
     consts = m.get("constants", dict, {})
     for k, v in consts.items():
@@ -75,7 +81,8 @@ def read_machine(loc: Locator, table: dict) -> Machine:
     linuxcnc = {key: _linuxcnc_file(loc, m, key, dialect) for key in ("tool_table", "parameter_file")}
     m.done()
     return Machine(MachineSpec(kind, dialect, diam, m03, start, rapid, feed), constants, axes, m_functions,
-                   h_functions, transformations, subprogram_path, external_subprograms, **linuxcnc)
+                   h_functions, transformations, subprogram_path, external_subprograms, **linuxcnc,
+                   thread_acceleration=accel)
 
 
 def read_parameters(loc: Locator, table: dict) -> dict[int, float]:

@@ -31,6 +31,7 @@ class Setup:
     tool_table: str = ""  # [machine] tool_table: a LinuxCNC .tbl (rs274ngc), absolute path or ""
     parameter_file: str = ""  # [machine] parameter_file: a LinuxCNC .var (rs274ngc), absolute path or ""
     external_subprograms: frozenset[str] = frozenset()  # [machine] external_subprograms: upper case, no folder
+    thread_acceleration: float = 0.0  # [machine] thread_acceleration (mm/s^2; 0: not given)
     variables: dict[str, float | str] = field(default_factory=dict)  # [variables]: upper-case name -> value
     work_offsets: dict[str, tuple[float, float, float]] = field(default_factory=dict)  # [work_offsets]: "G54" -> xyz
     tool_names: dict[str, int] = field(default_factory=dict)  # [[tool]] name (as written) -> number

@@ -101,6 +101,9 @@ class InterpConfig:
     # RS274NGC: the setup's LinuxCNC tool table (.tbl) and parameter file (.var), absolute paths or ""
     tool_table: str = ""
     parameter_file: str = ""
+    # Sinumerik lathe: [machine] thread_acceleration, the thread axis' acceleration in mm/s^2 (0: not
+    # given), the ramp DITS/DITE = -1 cut over (docs/dialects/sinumerik-turning.md "DITS / DITE")
+    thread_acceleration: float = 0.0
 
 
 class ModalMachine:

@@ -12,7 +12,7 @@ moves themselves are in interp/sinumerik/turning.py (``turning.motion``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 from .. import canon
 from ..core.compensation import nose_shift
@@ -37,6 +37,7 @@ class Lathe:
     sf: float = 0.0  # SF=: the start angle of the next thread (setting data, modal)
     dits: float = -1.0  # DITS= / DITE=: run-in and run-out paths (setting data; -1 the machine's own)
     dite: float = -1.0
+    ramps_set: set = field(default_factory=set)  # "DITS" / "DITE" once programmed (-1 in force is then no reset value)
     chain: tuple | None = None  # (the point the last thread block ended at, the spindle angle there)
     change: float | None = None  # G34/G35: F, the change of lead per revolution (modal)
     css_on: bool = False  # G96/G961 active
@@ -46,7 +47,7 @@ class Lathe:
     spos: float | None = None  # SPOS=: the last angle the spindle was positioned to (None: not positioned)
     spos_new: bool = False  # a SPOS since the last G331: the next G331 starts at its angle
     g63: bool = False  # G63 in this block
-    pending: tuple | None = None  # (record, its list, DITE): the thread block that gets the run-out (lathe.finish)
+    pending: tuple | None = None  # (record, its list, run-out mm, its name): the block that gets the run-out (finish)
     chaining: bool = False  # turning.run emits a record that continues the chain
 
 
@@ -89,6 +90,7 @@ def settings(m, ms, src, blk) -> None:
             if not -1.0 <= v <= RAMP_LIMIT:
                 raise m.error(line, w.col, range_message(addr, v, -1.0, RAMP_LIMIT, "mm"))
             setattr(lt, addr.lower(), v)  # turning.run cuts the run-in / run-out with its lead
+            lt.ramps_set.add(addr)
         else:  # LIMS
             if not 0.0 < v <= SPEED_LIMIT:
                 raise m.error(line, w.col, f"LIMS={v:g}: the spindle speed limit is greater than 0 and at most "
@@ -232,7 +234,7 @@ def finish(m) -> None:
     lt = m.machine.lathe
     if lt.pending is None:
         return
-    rec, lst, dite = lt.pending
+    rec, lst, dite, name = lt.pending
     lt.pending = None
     k = next((i for i in range(len(lst) - 1, -1, -1) if lst[i] is rec), None)
     if k is None:  # pragma: no cover - the record stays in its list until the next record is emitted
@@ -240,7 +242,7 @@ def finish(m) -> None:
     i = "XYZ".index(rec.lead_axis)
     travel = abs(rec.end[i] - rec.start[i])
     if dite >= travel - EPS:
-        raise m.error(rec.src.line, rec.src.col, f"DITE={dite:g}: the run-out is not shorter than the thread block's "
+        raise m.error(rec.src.line, rec.src.col, f"{name}: the run-out is not shorter than the thread block's "
                       f"{travel:g} mm along {rec.lead_axis}")
     mid = point(rec.start, rec.end, 1.0 - dite / travel)
     head = replace(rec, end=mid)

@@ -121,27 +121,51 @@ def thread(m, src, words: dict, targets: dict[int, float], cols: dict[int, int])
     run(m, src, end, lead, axis, travel, change, w.col)
 
 
+def ramp(m, src, name: str, lead: float) -> tuple[float, str]:
+    """The run-in (DITS) or run-out (DITE) a G33 block at ``lead`` gets, in mm along its lead axis, and
+    its name for messages. 0: a jump. -1: the path the axis needs to reach the thread's speed
+    v = lead * S / 60 at the machine's acceleration a ([machine] thread_acceleration), v^2 / (2 a);
+    without it none (one warning when -1 was programmed). A programmed path longer than that is run
+    at the maximum acceleration: the ramp is v^2 / (2 a) (the manual: the paths only increase the
+    acceleration)."""
+    lt, acc = m.machine.lathe, m.cfg.thread_acceleration
+    value = lt.dits if name == "DITS" else lt.dite
+    natural = (lead * m.speed / 60.0) ** 2 / (2.0 * acc) if acc > 0 else None
+    if value == 0 or (natural is None and value < 0):
+        if value < 0 and name in lt.ramps_set:
+            where = "from the block start" if name == "DITS" else "to the block end"
+            m.machine.warn_once(m, src, f"{name}-1", f"{name}=-1: the machine's acceleration is not in the setup "
+                                f"([machine] thread_acceleration); the thread is cut at its lead {where}")
+        return 0.0, f"{name}={value:g}"
+    if natural is None or 0 < value <= natural:
+        return value, f"{name}={value:g}"
+    how = f"v^2 / 2a at the lead {lead:g} mm, S{m.speed:g} and [machine] thread_acceleration = {acc:g} mm/s^2"
+    if value < 0:
+        return natural, f"{name}=-1 (the machine's acceleration: {natural:.6g} mm, {how})"
+    return natural, f"{name}={value:g} (run at the machine's acceleration: {natural:.6g} mm, {how})"
+
+
 def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: int) -> None:
     """Emit the thread block: a chained one continues at the spindle angle the chain reached (SF acts
     at the chain's first block only); DITS (G33 starting a chain) is a run-in over which the lead
     rises linearly in the revolutions from 0 to K, DITE a run-out over which it falls to 0 at the
-    end of the chain's last block (``lathe.finish``)."""
+    end of the chain's last block (``lathe.finish``); their lengths from ``ramp``."""
     lt = m.machine.lathe
     chained = lt.chain is not None and m.start_point() is lt.chain[0]
     angle = lt.chain[1] if chained else lt.sf
-    ramps = change == 0.0 and (lt.dits > 0 or lt.dite > 0)
-    if not ramps and (lt.dits > 0 or lt.dite > 0):
+    if change != 0.0 and (lt.dits > 0 or lt.dite > 0):
         m.machine.warn_once(m, src, "DITS-G34", "DITS/DITE act on G33 blocks: a G34/G35 block starts and ends at "
                             "its programmed leads")
-    if ramps and m.comp_buf is not None:
+    run_in, in_name = ramp(m, src, "DITS", lead) if change == 0.0 and not chained else (0.0, "")
+    run_out, out_name = ramp(m, src, "DITE", lead) if change == 0.0 else (0.0, "")
+    if (run_in > 0 or run_out > 0) and m.comp_buf is not None:
         raise m.error(src.line, col, "DITS/DITE under radius compensation (G41/G42) are not modelled")
     lt.pending = None if chained else lt.pending  # the run-out moves on to this block
     lt.chaining = chained
     try:
-        run_in = lt.dits if ramps and not chained else 0.0
         if run_in > 0:
             if run_in >= travel - EPS:
-                raise m.error(src.line, col, f"DITS={run_in:g}: the run-in is not shorter than the thread block's "
+                raise m.error(src.line, col, f"{in_name}: the run-in is not shorter than the thread block's "
                               f"{travel:g} mm along {axis}")
             angle = emit(m, src, point(m.pos, end, run_in / travel), 0.0, axis, angle, lead * lead / (2.0 * run_in))
             lt.chaining = True
@@ -149,10 +173,10 @@ def run(m, src, end, lead: float, axis: str, travel: float, change: float, col: 
     finally:
         lt.chaining = False
     lt.chain = (m.start_point(), angle)
-    if ramps and lt.dite > 0:
+    if run_out > 0:
         lst = m.comp_buf if m.comp_buf is not None else m.program.records
         if lst and isinstance(lst[-1], canon.SyncedFeed) and lst[-1].end is end:
-            lt.pending = (lst[-1], lst, lt.dite)
+            lt.pending = (lst[-1], lst, run_out, out_name)
 
 
 def _stays_on_axis(m, src, code: str, targets: dict[int, float], cols: dict[int, int]) -> None:
