@@ -89,7 +89,8 @@ def settings(m, ms, src, blk) -> None:
         elif addr in ("DITS", "DITE"):
             if not -1.0 <= v <= RAMP_LIMIT:
                 raise m.error(line, w.col, range_message(addr, v, -1.0, RAMP_LIMIT, "mm"))
-            setattr(lt, addr.lower(), v)  # turning.run cuts the run-in / run-out with its lead
+            # in mm (under G70/G700 the value is in inch); turning.run cuts the ramp with its lead
+            setattr(lt, addr.lower(), v * ms.unit() if v > 0 else v)
             lt.ramps_set.add(addr)
         else:  # LIMS
             if not 0.0 < v <= SPEED_LIMIT:

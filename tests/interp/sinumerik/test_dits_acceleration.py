@@ -179,3 +179,14 @@ def test_the_cli_stops_at_a_ramp_too_long(tmp_path):
     res = CliRunner().invoke(main, ["simulate", str(prog), "--setup", str(setup), "--out", str(tmp_path / "o"), "-q"])
     assert res.exit_code == 2 and f"{prog}:4:8: error: DITS=-1 (the machine's acceleration: 4 mm" in res.output
     assert "Traceback" not in res.output
+
+
+def test_programmed_paths_are_in_the_unit_in_force():
+    """The manual: the path is handled according to the dimension setting. G70 DITS=0.1 is 2.54 mm:
+    K0.1 (2.54 mm) from Z0.2 (5.08) to Z-1 (-25.4): the run-in 5.08..2.54, lead change 2.54^2 /
+    (2 x 2.54) = 1.27. A value programmed in mm stays mm after a later G700 (setting data)."""
+    prog = run("M3 S300\nG70 DITS=0.1\nG0 X0.5 Z0.2\nG33 Z-1 K0.1\nM30\n")
+    assert [(s, e, lead, round(lc, 9)) for s, e, lead, _, lc in syncs(prog)] == [
+        (5.08, 2.54, 0.0, 1.27), (2.54, -25.4, 2.54, 0.0)]
+    prog = run("M3 S300\nDITS=0.1\nG700\nG0 X0.5 Z0.2\nG33 Z-1 K0.1\nM30\n")
+    assert [(s, e) for s, e, *_ in syncs(prog)] == [(5.08, 4.98), (4.98, -25.4)]
