@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from hypothesis import given, settings, strategies as st
 
 import cutsim
 from cutsim.cli import main
@@ -190,3 +191,27 @@ def test_programmed_paths_are_in_the_unit_in_force():
         (5.08, 2.54, 0.0, 1.27), (2.54, -25.4, 2.54, 0.0)]
     prog = run("M3 S300\nDITS=0.1\nG700\nG0 X0.5 Z0.2\nG33 Z-1 K0.1\nM30\n")
     assert [(s, e) for s, e, *_ in syncs(prog)] == [(5.08, 4.98), (4.98, -25.4)]
+
+
+@settings(max_examples=150, deadline=None)
+@given(k=st.sampled_from([0.5, 1.0, 1.5, 2.0, 3.5, 6.0]), s=st.integers(50, 2000), a=st.sampled_from([50, 200, 1000, 5000]),
+       sf=st.integers(0, 359))
+def test_minus_one_over_the_range(k, s, a, sf):
+    """K, S, a over the range: L = (K S / 60)^2 / (2 a). A thread Z0..Z-60 with DITS=-1 DITE=-1: the
+    run-in ends at Z-L (lead change K^2 / (2 L), SF + 720 L / K after it), the run-out starts at
+    Z-(60 - L). A programmed path twice as long cuts the same ramps (run at the acceleration), one
+    half as long does not (it stays: the axis accelerates harder)."""
+    L = (k * s / 60.0) ** 2 / (2.0 * a)
+    text = f"M3 S{s}\nDITS={{}} DITE={{}}\nG0 X13 Z0\nG33 Z-60 K{k:g} SF={sf}\nG0 X20\nM30\n"
+    if L >= 30.0 or L < 1e-3:  # the run-in and run-out would overlap (or be under 1 um): not tested here
+        return
+    prog = run(text.format(-1, -1), acc=a)
+    got = syncs(prog)
+    flat = [v for g in got for v in g[:3]]
+    assert flat == pytest.approx([0.0, -L, 0.0, -L, -(60.0 - L), k, -(60.0 - L), -60.0, k])
+    assert [g[4] for g in got] == pytest.approx([k * k / (2 * L), 0.0, -k * k / (2 * L)])
+    after = (sf + 720.0 * L / k) % 360.0
+    assert abs((got[1][3] - after + 180.0) % 360.0 - 180.0) < 1e-6
+    assert syncs(run(text.format(f"{2 * L:.9f}", f"{2 * L:.9f}"), acc=a)) == got
+    half = syncs(run(text.format(f"{L / 2:.9f}", f"{L / 2:.9f}"), acc=a))
+    assert half[0][1] == pytest.approx(-L / 2, abs=1e-8) and abs(half[0][1] - got[0][1]) > 1e-4
