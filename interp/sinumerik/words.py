@@ -9,7 +9,7 @@ from . import axes, lathe, machine
 from .codes import G_CODES, LANGUAGE_GROUPS, M_CODES, takes
 from .syntax import Call, Command, Line, MACHINE_COMMANDS, range_message, RANGES, Word
 from .cycle import CYCLES
-from .tables import NOTES
+from .tables import NOTES, UNSUPPORTED_MEANINGS
 from .values import Block, to_text, Value
 
 
@@ -222,4 +222,5 @@ class Words:
         """A machine keyword ``settings`` did not take (it implements the ones it knows) is an
         error at its column: running on as if it were not there would cut elsewhere."""
         for name, col in blk.commands:
-            raise self.error(line, col, f"{name} is not supported by the simulator")
+            what = f" ({UNSUPPORTED_MEANINGS[name]})" if name in UNSUPPORTED_MEANINGS else ""
+            raise self.error(line, col, f"{name}{what} is not supported by the simulator")
