@@ -15,7 +15,8 @@ from .syntax import Call, Frame, Index, Ret, SubprogramMissing, Unit, Var
 from .reader import split_units
 from .cycle import CYCLES
 from .milling import run_cycle
-from .tables import call_name, IGNORED_CALLS, MAX_SUB_BYTES, missing_hint, NOT_FILES, NOT_YET, SAVED_MODAL
+from .tables import (call_name, IGNORED_CALLS, MAX_SUB_BYTES, missing_hint, NOT_FILES, NOT_YET, SAVED_MODAL,
+                     UNSUPPORTED_MEANINGS)
 from .values import ArrayVar, Block, Slot, to_text, Value
 
 
@@ -38,7 +39,8 @@ class Calls:
             if name in NOT_YET:
                 what, why = NOT_YET[name]
                 raise self.error(line, col, f"{name} ({what}) is not simulated yet: {why}{listed}")
-            raise self.error(line, col, f"{name} is a Siemens keyword the simulator does not support{listed}")
+            what = f" ({UNSUPPORTED_MEANINGS[name]})" if name in UNSUPPORTED_MEANINGS else ""
+            raise self.error(line, col, f"{name}{what} is a Siemens keyword the simulator does not support{listed}")
         path = None
         for d in (*self.sub_dirs(), *self.cfg.subprogram_path):
             try:

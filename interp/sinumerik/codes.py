@@ -20,6 +20,8 @@ G_CODES: dict[int, Code] = {
     2: Code(Group.MOTION, _CIRCLE, "arc clockwise"),
     3: Code(Group.MOTION, _CIRCLE, "arc counter-clockwise"),
     4: Code(Group.NON_MODAL, "F S", "dwell"),
+    25: Code(Group.NON_MODAL, "S X Y Z", "lower spindle speed limit (S) or working area limitation (axes)"),
+    26: Code(Group.NON_MODAL, "S X Y Z", "upper spindle speed limit (S) or working area limitation (axes)"),
     # the lathe's spindle-synchronised moves (interp/sinumerik/turning.py)
     33: Code(Group.MOTION, "X Y Z I J K", "thread cutting with constant lead"),
     34: Code(Group.MOTION, "X Y Z I J K F", "thread cutting with increasing lead"),

@@ -210,6 +210,8 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
                 blk.calls.append(st)
         if any(code == 4 for code, _ in blk.gs):
             self.dwell(blk, line)
+        if any(code in (25, 26) for code, _ in blk.gs):
+            self.speed_limit(blk, ln)
         return blk
 
     @staticmethod
@@ -246,7 +248,7 @@ class Sinumerik(Values, Flow, Calls, Words, Interpreter):
 
     def spindle(self, src: Src, direction, speed) -> None:
         if not lathe.spindle(self, src, direction, speed):  # G96 on a lathe: S is a cutting speed
-            super().spindle(src, direction, speed)
+            super().spindle(src, direction, None if speed is None else lathe.limited_speed(self.machine, speed))
 
     def convert_feed(self, st: Step) -> None:
         if "F" in st.words and self.motion not in (34, 35):  # G34/G35: F is the change of lead

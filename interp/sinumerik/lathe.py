@@ -167,13 +167,29 @@ def spindle_mode(m, ms, code: int, src) -> None:
         lt.css = 0.0
 
 
+def css_limit(m, lt) -> float:
+    """The upper limit (rpm) of the G96 speed: the lower of LIMS and G26 S (0: none)."""
+    limits = [v for v in (lt.lims, m.machine.speed_max) if v > 0]
+    return min(limits) if limits else 0.0
+
+
 def css_speed(m, lt) -> float:
-    """The spindle speed (rpm) the cutting speed gives at the tool's radius, limited by LIMS."""
+    """The spindle speed (rpm) the cutting speed gives at the tool's radius, limited by LIMS and G26."""
     r = abs(m.pos[0])
     n = 1000.0 * lt.css / (2.0 * math.pi * r) if r > 1e-9 else math.inf
-    if lt.lims > 0:
-        n = min(n, lt.lims)
+    limit = css_limit(m, lt)
+    if limit > 0:
+        n = min(n, limit)
     return n if math.isfinite(n) else 0.0
+
+
+def limited_speed(ms, n: float) -> float:
+    """A programmed spindle speed within G25 S (lower) and G26 S (upper limit); 0 (a stop) stays."""
+    if n > 0 and ms.speed_max > 0:
+        n = min(n, ms.speed_max)
+    if n > 0 and ms.speed_min > 0:
+        n = max(n, ms.speed_min)
+    return n
 
 
 def spindle(m, src, direction: int | None, speed: float | None) -> bool:
@@ -192,7 +208,7 @@ def spindle(m, src, direction: int | None, speed: float | None) -> bool:
         m.emit(canon.Spindle(src, m.spindle_dir, m.speed))
         return True
     m.speed = css_speed(m, lt)
-    m.emit(canon.Spindle(src, m.spindle_dir, m.speed, lt.css, lt.lims))
+    m.emit(canon.Spindle(src, m.spindle_dir, m.speed, lt.css, css_limit(m, lt)))
     return True
 
 

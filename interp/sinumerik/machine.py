@@ -110,6 +110,8 @@ class Machine:
     warned: set = field(default_factory=set)
     pending: list = field(default_factory=list)  # warnings of the block waiting for its Src
     master: int = 1  # SETMS
+    speed_min: float = 0.0  # G25 S.. (rpm), 0: none
+    speed_max: float = 0.0  # G26 S.. (rpm), 0: none
     traori: bool = False
     arc_flip: bool = False  # the arc being programmed turns the other way in the machine (mirror)
     sandbox: bool = False  # a cycle runs in WCS; its records are mapped afterwards
@@ -180,6 +182,8 @@ def word(m, st, val, line: int, blk) -> bool:
     ext = getattr(st, "ext", None)
     if ext is not None and addr in ("M", "S"):  # M1=3, S1=1000: spindle 1
         return spindle_address(m, ms, addr, ext, val, line, st.col, blk)
+    if ext is not None and addr == "T":  # T1=5, T2="PARTOFF": the tool for spindle n
+        return spindle_tool(m, ms, ext, val, line, st.col, blk)
     if addr == "M" and not isinstance(val, str):
         return m_code(m, val, st.col, line, blk)
     if addr == "T" and isinstance(val, str):
@@ -220,6 +224,21 @@ def m_code(m, val: float, col: int, line: int, blk) -> bool:
         return True
     raise m.error(line, col, f"M{code} is not known to the simulator (a machine M function: declare it in the setup: "
                   f"[machine] m_functions = [{code}])")
+
+
+def spindle_tool(m, ms: Machine, n: int, val, line: int, col: int, blk) -> bool:
+    """T<n>=<number or name>: the tool for spindle n (the address extension is the spindle's number,
+    FUN "Tool change with T command"). The master spindle's is a T word; another spindle's warns
+    once and changes nothing (the simulation follows the master spindle only)."""
+    if n != ms.master:
+        ms.warn_once(m, None, f"tool{n}", f"T{n}=: a tool for spindle {n}, which is not the master spindle; the "
+                     "simulation follows the master spindle only (the tool in use stays)")
+        return True
+    if "T" in blk.words:
+        raise m.error(line, col, "address T appears twice in one block")
+    number = tool_number(m, val, line, col) if isinstance(val, str) else m.num(val, line, col)
+    blk.words["T"] = Word(float(number), None, col)
+    return True
 
 
 def spindle_address(m, ms: Machine, letter: str, n: int, val, line: int, col: int, blk) -> bool:

@@ -50,7 +50,7 @@ class _Scanner(ExprScanner):
             self.i = mr.end()
             ln.stmts.append(Assign(col, "R" + str(int(mr.group(1))), self.expr()))
             return True
-        ext = EXT_RE.match(text, self.i) if up in "MSL" else None
+        ext = EXT_RE.match(text, self.i) if up in "MSLT" else None
         if ext:
             return self.extended(col, ext, ln)
         if up == "H" and self.i + 1 < len(text) and text[self.i + 1] in "0123456789+-.=":
@@ -139,7 +139,7 @@ class _Scanner(ExprScanner):
         return True
 
     def extended(self, col: int, m, ln: Line) -> bool:
-        """M1=3, S1=1000 (an address with its extension) and L140(2) (an L call with parameters)."""
+        """M1=3, S1=1000, T1=5 (an address with its extension) and L140(2) (an L call with parameters)."""
         letter, num, sep = m.group(1).upper(), m.group(2), m.group(3)
         self.i = m.end()
         if letter == "L":
@@ -532,7 +532,8 @@ FILE_END_BYTES = "\x1a\x00"
 
 def scan_line(prog: str, lineno: int, raw: str) -> Line:
     """One block: comment off, characters checked, label, then its statements. A skip block
-    ``/`` at the start is read like any block (the skip level is off in the simulation)."""
+    ``/`` or ``/0`` .. ``/9`` (its skip level) at the start is read like any block (the skip
+    levels are off in the simulation)."""
     ln = Line(lineno, raw)
     text = strip_comment(raw)
     stripped = text.lstrip()
@@ -540,7 +541,9 @@ def scan_line(prog: str, lineno: int, raw: str) -> Line:
         return ln  # program header (%_N_NAME_MPF, ;$PATH=...), a blank line or the file's end bytes
     check_text(prog, lineno, text.rstrip(FILE_END_BYTES + " \t"))
     if stripped.startswith("/"):
-        text = text.replace("/", " ", 1)
+        k = text.index("/")
+        level = 2 if text[k + 1:k + 2].isdigit() and text[k + 1].isascii() else 1  # /1 N70: skip level 1
+        text = text[:k] + " " * level + text[k + level:]
     sc = _Scanner(prog, lineno, text.rstrip(FILE_END_BYTES + " \t"))
     read_label(sc, ln)
     first = True

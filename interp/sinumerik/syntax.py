@@ -59,7 +59,7 @@ FUNCS = {"SIN": 1, "COS": 1, "TAN": 1, "ASIN": 1, "ACOS": 1, "ATAN2": 2, "SQRT":
          "AXNAME": 1, "AXSTRING": 1, "SPI": 1, "AXTOSPI": 1}  # the axis functions: interp/sinumerik/axes.py
 STRING_FUNCS = {"STRLEN", "NUMBER", "ISNUMBER", "TOUPPER", "TOLOWER"}  # take a string argument
 LABEL_RE = re.compile(r"\s*(?:N[0-9]+\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:(?!=)")
-EXT_RE = re.compile(r"([MSL])([0-9]+)\s*([=(])", re.I)  # M1=3, S1=1000, L140(2)
+EXT_RE = re.compile(r"([MSLT])([0-9]+)\s*([=(])", re.I)  # M1=3, S1=1000, T1=5, L140(2)
 SYS_RE = re.compile(r"\$[A-Za-z_][A-Za-z0-9_]*")  # a system variable ($P_TOOLNO, $AA_IW, $MA_...)
 EXP_RE = re.compile(r"EX[+\-]?[0-9]+", re.I)  # 10EX-5: the manuals' exponent
 NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")

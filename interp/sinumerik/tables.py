@@ -54,6 +54,12 @@ NOT_YET = {"CYCLE99": ("ShopTurn thread turning",
                        "program the thread with CYCLE97(PIT, MPIT, SPL, FPL, DM1, DM2, APP, ROP, TDEP, FAL, IANG, NSP, "
                        "NRC, NID, VARI, NUMT, _VRT), which cuts the same threads")}
 
+# machine keywords the simulator does not implement, with what they do (the error names it): the
+# transformations of a turn-mill centre's driven tools (TRANSMIT, TRACYL: the C axis as a path axis)
+UNSUPPORTED_MEANINGS = {"TRANSMIT": "milling on the face with the C axis, a kinematic transformation of driven tools",
+                        "TRACYL": "milling on the cylinder's surface with the C axis, a kinematic transformation of "
+                                  "driven tools"}
+
 # path words the simulator does not implement: an error naming them, not "unknown variable"
 UNSUPPORTED_NAMES = {"ANG": "a contour angle", "AR": "an arc's opening angle",
                      "AP": "a polar angle", "RP": "a polar radius", "TURN": "helix turns", "POS": "a positioning axis",

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from ..canon import Src
 from ..core import Group, Step
-from . import axes, machine
+from . import axes, lathe, machine
 from .codes import G_CODES, LANGUAGE_GROUPS, M_CODES, takes
 from .syntax import Call, Command, Line, MACHINE_COMMANDS, range_message, RANGES, Word
 from .cycle import CYCLES
-from .tables import NOTES
+from .tables import NOTES, UNSUPPORTED_MEANINGS
 from .values import Block, to_text, Value
 
 
@@ -90,6 +90,48 @@ class Words:
         if moving:
             raise self.error(line, blk.words[moving[0]].col, "G4 (dwell) stands in a block without motion")
         blk.gs = [(code, c) for code, c in blk.gs if code != 4]
+
+    def speed_limit(self, blk: Block, ln: Line) -> None:
+        """G25 S<rpm> / G26 S<rpm>: the lower / upper spindle speed limit from now on (FUN,
+        "Programmable spindle speed limitation"): every S is held within them, and the G96 speed
+        below the lower of G26 and LIMS (interp/sinumerik/lathe.py). With axis values instead the
+        block is the working area limitation, a supervision: one warning, no motion."""
+        line, ms = ln.line, self.machine
+        code, col = next((c, k) for c, k in blk.gs if c in (25, 26))
+        other = next((k for c, k in blk.gs if c in (25, 26) and c != code), None)
+        if other is not None:
+            raise self.error(line, other, "G25 and G26 stand in blocks of their own")
+        blk.gs = [(c, k) for c, k in blk.gs if c not in (25, 26)]
+        src = Src(self.unit_program, line, col, ln.nlabel or ln.label)
+        axes_given = [a for a in list(blk.words) if a in ("X", "Y", "Z") or a in self.cfg.axes]
+        for a in axes_given:
+            blk.words.pop(a)
+        if axes_given:
+            self.note(src, "WALIM", f"G{code} {' '.join(axes_given)}: the working area limitation (a supervision "
+                      "of the axes) is not checked by the simulator; the block does not move")
+        s = blk.words.pop("S", None)
+        if s is None:
+            if not axes_given:
+                raise self.error(line, col, f"G{code} needs S<rpm> (the spindle speed limit) or axis values "
+                                 "(the working area limitation)")
+            return
+        if code == 26 and s.value <= 0:
+            raise self.error(line, s.col, f"G26 S{s.value:g}: the upper spindle speed limit is greater than 0")
+        lo, hi = (s.value, ms.speed_max) if code == 25 else (ms.speed_min, s.value)
+        if lo > 0 and hi > 0 and lo > hi:
+            raise self.error(line, s.col, f"G{code} S{s.value:g}: the lower spindle speed limit G25 S{lo:g} lies above "
+                             f"the upper G26 S{hi:g}")
+        ms.speed_min, ms.speed_max = lo, hi
+        self.speed_limit_act(src)
+
+    def speed_limit_act(self, src: Src) -> None:
+        """A new limit acts on the spindle at once (the cycle time): the G96 speed under its new
+        limit, a running speed outside the limits held at the limit."""
+        lt = self.machine.lathe
+        if lt.css_on and lt.css > 0:
+            self.spindle(src, None, None)
+        elif self.speed > 0 and lathe.limited_speed(self.machine, self.speed) != self.speed:
+            self.spindle(src, None, self.speed)
 
     def word(self, st: Word, line: int, blk: Block) -> None:
         val = self.ev(st.value, line, st.col)
@@ -180,4 +222,5 @@ class Words:
         """A machine keyword ``settings`` did not take (it implements the ones it knows) is an
         error at its column: running on as if it were not there would cut elsewhere."""
         for name, col in blk.commands:
-            raise self.error(line, col, f"{name} is not supported by the simulator")
+            what = f" ({UNSUPPORTED_MEANINGS[name]})" if name in UNSUPPORTED_MEANINGS else ""
+            raise self.error(line, col, f"{name}{what} is not supported by the simulator")
