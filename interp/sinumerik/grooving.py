@@ -44,12 +44,13 @@ DIN76 = {0.5: (0.8, 1.75, 0.2, 0.3, 2.7, 0.2), 0.7: (1.1, 2.45, 0.4, 0.3, 3.8, 0
          5.5: (7.7, 19.0, 3.2, 0.5, 28.0, 3.2)}
 DIN76_FLANK = 30.0
 # DIN 76-1 short thread undercuts, forms B (external) and D (internal), by pitch: the length from the
-# face (g2 max); depth and radius as the normal form's of the pitch. Tabulated here up to pitch 3.5
-# (M33): the rows two published transcriptions of DIN 76-1 tables 1 and 2 agree on (their normal
-# rows agree with DIN76 above; docs/dialects/sinumerik-turning.md "CYCLE96").
+# face (g2 max); depth and radius as the normal form's of the pitch. Up to pitch 3.5 two published
+# transcriptions of DIN 76-1 tables 1 and 2 agree; 4..5.5 from the one carrying them, whose normal rows
+# agree with DIN76 above in every row (docs/dialects/sinumerik-turning.md "CYCLE96").
 DIN76_SHORT = {0.5: (1.25, 2.0), 0.7: (1.75, 2.75), 0.8: (2.0, 3.0), 1.0: (2.5, 3.7), 1.25: (3.2, 4.9),
                1.5: (3.8, 5.6), 1.75: (4.3, 6.4), 2.0: (5.0, 7.3), 2.5: (6.3, 9.3), 3.0: (7.5, 10.7),
-               3.5: (9.0, 12.7)}
+               3.5: (9.0, 12.7), 4.0: (10.0, 14.0), 4.5: (11.0, 16.0), 5.0: (12.5, 18.5),
+               5.5: (14.0, 20.0)}
 
 
 class GrooveParamError(ValueError):
@@ -617,12 +618,6 @@ def plan_cycle96(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
                                        f"{'outside' if outside else 'inside'} one")
     dd, length, r = row[0:3] if outside else row[3:6]
     if form in ("B", "D"):
-        if pitch not in DIN76_SHORT:
-            top = max(DIN76_SHORT)
-            normal = "A" if outside else "C"
-            raise GrooveParamError("FORM", f"FORM \"{form}\": the short undercuts B and D are simulated up to pitch "
-                                           f"{top:g} (M33), M{int(diath)} has pitch {pitch:g}: program the normal "
-                                           f"form \"{normal}\"")
         length = DIN76_SHORT[pitch][0 if outside else 1]
     if outside:
         R, t1 = diath / 2.0, dd / 2.0

@@ -53,17 +53,19 @@ side = "inside"
 tolerance = {tol}
 """
 TAN30 = math.tan(math.radians(30.0))
-FACE = -20.0  # the shoulder's face: the thread's cylinder from Z0 to here, the undercut before it
+FACE = -30.0  # the shoulder's face: the thread's cylinder from Z0 to here, the undercut before it
 # DIN 76-1 by pitch, typed from the docs' table: (outside dd, A length, r, inside dd, C length) and
 # the short lengths (B, D); the coarse thread of each pitch the tests cut
 TABLE = {0.5: (0.8, 1.75, 0.2, 0.3, 2.7), 0.7: (1.1, 2.45, 0.4, 0.3, 3.8), 0.8: (1.3, 2.8, 0.4, 0.3, 4.2),
          1.0: (1.6, 3.5, 0.6, 0.5, 5.2), 1.25: (2.0, 4.4, 0.6, 0.5, 6.7), 1.5: (2.3, 5.2, 0.8, 0.5, 7.8),
          1.75: (2.6, 6.1, 1.0, 0.5, 9.1), 2.0: (3.0, 7.0, 1.0, 0.5, 10.3), 2.5: (3.6, 8.7, 1.2, 0.5, 13.0),
-         3.0: (4.4, 10.5, 1.6, 0.5, 15.2), 3.5: (5.0, 12.0, 1.6, 0.5, 17.7)}
+         3.0: (4.4, 10.5, 1.6, 0.5, 15.2), 3.5: (5.0, 12.0, 1.6, 0.5, 17.7), 4.0: (5.7, 14.0, 2.0, 0.5, 20.0),
+         4.5: (6.4, 16.0, 2.0, 0.5, 23.0), 5.0: (7.0, 17.5, 2.5, 0.5, 26.0), 5.5: (7.7, 19.0, 3.2, 0.5, 28.0)}
 SHORT = {0.5: (1.25, 2.0), 0.7: (1.75, 2.75), 0.8: (2.0, 3.0), 1.0: (2.5, 3.7), 1.25: (3.2, 4.9),
          1.5: (3.8, 5.6), 1.75: (4.3, 6.4), 2.0: (5.0, 7.3), 2.5: (6.3, 9.3), 3.0: (7.5, 10.7),
-         3.5: (9.0, 12.7)}
-SIZE = {0.5: 3, 0.7: 4, 0.8: 5, 1.0: 6, 1.25: 8, 1.5: 10, 1.75: 12, 2.0: 16, 2.5: 20, 3.0: 24, 3.5: 30}
+         3.5: (9.0, 12.7), 4.0: (10.0, 14.0), 4.5: (11.0, 16.0), 5.0: (12.5, 18.5), 5.5: (14.0, 20.0)}
+SIZE = {0.5: 3, 0.7: 4, 0.8: 5, 1.0: 6, 1.25: 8, 1.5: 10, 1.75: 12, 2.0: 16, 2.5: 20, 3.0: 24, 3.5: 30,
+        4.0: 36, 4.5: 42, 5.0: 48, 5.5: 56}
 
 
 def undercut(d: int, pitch: float, form: str) -> dict:
@@ -81,9 +83,9 @@ def stock(u: dict, d: float) -> str:
     """Outside: a bar of d to the face, a collar d + 20 behind it. Inside: the bore D1 from Z0 to
     the face, a bore of D1 - 6 (at least 2) behind it, the outside d + 20."""
     if u["outside"]:
-        return f"[[0, 0], [{u['cyl']}, 0], [{u['cyl']}, {FACE}], [{d / 2 + 10}, {FACE}], [{d / 2 + 10}, -40], [0, -40]]"
+        return f"[[0, 0], [{u['cyl']}, 0], [{u['cyl']}, {FACE}], [{d / 2 + 10}, {FACE}], [{d / 2 + 10}, -50], [0, -50]]"
     small = max(1.0, u["cyl"] - 3.0)
-    return (f"[[{u['cyl']}, 0], [{d / 2 + 10}, 0], [{d / 2 + 10}, -40], [{small}, -40], [{small}, {FACE}], "
+    return (f"[[{u['cyl']}, 0], [{d / 2 + 10}, 0], [{d / 2 + 10}, -50], [{small}, -50], [{small}, {FACE}], "
             f"[{u['cyl']}, {FACE}]]")
 
 
@@ -142,9 +144,9 @@ def ring_volume(u: dict) -> float:
 def stock_volume(u: dict, d: float) -> float:
     big = d / 2 + 10
     if u["outside"]:
-        return math.pi * (u["cyl"] ** 2 * -FACE + big ** 2 * (40 + FACE))
+        return math.pi * (u["cyl"] ** 2 * -FACE + big ** 2 * (50 + FACE))
     small = max(1.0, u["cyl"] - 3.0)
-    return math.pi * ((big ** 2 - u["cyl"] ** 2) * -FACE + (big ** 2 - small ** 2) * (40 + FACE))
+    return math.pi * ((big ** 2 - u["cyl"] ** 2) * -FACE + (big ** 2 - small ** 2) * (50 + FACE))
 
 
 # ---------------------------------------------------------------------------------------------
