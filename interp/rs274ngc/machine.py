@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import compensation, context, cycles, exact, lathe, offsets, polar, threading
+from . import compensation, context, cycles, exact, lathe, offsets, polar, probe, threading
 from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
 from .values import Parameters, Unreadable
 
@@ -53,6 +53,8 @@ class Ngc(Interpreter):
         self.context_m: list = []  # the block's M70-M73
         self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
+        self.inverse_feed = 0.0  # in G93 the feed rate rs274 keeps (mm/min): a probe's (probe.py)
+        self.warned_probe = False
         compensation.init(self)
         offsets.load(self)
         exact.start(self)
@@ -140,6 +142,7 @@ class Ngc(Interpreter):
         elif group == Group.ARC_DISTANCE:
             self.arc_abs = code == 90.1
         elif group == Group.FEED:
+            probe.leave_mode(self, code)
             self.feed_mode = int(code)
             self.per_rev = code == 95
             if code == 93:
@@ -273,7 +276,8 @@ class Ngc(Interpreter):
             if self.feed_units is None or self.feed_units == 0.0:
                 raise self.error(st.block.line, 1, "inverse time feed (G93): every feed move needs its own F")
             f, self.feed_units = self.feed_units, None
-            return max(0.1 * self.scale, length * f)  # LinuxCNC: at least 0.1 program units per minute
+            self.inverse_feed = max(0.1 * self.scale, length * f)  # LinuxCNC: at least 0.1 program units per minute
+            return self.inverse_feed
         if self.feed_units is None or self.feed_units == 0.0:
             raise self.error(st.block.line, 1, "cannot feed with a zero feed rate (program F)")
         return self.feed_units * self.feed_scale
@@ -297,7 +301,7 @@ class Ngc(Interpreter):
         m = self.motion
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
-        if self.comp_side and ((has_axes and m not in (0, 1, 2, 3, 80)) or (m in lathe.LATHE_CYCLES and st.motion == m)):
+        if self.comp_side and ((has_axes and m not in (0, 1, 2, 3, 80, *probe.PROBES)) or (m in lathe.LATHE_CYCLES and st.motion == m)):
             compensation.refuse_motion(self, st, m)
         if m in lathe.LATHE_CYCLES and st.motion == m:
             lathe.cycle(self, st)
@@ -308,6 +312,8 @@ class Ngc(Interpreter):
                 raise self.error(line, st.groups[MOTION].col, f"G{st.groups[MOTION].raw}: all axes missing")
             self.check_left(st)
             return
+        elif m in probe.PROBES:
+            probe.run(self, st)
         elif m == 80:
             w = next(st.words[a] for a in "XYZ" if a in st.words)
             raise self.error(line, w.col, "axis words without a motion mode (G80 is active)")

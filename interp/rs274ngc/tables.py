@@ -16,6 +16,7 @@ G_CODES: dict[float, Code] = {
     3: Code(Group.MOTION, "XYZIJKRP", "counter-clockwise arc"),
     33: Code(Group.MOTION, "XYZK", "spindle-synchronised motion"),
     33.1: Code(Group.MOTION, "XYZK", "rigid tapping"),
+    **{c: Code(Group.MOTION, "XYZ", "straight probe") for c in (38.2, 38.3, 38.4, 38.5)},
     73: Code(Group.MOTION, "XYZRQL", "drilling cycle with chip breaking"),
     74: Code(Group.MOTION, "XYZRLP", "left-hand tapping cycle with dwell"),
     84: Code(Group.MOTION, "XYZRLP", "right-hand tapping cycle with dwell"),
@@ -82,7 +83,6 @@ G_CODES: dict[float, Code] = {
 REFUSED: dict[float, str] = {
     5: "cubic spline", 5.1: "quadratic spline", 5.2: "NURBS", 5.3: "NURBS end",
     17.1: "plane UV", 18.1: "plane WU", 19.1: "plane VW",
-    38.2: "probing", 38.3: "probing", 38.4: "probing", 38.5: "probing",
 }
 M_CODES: dict[int, Code] = {
     0: Code(Group.STOP, "", "program pause"),

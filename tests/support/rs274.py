@@ -46,6 +46,7 @@ PLANES = {"CANON_PLANE_XY": ("XY", 0, 1, 2), "CANON_PLANE_XZ": ("ZX", 2, 0, 1), 
 SPIRAL = "arc end point is not on the circle"
 # the shared range of positions (core.lexer.COORD_LIMIT), which LinuxCNC does not have: a documented limit
 RANGE = "exceeds the permitted range"
+PROBE_BACKOFF = 0.01 * INCH  # mm: where rs274 leaves the tool after a probe move without contact
 ZERO_MOVE = 0.003  # mm: a straight move shorter than rs274's printing resolution (4 decimals of an inch) is none
 LENGTH_PARAMS = {5161, 5162, 5163, 5181, 5182, 5183, 5211, 5212, 5213,
                  *(5221 + 20 * n + i for n in range(9) for i in range(3))}
@@ -105,7 +106,12 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
               timeout: float = 20.0) -> Outcome:
     """rs274's moves for ``program`` (normalised, see the module docstring), and its error if any."""
     with tempfile.TemporaryDirectory() as tmp:
-        args = [rs274_path() or "rs274", "-g", *inch_files(tmp, tool_table, parameter_file), os.path.abspath(program)]
+        # subroutine files beside the program, where cutsim looks for them (rs274 only on SUBROUTINE_PATH)
+        ini = os.path.join(tmp, "rs274.ini")
+        with open(ini, "w") as f:
+            f.write(f"[RS274NGC]\nSUBROUTINE_PATH = {os.path.dirname(os.path.abspath(program))}\n")
+        args = [rs274_path() or "rs274", "-g", "-i", ini, *inch_files(tmp, tool_table, parameter_file),
+                os.path.abspath(program)]
         try:
             # rs274 keeps its tool table in $HOME/.tool.mmap: two runs sharing a HOME read each other's
             # tables (a tool "not found", output lost, a bus error), so each run gets its own HOME
@@ -142,6 +148,7 @@ class _State:
         self.length = [0.0] * 3
         self.plane = PLANES["CANON_PLANE_XY"]
         self.pos = (0.0, 0.0, 0.0)
+        self.canon = (0.0, 0.0, 0.0)  # where rs274's canonical layer put the tool last: printed + G5x + G92 (mm)
         self.feed, self.per_rev, self.lead = None, False, None
         self.moves: list[Move] = []
 
@@ -177,9 +184,11 @@ class _State:
             self.lead = float(args[0]) * self.s
         elif name == "STOP_SPEED_FEED_SYNCH":
             self.lead = None
-        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
+        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             end = self.point(args[0:3])
-            if name == "STRAIGHT_TRAVERSE":
+            if name == "STRAIGHT_PROBE":
+                self.probe(args, end, raw)
+            elif name == "STRAIGHT_TRAVERSE":
                 self.add(Move("RAPID", self.pos, end, raw))
             elif self.lead is not None:
                 self.add(Move("SYNC", self.pos, end, raw, lead=self.lead))
@@ -192,6 +201,20 @@ class _State:
             self.add(Move("SYNC", end, start, raw, lead=self.lead))
         elif name == "ARC_FEED":
             self.arc(args, raw)
+
+    def framed_of(self, point) -> tuple:
+        """A point (machine frame) in rs274's canonical frame: without the tool length offset."""
+        return tuple(point[i] - self.tlo[i] + self.length[i] for i in range(3))
+
+    def probe(self, args: list[str], end: tuple, raw: str) -> None:
+        """A feed to the probe point; then rs274 (no contact) leaves the tool 0.01 in back along the move
+        as its canonical layer saw it (from where it last put the tool, tool length offsets not applied)."""
+        start, stop = self.canon, self.framed_of(end)
+        self.add(Move("FEED", self.pos, end, raw, feed=self.feed, per_rev=self.per_rev))
+        length = math.dist(start, stop)
+        if length > 0.0:
+            self.pos = tuple(end[i] - PROBE_BACKOFF * (stop[i] - start[i]) / length for i in range(3))
+            self.canon = tuple(stop[i] - PROBE_BACKOFF * (stop[i] - start[i]) / length for i in range(3))
 
     def arc(self, args: list[str], raw: str) -> None:
         plane, a, b, n = self.plane
@@ -218,6 +241,7 @@ class _State:
 
     def add(self, move: Move) -> None:
         self.pos = move.end
+        self.canon = self.framed_of(move.end)
         if move.kind in ("RAPID", "FEED", "SYNC") and move.length < ZERO_MOVE:
             return
         self.moves.append(move)
