@@ -15,7 +15,7 @@ from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
 from . import compensation, context, cycles, exact, lathe, offsets, polar, probe, threading
-from .tables import G_CODES, M_CODES, REFUSED, REFUSED_M
+from .tables import G_CODES, M_CODES, PLANES, REFUSED, REFUSED_M, UVW_PLANES
 from .values import Parameters, Unreadable
 
 INCH = 25.4
@@ -130,7 +130,9 @@ class Ngc(Interpreter):
                 st.motion = code if st.motion in (None, 80) else st.motion
             elif row.group == Group.PLANE and self.comp_side and row.meaning != f"plane {self.plane}":
                 raise self.error(line, g.col, f"G{g.raw}: cannot change the plane with cutter radius compensation on")
-            elif row.group in (Group.DISTANCE, Group.PLANE):
+            elif row.group == Group.PLANE:
+                self.plane = PLANES[code]
+            elif row.group == Group.DISTANCE:
                 self.common_g(int(code))
             else:
                 self.g_code(st, code, row, g)
@@ -299,6 +301,10 @@ class Ngc(Interpreter):
             a = next(st.words[a] for a in "ABCUVW" if a in st.words)
             raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")
         m = self.motion
+        if self.plane in UVW_PLANES and has_axes and (m in (2, 3) or m in cycles.CYCLE_CODES):
+            w = st.groups.get(MOTION) or next(st.words[a] for a in "XYZIJK" if a in st.words)
+            raise self.error(line, w.col, f"{'arcs' if m in (2, 3) else 'canned cycles'} in plane "
+                             f"{UVW_PLANES[self.plane]} need the axes U V W (not simulated)")
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
         if self.comp_side and ((has_axes and m not in (0, 1, 2, 3, 80, *probe.PROBES)) or (m in lathe.LATHE_CYCLES and st.motion == m)):

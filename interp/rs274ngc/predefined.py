@@ -25,7 +25,7 @@ def install(m) -> None:
         "_current_tool": lambda: float(m.tool_no), "_selected_tool": lambda: float(m.selected),
         "_feed": lambda: m.feed_units or 0.0, "_rpm": lambda: float(m.speed),
         "_spindle_on": lambda: 1.0 if m.spindle_dir else 0.0, "_motion_mode": lambda: float(m.motion) * 10.0,
-        "_plane": lambda: {"XY": 170.0, "ZX": 180.0, "YZ": 190.0}[m.plane],
+        "_plane": lambda: {"XY": 170.0, "ZX": 180.0, "YZ": 190.0, "UV": 171.0, "WU": 181.0, "VW": 191.0}[m.plane],
         "_coord_system": lambda: 530.0 + 10.0 * m.coord if m.coord <= 6 else 590.0 + m.coord - 6,
         "_call_level": lambda: float(len(m.params.frames) - 1),
         "_value": lambda: 0.0, "_value_returned": lambda: 0.0,

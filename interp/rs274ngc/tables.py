@@ -49,6 +49,9 @@ G_CODES: dict[float, Code] = {
     17: Code(Group.PLANE, "", "plane XY"),
     18: Code(Group.PLANE, "", "plane ZX"),
     19: Code(Group.PLANE, "", "plane YZ"),
+    17.1: Code(Group.PLANE, "", "plane UV"),
+    18.1: Code(Group.PLANE, "", "plane WU"),
+    19.1: Code(Group.PLANE, "", "plane VW"),
     20: Code(Group.UNITS, "", "inch"),
     21: Code(Group.UNITS, "", "millimetre"),
     40: Code(Group.RADIUS_COMP, "", "cutter compensation off"),
@@ -82,8 +85,11 @@ G_CODES: dict[float, Code] = {
 # Valid LinuxCNC 2.9 codes the simulator refuses (not simulated), with what they are.
 REFUSED: dict[float, str] = {
     5: "cubic spline", 5.1: "quadratic spline", 5.2: "NURBS", 5.3: "NURBS end",
-    17.1: "plane UV", 18.1: "plane WU", 19.1: "plane VW",
 }
+# The plane each plane code selects; G17.1-G19.1 name planes of the axes U V W, which straight moves
+# ignore (LinuxCNC: SELECT_PLANE(CANON_PLANE_UNKNOWN)): what needs their axes is refused (machine.py).
+PLANES: dict[float, str] = {17: "XY", 18: "ZX", 19: "YZ", 17.1: "UV", 18.1: "WU", 19.1: "VW"}
+UVW_PLANES = {"UV": "G17.1", "WU": "G18.1", "VW": "G19.1"}
 M_CODES: dict[int, Code] = {
     0: Code(Group.STOP, "", "program pause"),
     1: Code(Group.STOP, "", "optional pause"),

@@ -174,8 +174,8 @@ class _State:
         elif name == "SET_TOOL_TABLE_ENTRY":  # G10 L1: offsets in its machine units (inch)
             vals = [float(v) * INCH for v in args[2].split()]
             self.tools[int(args[1])] = {"X": vals[0], "Z": vals[2]}
-        elif name == "SELECT_PLANE":
-            self.plane = PLANES[args[0]]
+        elif name == "SELECT_PLANE":  # CANON_PLANE_UNKNOWN (G17.1-G19.1) has no arcs: the plane stays
+            self.plane = PLANES.get(args[0], self.plane)
         elif name == "SET_FEED_RATE":
             self.feed = float(args[0]) * self.s
         elif name == "SET_FEED_MODE":
