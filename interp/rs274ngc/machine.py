@@ -14,7 +14,7 @@ from cutsim.interp.core import MOTION, Group, Interpreter, Step
 from cutsim.interp.core.lexer import COORD_LIMIT, Word
 from cutsim.interp.core.modal import PLANE_AXES, InterpConfig
 
-from . import compensation, context, cycles, exact, lathe, offsets, polar, probe, threading
+from . import compensation, context, cycles, exact, lathe, offsets, orient, polar, probe, threading
 from .tables import G_CODES, M_CODES, PLANES, REFUSED, REFUSED_M, UVW_PLANES
 from .values import Parameters, Unreadable
 
@@ -55,6 +55,7 @@ class Ngc(Interpreter):
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
         self.inverse_feed = 0.0  # in G93 the feed rate rs274 keeps (mm/min): a probe's (probe.py)
         self.warned_probe = False
+        self.orient_words: tuple = ()  # the block's words M19 read (orient.py)
         compensation.init(self)
         offsets.load(self)
         exact.start(self)
@@ -193,6 +194,7 @@ class Ngc(Interpreter):
         self.tool_m(st)
         if st.direction is not None:
             self.spindle(self.src(st), st.direction, None)
+        orient.run(self, st)
         context.run_block(self, st)  # M70-M73 after the spindle, before the modes (LinuxCNC's order)
         compensation.select(self, st)
         offsets.tool_length(self, st)
@@ -357,7 +359,7 @@ class Ngc(Interpreter):
         """A word the block did not use is refused at its column (LinuxCNC: "... word with no G code
         that uses it"), so no value is silently ignored."""
         for letter, w in st.words.items():
-            if letter in "NO":
+            if letter in "NO" or orient.used(self, w):
                 continue
             raise self.error(st.block.line, w.col, f"{letter} word with nothing that uses it in this block")
 

@@ -99,6 +99,7 @@ M_CODES: dict[int, Code] = {
     3: Code(Group.SPINDLE, "S", "spindle clockwise"),
     4: Code(Group.SPINDLE, "S", "spindle counter-clockwise"),
     5: Code(Group.SPINDLE, "", "spindle stop"),
+    19: Code(Group.SPINDLE, "RQP", "spindle orientation"),
     6: Code(Group.TOOL, "T", Group.TOOL),
     61: Code(Group.TOOL, "Q", "set the current tool"),
     7: Code(Group.COOLANT, "", "mist coolant"),
@@ -107,4 +108,4 @@ M_CODES: dict[int, Code] = {
     **{m: Code(Group.OVERRIDE, "P", f"override switch M{m}") for m in range(48, 54)},
     **{m: Code(Group.IO, "PEQL", f"digital/analog output M{m}") for m in range(62, 69)},
 }
-REFUSED_M: dict[int, str] = {19: "spindle orientation"}  # M70-M73: machine.check_m, context.py
+REFUSED_M: dict[int, str] = {}  # M70-M73: machine.check_m, context.py

@@ -39,7 +39,7 @@ from cutsim.interp.core.modal import InterpConfig
 from cutsim.interp.rs274ngc import files
 
 INCH = 25.4
-CALL = re.compile(r"^\s*(\d+) N\S*\s+([A-Z0-9_]+)\((.*)\)\s*$")
+CALL = re.compile(r"^\s*(\d+) N\S*\s+([A-Z0-9_.]+)\((.*)\)\s*$")
 PLANES = {"CANON_PLANE_XY": ("XY", 0, 1, 2), "CANON_PLANE_XZ": ("ZX", 2, 0, 1), "CANON_PLANE_YZ": ("YZ", 1, 2, 0)}
 # the shared arc check's refusal of an arc whose end is off its circle by more than max(0.005 mm, 0.01 %),
 # which LinuxCNC cuts as a spiral up to 0.028 mm (0.072 mm in G20) or 0.1 %: a documented limit
