@@ -8,7 +8,8 @@ and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in fiv
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
-Between the statements, from their own draws (``Comp``), cutter radius compensation sequences.
+Between the statements, from their own draws (``Comp``), cutter radius compensation sequences, and
+(``issue25``) straight probing G38.2-G38.5, the planes G17.1-G19.1 and M19.
 Arcs are built to end on their circle (to 4 decimals); everything else is left to chance, so
 both interpreters may refuse a program (division by zero, a peck depth of 0 ...): then both must.
 """
@@ -504,6 +505,45 @@ class Comp:
             g.emit(f"G91 {code} {a}{ea:.4f} {b}{eb:.4f} {ia}{ci:.4f} {ib}{cj:.4f}{helix}{turns}")
 
 
+def issue25(g: Gen, rng: random.Random) -> None:
+    """Straight probing (G38.2-G38.5, after a G0 so rs274's canonical layer knows where the tool is:
+    docs/dialects/rs274ngc.md), a plane of U V W with straight moves and a probe in it, or M19."""
+    def _axes(rng: random.Random) -> str:  # as Gen.axes, from these draws
+        chosen = [a for a in "XYZ" if rng.random() < 0.6] or [rng.choice("XYZ")]
+        return " ".join(f"{a}[#{rng.randint(1, 5)} mod 20]" if rng.random() < 0.15 else f"{a}{num(rng, -30, 30)}"
+                        for a in chosen)
+
+    kind = rng.randrange(3)
+    if kind == 0:
+        g.emit(f"G0 {_axes(rng)}")
+        dist = rng.choice(["", "G90 ", "G91 "])
+        code = rng.choice(["G38.2", "G38.3", "G38.4", "G38.5"])
+        feed = f" F{num(rng, 20, 500, 1)}" if rng.random() < 0.3 else ""
+        g.emit(f"{dist}{code} {_axes(rng)}{feed}" if rng.random() < 0.95 else f"G91 {code} X0{feed}")
+        r = rng.random()
+        if r < 0.3:
+            g.emit(f"G90 G1 X#5061 Y[#5062 + {num(rng, -3, 3)}] Z#5063")
+        elif r < 0.5:
+            g.emit(f"#{rng.randint(1, 5)} = [#5061 + #5062 * #5070 - #5063]")
+        elif r < 0.6:
+            g.emit(f"G91 G1 {_axes(rng)}")  # from where rs274 leaves the tool
+    elif kind == 1:
+        g.emit(rng.choice(["G17.1", "G18.1", "G19.1"]))
+        for _ in range(rng.randint(1, 3)):
+            if rng.random() < 0.2:
+                g.emit(f"G0 {_axes(rng)}")
+                g.emit(f"G38.3 {_axes(rng)}")
+            else:
+                g.emit(f"{rng.choice(['G0', 'G1'])} {_axes(rng)}")
+        g.emit(g.plane)
+    else:
+        words = [f"R{num(rng, 0, 360, 2)}" if rng.random() < 0.8 else ""]
+        words += [f"Q{num(rng, 0.1, 5, 2)}" if rng.random() < 0.3 else "", f"P{rng.randint(0, 2)}" if rng.random() < 0.3 else ""]
+        g.emit(" ".join(["M19", *[w for w in words if w]]))
+        if rng.random() < 0.6:
+            g.emit("M3")
+
+
 def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str:
     g = Gen(rng)
     g.emit("(random program)")
@@ -521,12 +561,15 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str
     numbered = rng.randint(1, 9999) if rng.random() < 0.3 else None  # an O<n> ... M99 subprogram
     comp = Comp(random.Random(str(rng.getstate()[1])))  # its own draws (Comp's docstring)
     bore = random.Random(str(rng.getstate()[1]) + "G87")  # G87's own draws too: the rest stays as it was
+    probe = random.Random(str(rng.getstate()[1]) + "G38")  # G38, G17.1-G19.1, M19: their own draws
     for _ in range(statements):
         g.statement()
         if comp.rng.random() < 0.12:
             comp.sequence(g)
         if bore.random() < 0.04:
             back_bore(g, bore)
+        if probe.random() < 0.06:
+            issue25(g, probe)
         if subs and rng.random() < 0.1:
             g.emit("G17")
             g.plane = "G17"
