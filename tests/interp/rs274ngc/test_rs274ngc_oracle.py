@@ -394,3 +394,17 @@ def test_rs274_runs_some_g33_under_compensation_cutsim_refuses_them(rs274, tmp_p
         assert (theirs.error is not None) == refused
         if not refused:
             assert theirs.moves[1].end[:2] == pytest.approx((100, 5)) and theirs.moves[1].kind == "FEED"
+
+
+def test_rs274_backs_off_a_probe_along_its_canonical_move_after_a_tool_length_change(rs274, tmp_path):
+    # G43.1 Z3 with no move since: the program position is Z-3 (the tool has not moved), rs274's
+    # canonical layer still has the tool at its last printed point, Z0. Probing to X10 Z5 without contact,
+    # rs274 leaves the tool 0.254 mm back along (10, 5) (from Z0), cutsim along its own move (10, 8)
+    # (from Z-3); after a move (the G0) both agree, as in the random programs
+    for first, same in (("", False), ("G0 X0 Y0 Z-3\n", True)):
+        path = tmp_path / "tlo.ngc"
+        path.write_text(f"G21 F100\nG43.1 Z3\n{first}G38.3 X10 Z5\nG1 Y1\nM2\n")
+        ours, theirs = cutsim_moves(str(path)).moves[-1].end, run_rs274(str(path)).moves[-1].end
+        assert ours[2] == pytest.approx(5 + 3 - 0.254 * 8 / math.hypot(10, 8))
+        assert theirs[2] == pytest.approx(5 + 3 - 0.254 * (8 if same else 5) / math.hypot(10, 8 if same else 5), abs=1e-4)
+        assert (compare(str(path)) == "same") == same
