@@ -18,7 +18,7 @@ from cutsim.interp.core.lexer import Word
 from cutsim.interp.core.modal import PLANE_AXES
 
 from . import exact, polar
-from .tables import CYCLES
+from .tables import CYCLES, UVW_PLANES
 
 CYCLE_CODES = frozenset(CYCLES)
 DELTA_INCH = 0.010  # G73 chip-break retract and G83 re-approach clearance (inch)
@@ -330,3 +330,11 @@ def arc_length(m, start, end, centre, clockwise: bool, turns: int) -> float:
         sweep = 2 * math.pi
     sweep += 2 * math.pi * (turns - 1)
     return math.hypot(r * sweep, end[n] - start[n])
+
+
+def refuse_uvw(m, st: Step, code: float) -> None:
+    """An arc or a canned cycle in G17.1-G19.1: they need the axes U V W (rs274 refuses them too)."""
+    w = st.groups.get(MOTION) or next(st.words[a] for a in "XYZIJK" if a in st.words)
+    plane = UVW_PLANES[m.plane]
+    raise m.error(st.block.line, w.col, f"{'arcs' if code in (2, 3) else 'canned cycles'} in plane {plane} "
+                  "need the axes U V W (not simulated)")

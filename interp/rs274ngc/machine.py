@@ -53,8 +53,7 @@ class Ngc(Interpreter):
         self.context_m: list = []  # the block's M70-M73
         self.profile: list | None = None  # collecting a G70-G72 profile: its moves (lathe.capture)
         self.run_profile = None  # runs a profile subroutine (set by flow.Runner)
-        self.inverse_feed = 0.0  # in G93 the feed rate rs274 keeps (mm/min): a probe's (probe.py)
-        self.warned_probe = False
+        probe.init(self)
         self.orient_words: tuple = ()  # the block's words M19 read (orient.py)
         compensation.init(self)
         offsets.load(self)
@@ -304,9 +303,7 @@ class Ngc(Interpreter):
             raise self.error(line, a.col, f"axis {a.letter} is not simulated (the simulator has X, Y and Z)")
         m = self.motion
         if self.plane in UVW_PLANES and has_axes and (m in (2, 3) or m in cycles.CYCLE_CODES):
-            w = st.groups.get(MOTION) or next(st.words[a] for a in "XYZIJK" if a in st.words)
-            raise self.error(line, w.col, f"{'arcs' if m in (2, 3) else 'canned cycles'} in plane "
-                             f"{UVW_PLANES[self.plane]} need the axes U V W (not simulated)")
+            cycles.refuse_uvw(self, st, m)
         if m not in cycles.CYCLE_CODES:
             self.cycle.initial = self.cycle.code = None
         if self.comp_side and ((has_axes and m not in (0, 1, 2, 3, 80, *probe.PROBES)) or (m in lathe.LATHE_CYCLES and st.motion == m)):
@@ -334,11 +331,11 @@ class Ngc(Interpreter):
         elif m in (2, 3):
             self.arc_block(st, m == 2)
         elif m == 33:
-            self.thread(st)
+            threading.g33(self, st)
         elif m == 76:
             threading.g76(self, st)
         elif m == 33.1:
-            self.rigid_tap(st)
+            threading.g33_1(self, st)
         self.check_left(st)
 
     # -- a profile collects its moves instead of cutting them (lathe.capture) -----------------------
@@ -367,31 +364,6 @@ class Ngc(Interpreter):
         if self.profile is None:
             self.feed = self.feed_for(st, math.dist(self.pos, end))
         self.linear(self.src(st), end)
-
-    def thread(self, st: Step) -> None:
-        k = st.words.pop("K", None)
-        if k is None or k.value <= 0:
-            raise self.error(st.block.line, st.groups.get(MOTION, Word("G", 33, "33", 1)).col, "G33 needs a pitch K > 0")
-        if self.spindle_dir == 0:
-            raise self.error(st.block.line, k.col, "spindle not turning in G33")
-        end, _ = self.goal(st)
-        threading.sync_to(self, self.src(st), end, k.value * self.scale, 0.0)
-
-    def rigid_tap(self, st: Step) -> None:
-        k = st.words.pop("K", None)
-        line = st.block.line
-        if k is None or k.value <= 0:
-            raise self.error(line, 1, "G33.1 needs a pitch K > 0")
-        if self.spindle_dir == 0:
-            raise self.error(line, k.col, "spindle not turning in G33.1")
-        start = self.start_point()
-        end, words = self.goal(st)
-        if any(abs(end[i] - start[i]) > 1e-9 for i in (0, 1)):
-            raise self.error(line, 1, "G33.1 taps along Z only: X and Y must stay where they are")
-        src = self.src(st)
-        lead = k.value * self.scale
-        self.synced(src, end, lead, "Z", 0.0)
-        self.synced(src, start, lead, "Z", 0.0)
 
     def arc_block(self, st: Step, clockwise: bool) -> None:
         line = st.block.line

@@ -20,6 +20,11 @@ BACKOFF = 0.254  # mm (0.01 in): where rs274 leaves the tool, back along the pro
 FIRST, LAST = 5061, 5070  # the probe's result parameters (#5070: 1 after contact)
 
 
+def init(m) -> None:
+    m.inverse_feed = 0.0  # in G93 the feed rate rs274 keeps (mm/min): a probe's
+    m.warned_probe = False
+
+
 def canon_feed(m) -> float:
     """The feed rate (mm/min) a probe move takes: the one of G1 in G94; in G93 the rate rs274 keeps
     from before (0 after a G94 or G95 left G93)."""

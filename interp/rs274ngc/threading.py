@@ -1,4 +1,5 @@
-"""G76, LinuxCNC's threading cycle, and the spindle-synchronised moves it shares with G33.
+"""G76, LinuxCNC's threading cycle, and the spindle-synchronised moves it shares with G33 (``g33``;
+``g33_1`` rigid tapping).
 
 The cycle starts at the drive line (where the tool is) and cuts passes towards the end Z:
 
@@ -22,6 +23,7 @@ from __future__ import annotations
 import math
 
 from cutsim.interp.core import MOTION, Step
+from cutsim.interp.core.lexer import Word
 
 from .values import _L, _PI
 
@@ -129,3 +131,32 @@ class Cut:
         else:
             sync_to(m, src, self.at(self.x(depth), z_out), self.pitch, spin)
         m.rapid(src, self.at(back, z_out))
+
+
+def g33(m, st: Step) -> None:
+    """G33 X- Z- K-: a spindle-synchronised straight move of lead K (program units)."""
+    k = st.words.pop("K", None)
+    if k is None or k.value <= 0:
+        raise m.error(st.block.line, st.groups.get(MOTION, Word("G", 33, "33", 1)).col, "G33 needs a pitch K > 0")
+    if m.spindle_dir == 0:
+        raise m.error(st.block.line, k.col, "spindle not turning in G33")
+    end, _ = m.goal(st)
+    sync_to(m, m.src(st), end, k.value * m.scale, 0.0)
+
+
+def g33_1(m, st: Step) -> None:
+    """G33.1 Z- K-: rigid tapping, in along Z and out again at lead K."""
+    k = st.words.pop("K", None)
+    line = st.block.line
+    if k is None or k.value <= 0:
+        raise m.error(line, 1, "G33.1 needs a pitch K > 0")
+    if m.spindle_dir == 0:
+        raise m.error(line, k.col, "spindle not turning in G33.1")
+    start = m.start_point()
+    end, _ = m.goal(st)
+    if any(abs(end[i] - start[i]) > 1e-9 for i in (0, 1)):
+        raise m.error(line, 1, "G33.1 taps along Z only: X and Y must stay where they are")
+    src = m.src(st)
+    lead = k.value * m.scale
+    m.synced(src, end, lead, "Z", 0.0)
+    m.synced(src, start, lead, "Z", 0.0)
