@@ -1,11 +1,13 @@
 """The random differential run: programs from tests/support/ngc_gen.py through cutsim's rs274ngc
 interpreter and LinuxCNC's rs274, compared move by move (tests/support/rs274.py).
 
-    python bench/ngc_differential.py [--seed S] [--count N] [--keep DIR]
+    python bench/ngc_differential.py [--seed S] [--count N] [--keep DIR] [--lathe-share F] [--g70-comp F]
 
 Prints the counts (same, both refuse, documented differences, divergences); each divergence's program
 is written to DIR
-(default /tmp/ngc-divergences) with the verdict. Exit status 1 when any diverged. One rs274 at a time
+(default /tmp/ngc-divergences) with the verdict. ``--lathe-share`` (default 0.2) and ``--g70-comp`` (0.3)
+are the generator's shares of programs with a lathe cycle and of those whose G70 runs under cutter
+radius compensation (1 and 1 focus a run on it). Exit status 1 when any diverged. One rs274 at a time
 (one worker): the machine's cores are shared.
 """
 from __future__ import annotations
@@ -24,13 +26,13 @@ from support.ngc_gen import TOOL_TABLE, program  # noqa: E402
 from support.rs274 import compare  # noqa: E402
 
 
-def run(seed: int, count: int, keep: str | None, quiet: bool = False) -> Counter:
+def run(seed: int, count: int, keep: str | None, quiet: bool = False, **options) -> Counter:
     counts: Counter = Counter()
     with tempfile.TemporaryDirectory() as tmp:
         tbl = os.path.join(tmp, "tools.tbl")
         Path(tbl).write_text(TOOL_TABLE)
         for i in range(count):
-            text = program(random.Random(seed * 1_000_003 + i))
+            text = program(random.Random(seed * 1_000_003 + i), **options)
             path = os.path.join(tmp, f"case{i}.ngc")
             Path(path).write_text(text)
             verdict = compare(path, tbl)
@@ -51,8 +53,10 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=20261126)
     ap.add_argument("--count", type=int, default=200)
     ap.add_argument("--keep", default="/tmp/ngc-divergences")
+    ap.add_argument("--lathe-share", type=float, default=0.2)
+    ap.add_argument("--g70-comp", type=float, default=0.3)
     a = ap.parse_args()
-    counts = run(a.seed, a.count, a.keep)
+    counts = run(a.seed, a.count, a.keep, lathe_share=a.lathe_share, g70_comp=a.g70_comp)
     print(f"seed {a.seed}: {a.count} programs: {counts['same']} same, {counts['both refuse']} both refuse, "
           f"{counts['documented']} documented differences, {counts['divergence']} divergences")
     return 1 if counts["divergence"] else 0

@@ -125,6 +125,11 @@ class QueuedComp:
         self._dequeue()
         self._set_start(p)
 
+    def jump(self, p3) -> None:
+        """The nose's position becomes the programmed point ``p3`` (no move): rs274 2.9 after a G70
+        under compensation has read its profile (which ended at ``p3``)."""
+        self.cur = _p2(p3, self.plane)
+
     def finish(self, mm: bool, error) -> None:
         """Deselection or the program's end: the last move ends where it is."""
         self._move_end(self.cur, mm, error)

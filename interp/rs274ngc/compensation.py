@@ -152,9 +152,24 @@ def arc_taken(m, st: Step, start, end, centre, clockwise: bool, turns: int) -> b
     return True
 
 
+def profile_read(m, end) -> None:
+    """A G70 under compensation has read its profile, whose moves ended at ``end`` (programmed): rs274
+    2.9 takes the tool's compensated position to be there (no move; the program position stays the
+    cycle's start S): the cycle's next move is joined from there (measured with rs274, the G70 paragraph
+    of docs/dialects/rs274ngc.md)."""
+    if m.comp is not None:
+        m.comp.jump(end)
+
+
 def refuse_motion(m, st: Step, code: float) -> None:
-    """Canned cycles, G33, G33.1 and G76 with compensation on (rs274 refuses all but some G33s)."""
+    """Canned cycles, G33, G33.1 and G76 with compensation on (rs274 refuses all but some G33s); of the
+    lathe cycles' blocks (G70-G72.2) G71 and G72 in rs274's words (it runs G70)."""
     w = st.groups.get(Group.MOTION) or next(st.words[a] for a in "XYZ" if a in st.words)
+    lathe_cycle = st.motion == code and int(code) in (70, 71, 72)
+    if lathe_cycle and code == 70:
+        return
+    if lathe_cycle:
+        raise m.error(st.block.line, w.col, f"G{code:.1f} cannot be used with cutter compensation enabled")
     what = "canned cycles" if code in CYCLE_CODES else f"G{code:g}"
     raise m.error(st.block.line, w.col, f"{what}: not simulated with cutter radius compensation on (G40 first)")
 

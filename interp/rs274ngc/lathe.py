@@ -17,7 +17,10 @@ offset profile and the closing line at feed. G7x.2 cuts the finishing contour al
 from G7x only in pockets (a profile stepping away from S in u and back: pocket.py).
 
 G70: P passes, pass k (1..P) at distance D - (D - E) k / P from the profile: rapid to S
-(after the first), rapid to the start, the profile at feed; no closing line.
+(after the first), rapid to the start, the profile at feed; no closing line. Under cutter radius
+compensation (G70 only: rs274 2.9 refuses G71/G72 there) every move of the cycle, of length 0 too,
+goes through the compensation, and once the profile is read the tool's compensated position is taken
+to be at the profile's end, as rs274 takes it (compensation.profile_read).
 """
 from __future__ import annotations
 
@@ -25,7 +28,7 @@ import math
 
 from cutsim.interp.core import MOTION, Step
 
-from . import corners, pocket
+from . import compensation, corners, pocket
 from .profile import EPS, Seg, crossings, offset, side_of
 
 LATHE_CYCLES = (70, 71, 71.1, 71.2, 72, 72.1, 72.2)
@@ -50,8 +53,10 @@ def cycle(m, st: Step) -> None:
     m.check_left(st)
     src = m.src(st)
     y = start[1]
-    m.rapid(src, start) if math.dist(m.pos, start) > 0 else None
-    segs = capture(m, st, q, col)
+    # under cutter radius compensation (G70 only) the move to S is made even of length 0: the entry
+    m.rapid(src, start) if math.dist(m.pos, start) > 0 or m.comp is not None else None
+    segs, end = capture(m, st, q, col)
+    compensation.profile_read(m, end)
     s2 = (start[2], start[0])
     mm = m.scale
     try:
@@ -94,14 +99,15 @@ def _num(w, default: float) -> float:
     return default if w is None else w.value
 
 
-def capture(m, st: Step, q, col: int) -> list[Seg]:
-    """Run the profile subroutine collecting its moves; the tool, the feed and the motion mode it
-    leaves are restored, except the motion mode (LinuxCNC keeps the profile's)."""
+def capture(m, st: Step, q, col: int) -> tuple[list[Seg], tuple]:
+    """Run the profile subroutine collecting its moves: the profile and where its moves end. The
+    tool, the feed and the motion mode it leaves are restored, except the motion mode (LinuxCNC
+    keeps the profile's)."""
     pos, feed, scale = tuple(m.pos), m.feed_units, m.feed_scale
     m.profile = []
     try:
         m.run_profile(q.value, st.block.line, q.col)
-        moves = m.profile
+        moves, end = m.profile, tuple(m.pos)
     finally:
         m.profile = None
     m.moved(pos)
@@ -127,36 +133,42 @@ def capture(m, st: Step, q, col: int) -> list[Seg]:
     if len(segs) < 2:
         raise m.error(st.block.line, col, f"the profile o{q.value:g} has no moves after its start")
     try:
-        return corners.apply(segs, {i: (f[0], f[1]) for i, f in finish.items()})[1:]
+        return corners.apply(segs, {i: (f[0], f[1]) for i, f in finish.items()})[1:], end
     except ValueError as e:
         f = finish[e.args[1] if len(e.args) > 1 else max(finish)]
         raise m.error(f[2], f[3], e.args[0]) from None
 
 
 class Path:
-    """Moves of a cycle in the machine frame (the profile's (z, x) with the block's Y)."""
+    """Moves of a cycle in the machine frame (the profile's (z, x) with the block's Y). Under cutter
+    radius compensation (G70) every move is made, of length 0 too, as rs274 makes them: each is
+    one in its compensation's queue."""
 
     def __init__(self, m, st: Step, src, y: float):
         self.m, self.st, self.src, self.y = m, st, src, y
+        self.least = -1.0 if m.comp is not None else EPS
 
     def at(self, p) -> tuple:
         return (p[X], self.y, p[Z])
 
     def rapid(self, p) -> None:
         end = self.at(p)
-        if math.dist(self.m.pos, end) > EPS:
+        if math.dist(self.m.pos, end) > self.least:
             self.m.rapid(self.src, end)
 
     def feed(self, p) -> None:
         end = self.at(p)
-        if math.dist(self.m.pos, end) > EPS:
+        if math.dist(self.m.pos, end) > self.least:
             self.m.feed = self.m.feed_for(self.st, math.dist(self.m.pos, end))
             self.m.linear(self.src, end)
 
     def arc(self, p1, centre, ccw: bool) -> None:
-        _, sweep = Seg((self.m.pos[2], self.m.pos[0]), tuple(p1), tuple(centre), ccw).angles()
-        self.m.feed = self.m.feed_for(self.st, abs(sweep) * math.dist(p1, centre))
-        self.m.arc(self.src, self.at(p1), self.at(centre), not ccw)
+        m = self.m
+        _, sweep = Seg((m.pos[2], m.pos[0]), tuple(p1), tuple(centre), ccw).angles()
+        m.feed = m.feed_for(self.st, abs(sweep) * math.dist(p1, centre))
+        end, c = self.at(p1), self.at(centre)
+        if not compensation.arc_taken(m, self.st, m.start_point(), end, c, not ccw, 1):
+            m.arc(self.src, end, c, not ccw)
 
     def follow(self, segs: list[Seg]) -> None:
         for s in segs:
@@ -166,21 +178,22 @@ class Path:
                 self.arc(s.p1, s.centre, s.ccw)
 
 
-def level_start(path: Path, start, p0, v: int, vdir: int) -> list:
+def level_start(path: Path | None, start, p0, v: int, vdir: int) -> list:
     """S beyond the profile's start P0 (not offset) along the cut: the tool first goes level with P0
-    (rapid), and the cycle starts there."""
+    (rapid, unless ``path`` is None), and the cycle starts there."""
     s = list(start)
     if (s[v] - p0[v]) * vdir > 0:
         s[v] = p0[v]
-        path.rapid(s)
+        path.rapid(s) if path is not None else None
     return s
 
 
 def finish(m, st, src, y, segs, start, d, e, passes) -> None:
     path = Path(m, st, src, y)
-    # G70 levels S with P0 along Z when the profile runs along Z away from S (rs274 2.9); the offset
-    # goes to the side of the levelled start, of S where that lies on the first segment's line
-    levelled = level_start(path, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
+    # G70 levels S with P0 along Z when the profile runs along Z away from S (rs274 2.9: the first
+    # pass's move to S goes there); the offset goes to the side of the levelled start, of S where that
+    # lies on the first segment's line
+    levelled = level_start(None, start, segs[0].p0, Z, _sign(segs[-1].p1[Z] - segs[0].p0[Z]))
     side = side_of(segs[0], levelled) or side_of(segs[0], start)
     start = levelled
     cut = cut_axis([Seg(tuple(start), segs[0].p0)] + segs)

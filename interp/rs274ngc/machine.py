@@ -399,7 +399,7 @@ class Ngc(Interpreter):
             raise self.error(line, p.col, "an arc of more than one turn in a G70-G72 profile is not simulated")
         if self.profile is None:
             self.feed = self.feed_for(st, cycles.arc_length(self, start, end, centre, clockwise, turns))
-        if not compensation.arc_taken(self, st, start, end, centre, clockwise, turns):
+        if self.profile is not None or not compensation.arc_taken(self, st, start, end, centre, clockwise, turns):
             cycles.arc_turns(self, self.src(st), start, end, centre, clockwise, turns)
 
     def convert_end(self, st: Step) -> None:

@@ -98,6 +98,10 @@ def offset(segs: list[Seg], d: float, side: float, small: float, cut: tuple[int,
         t0, t1 = segs[i - 1].tangent(True), segs[i].tangent(False)
         turn = cross(t0, t1)
         if abs(turn) < TANGENT and t0[0] * t1[0] + t0[1] * t1[1] > 0:  # tangent but for rounding
+            p = first_crossing(prev, cur)
+            if p is not None:  # two arcs whose circles cross: they meet there (rs274 2.9)
+                out[-1] = replace(prev, p1=p)
+                cur = replace(cur, p0=p)
             out.append(cur)
             continue
         gap = (prev.p1[cut[0]] - cur.p0[cut[0]]) * -cut[1]
@@ -125,10 +129,30 @@ def meet(a: Seg, b: Seg, near) -> tuple | None:
         return (a.p0[0] + da[0] * t, a.p0[1] + da[1] * t)
     if a.centre is None or b.centre is None:
         line, arc = (a, b) if a.centre is None else (b, a)
-        pts = line_circle(line.p0, line.tangent(False), arc.centre, arc.radius)
+        # rs274 2.9 cuts an arc's start back on the circle through its end (measured: a line meeting an
+        # arc whose end lies 0.0003 inside the circle through its start)
+        radius = math.dist(arc.p1, arc.centre) if arc is b else arc.radius
+        pts = line_circle(line.p0, line.tangent(False), arc.centre, radius)
     else:
         pts = circle_circle(a.centre, a.radius, b.centre, b.radius)
     return min(pts, key=lambda p: math.dist(p, near)) if pts else None
+
+
+def first_crossing(a: Seg, b: Seg) -> tuple | None:
+    """Two arcs meeting tangent but for the program's decimals: where the circles through their
+    starts cross, the crossing ``a`` reaches first (rs274 2.9, measured on a convex arc into a
+    concave one, outside and mirrored as a bore); None for a line or circles that do not cross."""
+    if a.centre is None or b.centre is None:
+        return None
+    pts = circle_circle(a.centre, a.radius, b.centre, b.radius)
+    if len(pts) < 2:
+        return None
+    a0, _ = a.angles()
+
+    def along(p) -> float:
+        ang = math.atan2(p[1] - a.centre[1], p[0] - a.centre[0])
+        return (ang - a0) % (2 * math.pi) if a.ccw else (a0 - ang) % (2 * math.pi)
+    return min(pts, key=along)
 
 
 def line_circle(p, t, c, r) -> list[tuple]:

@@ -4,7 +4,8 @@
 circles, helices with P turns, G90.1 centres from ``#<_x>``; polar @ ^ in G17), units and distance modes, work
 offsets (G10 L1/L2/L10/L11/L20, G54-G59.3, G92 and its resets, G52), G28/G30, G53, tool changes with tool length
 offsets, canned cycles with G98/G99 and L (G84/G74 in G17, G74 without L; G87 from its own draws), G96, G33/G33.1, G76
-and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five) M70-M73 (M73 in the subroutine) (G76 never with G7 in
+and the lathe cycles G70-G71.2 on a profile (``lathe_cycle``, one program in five; its G70 under cutter radius
+compensation in three of ten, ``comp_g70``) M70-M73 (M73 in the subroutine) (G76 never with G7 in
 its block, docs/dialects/rs274ngc.md), inverse-time and per-revolution feeds,
 parameters and expressions with every operator and function, O-word subroutines and loops, and
 a numbered subprogram (O<n> ... M99 after the program's end) called by M98 P<n> [L<k>].
@@ -318,11 +319,13 @@ class Gen:
             self.emit(f"o{label} while [#<_d{depth}> lt 2]")
 
 
-def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
+def lathe_cycle(rng: random.Random, g70_comp: float = 0.3) -> tuple[list[str], list[str]]:
     """A profile o9001 of Z runs and X steps (straight, tapered, convex and concave quarter arcs; fillets
     A and chamfers C between straight moves; at times a pocket), outside or (mirrored in X) a bore, and the lines of a G70-G71.2 block on it with G7 at times,
-    its own modes set first (G18 G21 G90 G94 G8, then F)."""
+    its own modes set first (G18 G21 G90 G94 G8, then F). A G70 runs under cutter radius compensation
+    in a share ``g70_comp`` of them (``comp_g70``, from its own draws: the rest unchanged)."""
     finishes = random.Random(str(rng.getstate()[1]) + "AC")  # A and C from their own draws: the rest unchanged
+    comp = random.Random(str(rng.getstate()[1]) + "G70 comp")
     bore = rng.random() < 0.3
 
     def r4(lo: float, hi: float) -> float:  # 4 decimals, so an arc's printed end lies on its circle
@@ -364,6 +367,8 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
         finish = ""
         if 0 < k < len(pts) - 1 and code == "G1" and pts[k + 1][2] == "G1" and finishes.random() < 0.3:
             finish = f" {finishes.choice('AC')}{finishes.uniform(0.1, 0.4):.3f}"
+            # not at a slight turn, where rs274 2.9 refuses some as "Not monotonic" (docs/dialects/rs274ngc.md)
+            finish = finish if _turn(pts[k - 1], pts[k], pts[k + 1]) >= 0.15 else ""
         lines.append(f"{code} X{xw(px) * scale:.4f} Z{pz:.4f}{centre}{finish}")
     lines.append("o9001 endsub")
     sub, lines = lines, ["G18 G21 G90 G94 G8 G40 G80", "F" + num(rng, 50, 500, 1)]  # F after G21 (rs274: F first)
@@ -377,11 +382,40 @@ def lathe_cycle(rng: random.Random) -> tuple[list[str], list[str]]:
         words += [f"I{num(rng, 0.5, 2.5)}", f"R{num(rng, 0.1, 1)}"]
     if any(" A" in line or " C" in line for line in sub):  # no D or E with A or C: rs274 offsets those
         words = [w if w[0] not in "DE" else w[0] + "0" for w in words]  # in steps (docs/dialects/rs274ngc.md)
-    lines.append(f"{code} " + " ".join(words))
-    if code != "G70" and rng.random() < 0.5:
-        lines.append(f"G70 Q9001 X{xw(top) * scale:.4f} Z1")
+    with_comp = comp.random() < g70_comp
+    if code == "G70" and with_comp:  # a start apart from where the tool stands: the entry goes there;
+        # half of them level with the profile's end and its start (as LinuxCNC's sample lathe_g70_71_demo)
+        sx, sz = (x, 0.0) if comp.random() < 0.5 else (top + comp.uniform(0.3, 3), comp.uniform(0.5, 4))
+        comp_g70(lines, comp, bore, f"G70 {' '.join(words)} X{xw(sx) * scale:.4f} Z{sz:.4f}")
+    else:
+        lines.append(f"{code} " + " ".join(words))
+    if code != "G70" and (rng.random() < 0.5 or with_comp):  # (drawn either way: the rest unchanged)
+        g70 = f"G70 Q9001 X{xw(top) * scale:.4f} Z1"
+        comp_g70(lines, comp, bore, g70) if with_comp else lines.append(g70)
     lines.append("G8 G0 X40 Z40")
     return sub, lines
+
+
+def comp_g70(lines: list, rng: random.Random, bore: bool, g70: str) -> None:
+    """A G70 block under cutter radius compensation (rs274 2.9 runs it; G71/G72 it refuses): G41.1/G42.1
+    with a diameter of 0-0.8 and at times an orientation L, or G41/G42 with a tool's D; outside mostly G42
+    (G41 gouges at the first corner there), in a bore either; at times after a compensated rapid; then G40."""
+    side = rng.choice(["G41", "G42"]) if bore else ("G42" if rng.random() < 0.8 else "G41")
+    if rng.random() < 0.85:
+        word = f"{side}.1 D{num(rng, 0, 0.8, 2)}" + (f" L{rng.randint(0, 9)}" if rng.random() < 0.6 else "")
+    else:
+        word = f"{side} D{rng.randint(1, 4)}"
+    lines.append(word)
+    if rng.random() < 0.3:  # compensation on before the cycle: its move to the start is no entry
+        lines.append(f"G0 X{num(rng, 45, 60, 3) if not bore else num(rng, 2, 10, 3)} Z{num(rng, 5, 15, 3)}")
+    lines.append(g70)
+    lines.append("G40")
+
+
+def _turn(a, b, c) -> float:
+    """The angle (radians, 0 to pi) the profile turns at b on its way a -> b -> c (points (x, z, ...))."""
+    t = math.atan2(c[0] - b[0], c[1] - b[1]) - math.atan2(b[0] - a[0], b[1] - a[1])
+    return abs(math.remainder(t, 2 * math.pi))
 
 
 def pocket(pts: list, rng: random.Random) -> list:
@@ -544,7 +578,11 @@ def issue25(g: Gen, rng: random.Random) -> None:
             g.emit("M3")
 
 
-def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str:
+def program(rng: random.Random, statements: int = 25, lathe: bool = True, lathe_share: float = 0.2,
+            g70_comp: float = 0.3) -> str:
+    """One random program; ``lathe_share`` of them get a lathe cycle (drawn last), whose G70 runs under
+    cutter radius compensation in a share ``g70_comp`` (both from draws of their own: changing them
+    changes nothing else)."""
     g = Gen(rng)
     g.emit("(random program)")
     g.emit(rng.choice(["G21", "G20"]) + " G17 G90 G94 G40 G49 G54 G80 G91.1 G8")
@@ -585,8 +623,8 @@ def program(rng: random.Random, statements: int = 25, lathe: bool = True) -> str
         g.emit(f"G91 G1 X#<k> Y{num(rng, -5, 5)}")
         g.emit("#2 = [#2 + 0.5]")
         g.emit("M99")
-    if lathe and rng.random() < 0.2:  # drawn last: the rest of each program is what it was without it
-        sub, block = lathe_cycle(random.Random(rng.random()))
+    if lathe and rng.random() < lathe_share:  # drawn last: the rest of each program is what it was without it
+        sub, block = lathe_cycle(random.Random(rng.random()), g70_comp)
         end = g.out.index("M2")
         g.out[end:end] = block
         g.out[1:1] = sub  # defined at the top, as the shape subroutine (rs274 refuses a sub met after M98's O<n>)

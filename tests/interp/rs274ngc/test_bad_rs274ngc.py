@@ -22,7 +22,7 @@ RULES = {
     "tool-not-in-table", "polar", "probe-zero-length", "probe-zero-feed", "probe-inverse-time", "probe-per-rev", "probe-comp", "plane-uv-arc", "plane-wu-cycle", "plane-vw-comp", "plane-uv-under-comp", "m19-angle", "m19-wait", "m19-direction", "m19-direction-whole", "m19-with-m3", "m19-stops-spindle", "m98-no-subprogram", "m98-with-motion", "unknown-g", "comment-not-closed", "axes-under-g80",
     "r-arc-too-small", "g71-fillet-and-chamfer", "g71-fillet-too-large", "g71-no-q", "g70-plane", "g72-increment", "g74-repeat", "g88-no-dwell", "g84-counter-clockwise", "polar-plane", "polar-g91-to-origin", "g87-no-k",
     "comp-entry-short", "comp-concave-gouge", "comp-arc-too-small", "comp-tool-change",
-    "comp-arc-after-g40", "comp-on-when-on",
+    "comp-arc-after-g40", "comp-on-when-on", "g71-comp",
 }
 
 

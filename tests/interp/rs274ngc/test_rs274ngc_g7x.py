@@ -163,6 +163,8 @@ def test_a_pockets_arcs_keep_their_sense_in_every_frame(prof, start, code):
     ("G0 X22 Z3\nG71 Q100 I0", "more than 0"),
     ("G0 X22 Z3\nG71 Q100 I1 E2", "E word"),
     ("G0 X22 Z3\nG71 Q7", "not defined"),
+    ("G0 X22 Z3\nG42.1 D1\nG71 Q100", "G71.0 cannot be used with cutter compensation enabled"),  # rs274's words
+    ("G0 X22 Z3\nG41.1 D1\nG72.2 Q100", "G72.2 cannot be used with cutter compensation enabled"),
 ])
 def test_refused_blocks(text, message):
     with pytest.raises(CutsimError, match=message):
@@ -216,3 +218,93 @@ def test_a_chamfer_is_the_chord_of_the_fillet_circle(turn):
     assert all(isinstance(r, Feed) for r in feeds)
     assert xz(feeds[0]) == pytest.approx((4, -5 + cut))
     assert xz(feeds[1]) == pytest.approx((4 + cut * math.sin(t), -5 - cut * math.cos(t)))
+
+
+# the profile for G70 under compensation: P0 (z 0, x 2), the end E (z -12, x 10)
+STEPS = "o100 sub\nG0 X2 Z0\nG1 X5 Z-1\nG1 Z-10\nG1 X8 Z-12\nG1 X10\no100 endsub\n"
+
+
+def _right(d):  # the unit normal to the right of a direction (dz, dx) in G18's (Z, X)
+    n = math.hypot(*d)
+    return (d[1] / n, -d[0] / n)
+
+
+def _meet(p, d, q, e):  # where the line p + t d meets the line q + s e
+    t = ((q[0] - p[0]) * e[1] - (q[1] - p[1]) * e[0]) / (d[0] * e[1] - d[1] * e[0])
+    return (p[0] + t * d[0], p[1] + t * d[1])
+
+
+def _offset_meet(a, b, c, r):  # the corner b of a -> b -> c, both lines moved r to their right
+    d1, d2 = (b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1])
+    n1, n2 = _right(d1), _right(d2)
+    return _meet((a[0] + r * n1[0], a[1] + r * n1[1]), d1, (b[0] + r * n2[0], b[1] + r * n2[1]), d2)
+
+
+def test_g70_under_compensation_joins_its_first_corner_from_the_profiles_end():
+    # rs274 2.9: the move to S (z 2, x 12) is the entry; after reading the profile the nose is taken to
+    # be at the profile's end E, the program position still S; the move S -> P0 then trims the moves
+    # waiting to the meeting of the two "offset lines" through E: E moved, perpendicular to E -> S and
+    # to its left, by r tan(theta / 2), theta = angle(E -> S) - angle(S -> P0) - 90 degrees (measured)
+    r, e, s, p0 = 0.5, (-12.0, 10.0), (2.0, 12.0), (0.0, 2.0)
+    ms = moves(STEPS + "G0 X20 Z10\nG42.1 D1\nG70 Q100 X12 Z2\nG40\nG0 X20")
+    es = math.atan2(s[1] - e[1], s[0] - e[0])
+    theta = es - math.atan2(p0[1] - s[1], p0[0] - s[0]) - math.pi / 2
+    t = r * math.tan(theta / 2)
+    first = (e[0] - t * math.sin(es), e[1] + t * math.cos(es))
+    assert isinstance(ms[1], Rapid) and (ms[1].end[0], ms[1].end[2]) == pytest.approx((first[1], first[0]), abs=1e-9)
+    # then as usual: the move S -> P0 ends where its offset meets the first feed's (P0 -> z -1, x 5)
+    corner = _offset_meet(s, p0, (-1.0, 5.0), r)
+    assert isinstance(ms[2], Rapid) and (ms[2].end[0], ms[2].end[2]) == pytest.approx((corner[1], corner[0]), abs=1e-9)
+    feeds = [r_ for r_ in ms if isinstance(r_, Feed)]
+    assert feeds[1].end[0] == pytest.approx(5.5)  # the run along Z at X5, r to its right (above)
+    assert xz(feeds[-1]) == pytest.approx((10, -11.5))  # the last step out along X, r towards +Z
+    assert xz(ms[-1]) == pytest.approx((20, -12))  # after G40 from the program's point E (rs274 too)
+
+
+def test_g70_under_compensation_takes_the_nose_to_the_end_whatever_the_tool_stood():
+    # the first corner depends on S, P0, E and r only: the tool before the cycle changes nothing after it
+    a = moves(STEPS + "G0 X20 Z10\nG42.1 D1\nG70 Q100 X12 Z2")
+    b = moves(STEPS + "G0 X30 Z15\nG42.1 D1\nG70 Q100 X12 Z2")
+    assert [xz(r) for r in a[1:]] == [xz(r) for r in b[1:]]
+
+
+# two arcs meeting tangent but for the program's decimals (LinuxCNC's sample lathe_g70_71_demo): a convex
+# G3 of radius 2.5 about c1 into a concave G2 about c2, meeting at j; their circles offset by D cross
+# twice, 0.03 mm either side of j
+TANGENT_ARCS = "G3 X6.285 Z-12.982 I0 K-2.5\nG2 Z-19.982 I3.57071 K-3.5\nG1 X10\no100 endsub\n"
+C1, C2, J = (-11.232, 4.5), (-16.482, 9.85571), (-12.982, 6.285)
+
+
+def _crossings(c0, r0, c1, r1):
+    d = math.dist(c0, c1)
+    a = (r0 * r0 - r1 * r1 + d * d) / (2 * d)
+    h = math.sqrt(r0 * r0 - a * a)
+    m = (c0[0] + a * (c1[0] - c0[0]) / d, c0[1] + a * (c1[1] - c0[1]) / d)
+    return [(m[0] - s * h * (c1[1] - c0[1]) / d, m[1] + s * h * (c1[0] - c0[0]) / d) for s in (1, -1)]
+
+
+@pytest.mark.parametrize("d", [0.1, 0.25, 0.5])
+def test_near_tangent_offset_arcs_meet_at_the_crossing_the_first_reaches_first(d):
+    # after a step out along X tangent to the G3 (as in the sample), the arcs meet where the circles of
+    # radius 2.5 + d about c1 and |j c2| - d about c2 cross, the one the G3 (running towards -Z) meets
+    # first: the larger Z (rs274 2.9; mirrored as a bore the same)
+    ms = moves(f"o100 sub\nG0 X4 Z-6\nG1 Z-8.732\nG1 X4.5\n{TANGENT_ARCS}G0 X20 Z0\nG70 Q100 X12 Z-5 D{d} E{d}")
+    arcs = [r for r in ms if isinstance(r, Arc)]
+    meet = max(_crossings(C1, 2.5 + d, C2, math.dist(J, C2) - d), key=lambda p: p[0])
+    assert (arcs[0].end[0], arcs[0].end[2]) == pytest.approx((meet[1], meet[0]), abs=1e-9)
+    assert (arcs[1].start[0], arcs[1].start[2]) == pytest.approx((meet[1], meet[0]), abs=1e-9)
+    radial = (C1[0] + (J[0] - C1[0]) * (1 + d / 2.5), C1[1] + (J[1] - C1[1]) * (1 + d / 2.5))
+    assert math.dist(radial, meet) > 0.02  # not merely moved out from j
+
+
+def test_near_tangent_offset_arcs_after_a_corner_stay_where_their_ends_moved():
+    # the G3 right after a corner (from the run along Z): rs274 cuts its start back on the circle through
+    # its end (moved out as its start: scaled by 2.75 / 2.5), the circles then pass each other by 3e-6
+    # and the arcs keep their moved ends, 3e-4 apart
+    ms = moves(f"o100 sub\nG0 X4.5 Z-6\nG1 Z-8.732\n{TANGENT_ARCS}G0 X20 Z0\nG70 Q100 X12 Z-5 D0.25 E0.25")
+    arcs = [r for r in ms if isinstance(r, Arc)]
+    moved = (C1[0] + (J[0] - C1[0]) * 2.75 / 2.5, C1[1] + (J[1] - C1[1]) * 2.75 / 2.5)
+    assert xz(arcs[0]) == pytest.approx((moved[1], moved[0]), abs=1e-3)
+    start = ms[ms.index(arcs[0]) - 1].end  # the run along Z at X 4.75 meets the circle through the end
+    radius = math.dist(J, C1) * 2.75 / 2.5
+    assert start[2] == pytest.approx(C1[0] + math.sqrt(radius ** 2 - 0.25 ** 2), abs=1e-9)

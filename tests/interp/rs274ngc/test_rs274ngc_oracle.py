@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import random
+import re
 import tomllib
 from pathlib import Path
 
@@ -31,7 +32,6 @@ SAMPLE_DIRS = (Path("/usr/share/doc/linuxcnc/examples/nc_files"), Path("/usr/sha
 # simulated); every other sample must match rs274 move for move or be refused by both.
 REFUSED_SAMPLES = {
     "b-index.ngc": "axis B", "cone.ngc": "axis B", "daisy.ngc": "axis A",
-    "lathe_g70_71_demo.ngc": "cutter radius compensation",
     "systems.ngc": "G5.1",
 }
 # files meant to be called, a bad call, a probe move of length 0 (G30 with no stored position)
@@ -110,6 +110,88 @@ def test_compensation_samples_match_with_tool_diameters(rs274, tmp_path):
             assert verdict.startswith("same (both refuse)") and "entry move" in verdict, (name, verdict)
         else:
             assert verdict == "same", (name, verdict)
+
+
+def test_lathe_g70_71_demo_matches_with_g70_under_compensation(rs274, zero_tools):
+    # the sample's G71.1, G71.2 (D0.51) and G70 under G42.1 D0.3 L2 (P2 D0.5): near-tangent arcs whose
+    # offset circles cross, and the nose taken to be at the profile's end after the move to S
+    found = [p for p in _samples() if p.name == "lathe_g70_71_demo.ngc"]
+    assert found, "linuxcnc-uspace installs lathe_g70_71_demo.ngc"
+    assert compare(str(found[0]), zero_tools) == "same"
+    assert len(cutsim_moves(str(found[0]), zero_tools).moves) > 200
+
+
+# G70 under cutter radius compensation (rs274 2.9 runs it): a profile P0 (2, 0) to E (10, -12), outside
+# or (mirrored) a bore, G41/G42 by a tool's D (the lathe table: D0.8 and orientations Q3, Q2) or
+# G41.1/G42.1 with a diameter and an orientation L, D/E/P passes, a fillet and a chamfer; G41 outside and
+# in this bore gouge at the first corner in both (the nose taken to be at E: "Straight traverse in
+# concave corner"), a nose larger than the fillet is refused by both
+G70_COMP_PROFILES = {
+    "outside": ("G0 X2 Z0\nG1 X5 Z-1\nG1 Z-10\nG1 X8 Z-12\nG1 X10", "X12 Z2"),
+    "arcs": ("G0 X3 Z0\nG1 Z-4\nG2 X5 Z-6 I2 K0\nG1 Z-10\nG3 X7 Z-12 I0 K-2\nG1 X10", "X12 Z2"),
+    "bore": ("G0 X10 Z0\nG1 X8 Z-1\nG1 Z-8\nG1 X5 Z-10\nG1 X3", "X1 Z2"),
+    "fillet": ("G0 X3 Z0\nG1 Z-4 A0.5\nG1 X6 C0.4\nG1 Z-10\nG1 X9", "X12 Z2"),
+}
+G70_COMP_CASES = [
+    ("outside", "G42.1 D1", "", "same"), ("outside", "G42.1 D0.8 L3", "D0.5 P2", "same"),
+    ("outside", "G42.1 D0.4 L6", "D1 E0.2 P3", "same"), ("outside", "G42 D1", "D0.5 P2", "same"),
+    ("outside", "G41.1 D1", "", "Straight traverse in concave corner"),
+    ("outside", "G41 D2", "D0.5 P2", "Straight traverse in concave corner"),
+    ("arcs", "G42.1 D0.8 L3", "D1 E0.2 P3", "same"), ("arcs", "G42 D1", "D0.5 P2", "same"),
+    ("arcs", "G42.1 D1", "", "same"), ("fillet", "G42.1 D0.4 L6", "", "same"),
+    ("fillet", "G42.1 D1.2 L3", "", "Tool radius not less than arc radius"),
+    ("bore", "G42.1 D0.4 L6", "D0.5 P2", "same"), ("bore", "G42.1 D1", "", "same"),
+    ("bore", "G41.1 D0.8 L2", "", "Straight traverse in concave corner"),
+]
+
+
+@pytest.mark.parametrize("name, comp, words, expected", G70_COMP_CASES)
+def test_g70_under_compensation_matches_rs274(rs274, tmp_path, name, comp, words, expected):
+    profile, start = G70_COMP_PROFILES[name]
+    tbl = tmp_path / "lathe.tbl"
+    tbl.write_text("T1 P1 Z0 X0 D0.8 Q3\nT2 P2 Z0 X0 D0.6 Q2\n")
+    path = tmp_path / "g70comp.ngc"
+    path.write_text(f"G18 G21 G8 F100\no100 sub\n{profile}\no100 endsub\nG0 X20 Z10\n{comp}\n"
+                    f"G70 Q100 {start} {words}\nG40\nG0 X20\nM2\n")
+    verdict = compare(str(path), str(tbl), kind="lathe")
+    if expected == "same":
+        assert verdict == "same", verdict
+        assert len(cutsim_moves(str(path), str(tbl), kind="lathe").moves) >= 6
+    else:
+        assert verdict.startswith("same (both refuse)") and expected in verdict, verdict
+
+
+# two arcs meeting tangent but for the program's decimals (from lathe_g70_71_demo): after a step out
+# tangent to the first arc (or an arc into it) their offsets meet where the circles cross; after a
+# corner from a run along Z their moved ends stay apart; outside and mirrored as a bore; G70 and G71.2
+TANGENT_PRE = {"step": "G0 X4 Z-6\nG1 Z-8.732\nG1 X4.5", "corner": "G0 X4.5 Z-6\nG1 Z-8.732",
+               "slant": "G0 X3 Z-8.5\nG1 X4.5 Z-8.732"}
+
+
+@pytest.mark.parametrize("pre", sorted(TANGENT_PRE))
+@pytest.mark.parametrize("mirror", [1, -1])
+@pytest.mark.parametrize("cycle", ["G70 Q100 X12 Z-5 D0.25 E0.25", "G70 Q100 X12 Z-5 D0.5 P2",
+                                   "G70 Q100 X12 Z-5 D0.01 E0.01", "G71.2 Q100 X12 Z-5 D0.51 I0.5 R0.3"])
+def test_near_tangent_offset_arcs_as_rs274(rs274, tmp_path, pre, mirror, cycle):
+    def x(v: str, letters: str = "XI") -> str:
+        return v if mirror > 0 else re.sub(f"([{letters}])(-?[\\d.]+)", lambda m: f"{m.group(1)}{-float(m.group(2)):g}", v)
+    g3, g2 = ("G3", "G2") if mirror > 0 else ("G2", "G3")
+    path = tmp_path / "tangent.ngc"
+    path.write_text(f"G18 G21 G8 F100\no100 sub\n{x(TANGENT_PRE[pre])}\n{g3} {x('X6.285')} Z-12.982 I0 K-2.5\n"
+                    f"{g2} Z-19.982 {x('I3.57071')} K-3.5\nG1 {x('X10')}\no100 endsub\nG0 {x('X20')} Z0\n"
+                    f"{x(cycle, 'X')}\nG0 {x('X20')}\nM2\n")
+    assert compare(str(path), kind="lathe") == "same"
+
+
+def test_g71_and_g72_under_compensation_are_refused_by_both_with_rs274s_words(rs274, tmp_path):
+    for code in ("G71", "G71.1", "G72.2"):
+        path = tmp_path / "g71comp.ngc"
+        path.write_text(f"G18 G21 F100\no100 sub\nG1 X6 Z0\nG1 Z-10\no100 endsub\nG0 X20 Z10\nG42.1 D1\n"
+                        f"{code} Q100 X12 Z2\nM2\n")
+        verdict = compare(str(path), kind="lathe")
+        assert verdict.startswith("same (both refuse)"), verdict
+        words = f"G{float(code[1:]):.1f} cannot be used with cutter compensation enabled"
+        assert words in cutsim_moves(str(path), kind="lathe").error and words in run_rs274(str(path)).error
 
 
 @pytest.mark.parametrize("seed", [20261126])
@@ -408,3 +490,34 @@ def test_rs274_backs_off_a_probe_along_its_canonical_move_after_a_tool_length_ch
         assert ours[2] == pytest.approx(5 + 3 - 0.254 * 8 / math.hypot(10, 8))
         assert theirs[2] == pytest.approx(5 + 3 - 0.254 * (8 if same else 5) / math.hypot(10, 8 if same else 5), abs=1e-4)
         assert (compare(str(path)) == "same") == same
+
+
+def test_rs274_refuses_a_finish_at_a_slight_turn_cutsim_cuts_it(rs274, tmp_path):
+    # seed 20261131 case 1541 reduced: A0.185 where a rising line turns 0.03 rad further up (towards +X)
+    # into the next: rs274 2.9 refuses it ("Not monotonic", at 0.02 to 0.055 rad so, not at 0.08 nor
+    # turning the other way); cutsim rounds it. Turning 0.1 rad both cut it the same
+    for end, refused in (("X8.3652 Z-9.9712", True), ("X8.2431 Z-10.0966", False)):
+        path = tmp_path / "slight.ngc"
+        path.write_text("G18 G21 G90 F100\no100 sub\nG1 X4 Z-3\nG1 X5.2757 Z-7.2324\nG1 X6.5142 Z-8.2908 A0.185\n"
+                        f"G1 {end}\no100 endsub\nG0 X12 Z2\nG70 Q100\nM2\n")
+        assert cutsim_moves(str(path)).error is None
+        if refused:
+            assert "Not monotonic" in run_rs274(str(path)).error
+        else:
+            assert compare(str(path)) == "same"
+
+
+def test_rs274_does_not_finish_a_g71_2_cutsim_cuts(rs274, tmp_path):
+    # seed 20261131 case 1995 reduced: G71.2 D0.271 over a profile with a pocket after a concave arc:
+    # rs274 2.9 does not finish (it loops); with D0.2, or G71, both cut it the same
+    profile = ("o9001 sub\nG1 X2.6419 Z0\nG1 X2.6419 Z-3.1937\nG1 X4.3004 Z-3.1937\nG1 X4.3004 Z-6.7761\n"
+               "G2 X7.2916 Z-9.7673 I2.9912\nG1 X6.7422 Z-12.7287\nG1 X7.2916 Z-14.5181\n"
+               "G2 X9.8748 Z-17.1013 I2.5832\nG1 X9.8748 Z-18.8083\no9001 endsub\n")
+    for d, loops in ((0.271, True), (0.2, False)):
+        path = tmp_path / "loops.ngc"
+        path.write_text(f"G18 G21 G90 F93.5\n{profile}G0 X10.9849 Z1.4698\nG71.2 Q9001 D{d} I0.785 R0.84\nM2\n")
+        assert cutsim_moves(str(path)).error is None
+        if loops:
+            assert "did not finish" in run_rs274(str(path), timeout=5).error
+        else:
+            assert compare(str(path)) == "same"
