@@ -79,6 +79,13 @@ class Outcome:
     error: str | None
 
 
+NO_END = "rs274 did not finish"
+# G70-G72 are where rs274 2.9 is known to loop without end (LinuxCNC issues #1146, #2844; pull requests
+# #1869, #2907, #3790 fix some of the loops after 2.9.0): docs/dialects/rs274ngc.md, "Differences that
+# are rs274's"
+G7X = re.compile(r"(?<![\d.])G0*7[012](?![\d])", re.IGNORECASE)
+
+
 def rs274_path() -> str | None:
     return shutil.which("rs274")
 
@@ -117,8 +124,13 @@ def run_rs274(program: str, tool_table: str | None = None, parameter_file: str |
             # tables (a tool "not found", output lost, a bus error), so each run gets its own HOME
             proc = subprocess.run(args, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True, text=True,
                                   timeout=timeout, env=dict(os.environ, HOME=tmp))
-        except subprocess.TimeoutExpired:
-            return Outcome([], f"rs274 did not finish within {timeout:g} s (a program that does not end)")
+        except subprocess.TimeoutExpired as stopped:
+            # what it printed before it was stopped, up to its last whole line (a partial line dropped)
+            out = stopped.stdout or b""
+            out = out.decode("utf-8", "replace") if isinstance(out, bytes) else out
+            tools = files.tool_table(tool_table) if tool_table else {}
+            printed = parse(out[:out.rfind("\n") + 1], tools, 0).moves
+            return Outcome(printed, f"{NO_END} within {timeout:g} s (a program that does not end)")
     tools = files.tool_table(tool_table) if tool_table else {}
     return parse(proc.stdout + "\n" + proc.stderr, tools, proc.returncode)
 
@@ -330,10 +342,25 @@ def compare(program: str, tool_table: str | None = None, parameter_file: str | N
     if ours.error and not theirs.error and RANGE in ours.error:
         return (f"documented difference: a position beyond cutsim's range, which rs274 reaches (docs/dialects/"
                 f"rs274ngc.md, Limits)\n  cutsim: {ours.error}\n  rs274:  {len(theirs.moves)} moves")
+    if not ours.error and theirs.error and theirs.error.startswith(NO_END):
+        return _no_end(program, ours.moves, theirs, tol)
     if ours.error or theirs.error:
         return (f"divergence: only {'cutsim' if ours.error else 'rs274'} refuses the program\n"
                 f"  cutsim: {ours.error or f'{len(ours.moves)} moves'}\n  rs274:  {theirs.error or f'{len(theirs.moves)} moves'}")
     a, b = ours.moves, theirs.moves
+    i, j, first = _walk(a, b, tol)
+    if first:
+        return first
+    rest_a = [m for m in a[i:] if not _invisible(m, tol)]
+    rest_b = [m for m in b[j:] if not _invisible(m, tol)]
+    if rest_a or rest_b:
+        who = "cutsim" if rest_a else "rs274"
+        return f"divergence: {who} has {len(rest_a or rest_b)} more moves, the first: {(rest_a or rest_b)[0].text}"
+    return "same"
+
+
+def _walk(a: list, b: list, tol: float) -> tuple[int, int, str | None]:
+    """Both move lists side by side while both last: where each stopped, and the first divergence."""
     i = j = 0
     while i < len(a) and j < len(b):
         why = differ(a[i], b[j], tol)
@@ -344,13 +371,24 @@ def compare(program: str, tool_table: str | None = None, parameter_file: str | N
         elif _invisible(b[j], tol):
             j += 1
         else:
-            return f"divergence at move {i + 1} ({why})\n  cutsim: {a[i].text}\n  rs274:  {b[j].text}"
-    rest_a = [m for m in a[i:] if not _invisible(m, tol)]
-    rest_b = [m for m in b[j:] if not _invisible(m, tol)]
-    if rest_a or rest_b:
-        who = "cutsim" if rest_a else "rs274"
-        return f"divergence: {who} has {len(rest_a or rest_b)} more moves, the first: {(rest_a or rest_b)[0].text}"
-    return "same"
+            return i, j, f"divergence at move {i + 1} ({why})\n  cutsim: {a[i].text}\n  rs274:  {b[j].text}"
+    return i, j, None
+
+
+def _no_end(program: str, ours: list, theirs: Outcome, tol: float) -> str:
+    """rs274 stopped by the timeout, cutsim ran the program: rs274's known G7x loop (a documented
+    difference) when the program has a G70-G72 and every move rs274 printed before it is cutsim's too
+    (rs274 may stop printing mid-way: its last move is not compared), else a divergence."""
+    with open(program, encoding="utf-8") as f:
+        has_g7x = G7X.search(f.read()) is not None
+    printed = theirs.moves[:-1]
+    i, j, first = _walk(ours, printed, tol)
+    if has_g7x and first is None and j == len(printed):
+        return (f"documented difference: rs274 does not end on a G70-G72 cycle, its known loop (docs/dialects/"
+                f"rs274ngc.md, Differences that are rs274's); its {len(printed)} moves before agree\n"
+                f"  cutsim: {len(ours)} moves\n  rs274:  {theirs.error}")
+    return (f"divergence: only rs274 refuses the program\n  cutsim: {len(ours)} moves\n"
+            f"  rs274:  {theirs.error}" + (f"\n  before it: {first}" if first else ""))
 
 
 def _invisible(m: Move, tol: float) -> bool:
