@@ -17,6 +17,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..core.compensation import nose_shift
+from .removalgeom import tip_path
 from .threading import METRIC_PITCH
 
 EPS = 1e-9
@@ -71,14 +73,22 @@ class ToolEdge:
     edge: int
     start: tuple[float, float]
     face: bool = False
+    nose: float = 0.0
 
     @classmethod
     def of(cls, m) -> "ToolEdge":
         t = getattr(m, "tool_no", None)
         width = m.cfg.tool_widths.get(t, 0.0) if t is not None else 0.0
-        edge = m.cfg.tool_noses.get(t, (0.0, 0))[1] if t is not None else 0
+        nose, edge = m.cfg.tool_noses.get(t, (0.0, 0)) if t is not None else (0.0, 0)
+        if getattr(m, "d_no", 1) == 0:  # D0: no tool offsets, no nose
+            nose = 0.0
         x = 2.0 * m.pos[0]  # the lathe mode keeps X as a radius
-        return cls(width, edge, (x, m.pos[2]), t is not None and t in m.cfg.tool_faces)
+        return cls(width, edge, (x, m.pos[2]), t is not None and t in m.cfg.tool_faces, nose)
+
+    def tip_shift(self) -> tuple[float, float]:
+        """From the nose's centre to the theoretical tip (radius, z), as G41/G42 take it."""
+        dz, dx = nose_shift(self.edge, self.nose, "ZX")
+        return (dx, dz)
 
     @property
     def outside(self) -> bool | None:
@@ -556,29 +566,44 @@ def _side(v: dict, name: str, tool: ToolEdge) -> tuple[bool, float]:
 
 
 def _undercut(p: _Path, tool: ToolEdge, outside: bool, s: float, R: float, face: float, t1: float, f: float,
-              r: float, ramp_deg: float, ramp_from_axis: bool, t2: float, clear: float) -> None:
+              r: float, ramp_deg: float, t2: float, clear: float, size: str) -> None:
     """From the cylinder (radius R) f away from the face (at z ``face``), down the ramp to the floor
     at depth t1, along it and round the fillet r (tangent to the floor and to the face, or to the face
-    moved t2 into the shoulder, whose relief then returns to the face at DIN509_FACE degrees), out."""
+    moved t2 into the shoulder, whose relief then returns to the face at DIN509_FACE degrees), out.
+    With a nose radius the theoretical tip runs where the nose stays tangent to that contour
+    (removalgeom.tip_path); a fillet narrower than the nose is refused at ``size``."""
     d = -1.0 if outside else 1.0
     rf = R + d * t1
-    run = t1 / math.tan(math.radians(ramp_deg)) if ramp_from_axis else t1 * math.tan(math.radians(ramp_deg))
+    run = t1 / math.tan(math.radians(ramp_deg))
     wall = face - s * t2
     clear_r = R - d * clear
-    _enter(p, tool, outside, clear_r, face + s * f)
-    p.g1(R, face + s * f)
-    p.g1(rf, face + s * (f - run))
-    p.g1(rf, wall + s * r)
     top = rf - d * r
-    p.arc(top, wall, top, wall + s * r, (rf, wall + s * r))
-    cur = top
+    con = [("L", (R, face + s * f), (rf, face + s * (f - run))), ("L", (rf, face + s * (f - run)), (rf, wall + s * r)),
+           ("A", (rf, wall + s * r), (top, wall), (top, wall + s * r), (s > 0) == outside)]
     if t2 > EPS:
-        cur = top - d * t2 / math.tan(math.radians(DIN509_FACE))
-        p.g1(cur, face)
-    if (cur - clear_r) * d > 0:  # up the face to the clearance level
-        cur = clear_r
-        p.g1(cur, face)
-    _leave(p, tool, outside, cur)
+        con.append(("L", (top, wall), (top - d * t2 / math.tan(math.radians(DIN509_FACE)), face)))
+    up = clear_r + d * tool.nose  # the tip that far below the clearance level: the nose's centre on it
+    if (con[-1][2][0] - up) * d > 0:  # up the face to the clearance level
+        con.append(("L", con[-1][2], (up, face)))
+    if tool.nose > EPS:  # in the frame (a, b) = (-d radius, s z): out of the part, running towards -b
+        m = lambda pt: (-d * pt[0], s * pt[1])  # noqa: E731  (its own inverse)
+        flip = (d > 0) != (s < 0)
+        lead = [("L", m((R, face + s * (f + tool.nose))), m(con[0][1]))]
+        frame = [(e[0], m(e[1]), m(e[2])) + ((m(e[3]), e[4] != flip) if e[0] == "A" else ()) for e in lead + con]
+        try:
+            path = tip_path(frame, 0.0, 0.0, 0.0, tool.nose, m(tool.tip_shift()), blank=False)
+        except ValueError:
+            raise GrooveParamError(size, f"the undercut's radius {r:g} is smaller than the tool's nose radius "
+                                         f"{tool.nose:g}: the nose cannot follow it") from None
+        con = [(e[0], m(e[1]), m(e[2])) + ((m(e[3]), e[4] != flip) if e[0] == "A" else ()) for e in path]
+    _enter(p, tool, outside, clear_r, con[0][1][1])
+    p.g1(*con[0][1])
+    for e in con:
+        if e[0] == "L":
+            p.g1(*e[2])
+        else:
+            p.arc(*e[2], *e[3], p.here())
+    _leave(p, tool, outside, clear_r if (con[-1][2][0] - clear_r) * d > 0 else con[-1][2][0])
 
 
 def plan_cycle94(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
@@ -593,8 +618,8 @@ def plan_cycle94(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
     if outside and spd / 2.0 - t1 <= EPS:
         raise GrooveParamError("SPD", f"the undercut's depth {t1:g} reaches the turning axis (SPD {spd:g})")
     p = _Path()
-    _undercut(p, tool, outside, s, spd / 2.0, _num(v, "SPL"), t1, f, r, DIN509_RAMP, True,
-              t2 if form == "F" else 0.0, _unsigned(v, "_VRT") or DEFAULT_CLEARANCE)
+    _undercut(p, tool, outside, s, spd / 2.0, _num(v, "SPL"), t1, f, r, DIN509_RAMP,
+              t2 if form == "F" else 0.0, _unsigned(v, "_VRT") or DEFAULT_CLEARANCE, "SPD")
     return p.moves
 
 
@@ -625,6 +650,6 @@ def plan_cycle96(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
         R = (diath - 1.082532 * pitch) / 2.0
         t1 = (diath + dd) / 2.0 - R
     p = _Path()
-    _undercut(p, tool, outside, s, R, _num(v, "SPL"), t1, length, r, DIN76_FLANK, True, 0.0,
-              _unsigned(v, "_VRT") or DEFAULT_CLEARANCE)
+    _undercut(p, tool, outside, s, R, _num(v, "SPL"), t1, length, r, DIN76_FLANK, 0.0,
+              _unsigned(v, "_VRT") or DEFAULT_CLEARANCE, "DIATH")
     return p.moves

@@ -248,6 +248,31 @@ def offset(elems: list, fa: float, fb: float, fal: float) -> list:
             if math.hypot(e[2][0] - e[1][0], e[2][1] - e[1][1]) > 1e-9]
 
 
+def moved(elems: list, v: tuple[float, float]) -> list:
+    """The elements translated by ``v`` (a, b)."""
+    sh = lambda pt: (pt[0] + v[0], pt[1] + v[1])  # noqa: E731
+    return [(e[0], sh(e[1]), sh(e[2])) + ((sh(e[3]), e[4]) if e[0] == "A" else ()) for e in elems]
+
+
+def tip_path(elems: list, fa: float, fb: float, fal: float, nose: float, shift: tuple[float, float],
+             blank: bool = True) -> list:
+    """Where the tool's theoretical tip runs so that its nose circle (radius ``nose``) stays tangent
+    to the contour moved by the allowances, on the air's side (+a): the nose centre's path is that
+    contour moved ``nose`` further along its normal (rounded by the nose about its outer corners, as
+    G41/G42's), the tip ``shift`` (a, b) from the centre (the cutting edge position). With ``blank``
+    (the contour's end rising to the blank's level) a piece along that level is added past the end,
+    so that the path reaches the level too. Raises ValueError
+    (the point) where a concave arc is narrower than the nose plus FAL."""
+    if nose <= EPS:
+        return offset(elems, fa, fb, fal)
+    for e in elems:
+        if e[0] == "A" and e[4] and radius(e) <= fal + nose + EPS:
+            raise ValueError(e[2])
+    end = elems[-1][2]
+    ext = [("L", end, (end[0], end[1] - 2.0 * (nose + fa + fb + fal) - 1.0))] if blank else []
+    return moved(offset(list(elems) + ext, fa, fb, fal + nose), shift)
+
+
 # ---------------------------------------------------------------------------------------------
 # walking along the contour by position (element index, t)
 def rising(e) -> bool:

@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 from .grooving import _budget, _enter, _leave, _num, _Path, _unsigned, DEFAULT_CLEARANCE, GrooveParamError, ToolEdge
-from .removalgeom import (EPS, Frame, basin_end, bulge, first_below, first_up, follow_up, lowest, offset,
-                          pieces, point)
+from .removalgeom import (EPS, Frame, basin_end, bulge, first_below, first_up, follow_up, lowest, pieces, point,
+                          tip_path)
 
 
 def _vari(v: dict) -> tuple[int, bool, bool, bool]:
@@ -220,6 +220,19 @@ def _finish(pl: _Plan, con: list) -> None:
     pl.g0(pl.safe, con[-1][2][1])
 
 
+def _tip(frame: Frame, con: list, allow: tuple | None, tool: ToolEdge) -> list:
+    """The path of the tool's theoretical tip along the contour moved by the allowances (FALX/FALZ
+    as (a, b), FAL; None: the finishing's contour itself), its nose kept tangent to it
+    (removalgeom.tip_path; the roughing's walk needs its monotone pieces)."""
+    if allow is None and tool.nose <= EPS:
+        return con
+    try:
+        return tip_path(con, *(allow or (0.0, 0.0, 0.0)), tool.nose, frame.to(*tool.tip_shift()))
+    except ValueError as e:
+        raise GrooveParamError("NPP", f"a concave arc ending at {_where(frame, e.args[0])} is narrower than the "
+                                      f"tool's nose radius {tool.nose:g} (+ FAL): the nose cannot follow it") from None
+
+
 def plan_cycle95(v: dict, start, elems: list, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
     """CYCLE95 on the contour from ``start`` (radius, z) through ``elems``."""
     kind, rough, finish, overlap = _vari(v)
@@ -233,18 +246,18 @@ def plan_cycle95(v: dict, start, elems: list, tool: ToolEdge, max_moves: int | N
     clear = _unsigned(v, "_VRT") or DEFAULT_CLEARANCE
     con = _canonical(frame, elems)
     fa, fb = (falz, falx) if frame.face else (falx, falz)
-    off = offset(con, fa, fb, fal) if rough else con
+    off = _tip(frame, con, (fa, fb, fal) if rough else None, tool)
     for k, e in enumerate(off):
         if e[2][1] > e[1][1] + 1e-6:
             raise GrooveParamError("NPP", f"a relief cut near {_where(frame, e[2])} is narrower than the finishing "
-                                          "allowances on its two sides: the roughing cannot enter it")
+                                          "allowances and the tool's nose on its two sides: the roughing cannot enter it")
     top = con[-1][2][0]
     b_air = max(con[0][1][1], off[0][1][1]) + clear
     pl = _Plan(v, off, top, b_air, clear, max_moves)
     if rough:
         _relief(pl, _main(pl, overlap), overlap)
     if finish:
-        _finish(pl, con)
+        _finish(pl, _tip(frame, con, None, tool) if rough else off)
     else:
         pl.up()
     return _real(pl.moves, frame, tool, (top + clear, b_air))

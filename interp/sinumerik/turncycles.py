@@ -127,23 +127,11 @@ def cycle93(cy: Cycle) -> None:
     _groove(cy, grooving.plan_cycle93)
 
 
-def _nose_note(cy: Cycle) -> None:
-    """The contour cycles run the tool's theoretical tip on the contour: with a nose radius the
-    slopes and arcs come out off by up to the radius (cylinders and faces are right); warned."""
-    t = getattr(cy.m, "tool_no", None)
-    rn = cy.m.cfg.tool_noses.get(t, (0.0, 0))[0] if t is not None else 0.0
-    if rn > 0:
-        cy.m.warn(cy.src, f"{cy.label}: the tool's nose radius {rn:g} is not compensated: its theoretical tip runs "
-                  "on the contour (cylinders and faces come out right, slopes and arcs up to the radius off)")
-
-
 def cycle94(cy: Cycle) -> None:
-    _nose_note(cy)
     _groove(cy, grooving.plan_cycle94)
 
 
 def cycle96(cy: Cycle) -> None:
-    _nose_note(cy)
     _groove(cy, grooving.plan_cycle96)
 
 
@@ -168,7 +156,6 @@ def _contour95(cy: Cycle):
 
 def cycle95(cy: Cycle) -> None:
     start, elems = _contour95(cy)
-    _nose_note(cy)
     _groove(cy, lambda v, tool, limit: stockremoval.plan_cycle95(v, start, elems, tool, limit))
 
 

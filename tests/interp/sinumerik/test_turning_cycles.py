@@ -469,17 +469,6 @@ def test_cycle98_cuts_each_segment_at_its_lead(tmp_path):
         assert got["hand"] == "right" and 28.0 - 0.045 <= got["root_diameter"] <= 28.005
 
 
-def test_contour_cycles_warn_an_uncompensated_nose(tmp_path):
-    text = C95.format(vari=5)
-    (tmp_path / "setup.toml").write_text(C95_SETUP.replace("tip_radius = 0.0", "tip_radius = 0.4"))
-    from cutsim import interp_config, load_setup
-    from cutsim.interp import interpret
-
-    s = load_setup(str(tmp_path / "setup.toml"))
-    prog = interpret("c95.mpf", text, interp_config(s, s.machine.start))
-    assert any("nose radius 0.4 is not compensated" in msg and src.line == 5 for src, msg in prog.warnings)
-
-
 def test_cycle93_chamfer_and_roundings(tmp_path):
     # VARI 5 (right: the groove Z-10 .. -18, floor 22) with RCO1 -1 (a chamfer of length 1, CHF: legs
     # 1 / (2 sin 45) = 0.7071), RCI1 0.5 and RCI2 0.5 (fillets at the base), RCO2 0.8 (a rounding)
