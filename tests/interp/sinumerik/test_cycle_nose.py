@@ -23,10 +23,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import cutsim
-from cutsim.reports.measure import radii_at
+from cutsim.reports.measure import plane_section, radii_at
 
 SETUP = """
 [machine]
@@ -45,6 +46,15 @@ size = 9.525
 tip_radius = {rho}
 approach = 93.0
 hand = "R"
+[[tool]]
+number = 2
+kind = "turning"
+insert = "V"
+size = 6.35
+tip_radius = {rho}
+approach = 93.0
+hand = "R"
+side = "inside"
 [simulation]
 tolerance = 0.005
 """
@@ -148,6 +158,39 @@ def test_cycle95_roughing_levels_end_where_the_nose_touches_the_allowance(tmp_pa
     assert got == pytest.approx(8.3, abs=0.01)
 
 
+def bore_radius(part, z: float) -> float:
+    pts = np.concatenate(plane_section(part, "z", z))
+    return float(np.hypot(pts[:, 0], pts[:, 1]).min())
+
+
+@pytest.mark.parametrize("rho", [0.4, 0.8])
+def test_cycle95_inside_chamfer_with_a_nose(tmp_path, rho):
+    # VARI 11 in the tube 50 / 20: the bore's mouth chamfered 45 degrees from radius 18 at Z0 to 16 at
+    # Z-2, the bore 32 to Z-15, 24 to Z-30 (an inside tool: edge 2, its tip the centre + (rho, -rho));
+    # uncompensated the chamfer would be rho (2 - sqrt 2) radially short of the contour
+    bore = "KONT_A: G1 X36 Z0\nX32 Z-2\nZ-15\nX24\nZ-30\nKONT_E: X20\n"
+    call = 'CYCLE95("KONT_A:KONT_E", 2, 0, 0, 0, 0.25, 0.15, 0.1, 11, 0, 0, 1)'
+    text = (f"N10 G18 G90 G95 DIAMON\nN20 T2 D1\nN30 S500 M3 F0.2\nN40 G0 X10 Z5\nN50 {call}\n"
+            f"N60 G0 X10 Z20\nN70 M30\n{bore}")
+    res = run(tmp_path, text, rho, "[[10, 0], [25, 0], [25, -40], [10, -40]]")
+    for z, r in ((-1.0, 17.0), (-8.0, 16.0), (-20.0, 12.0)):
+        assert bore_radius(res.part, z) == pytest.approx(r, abs=0.01), z
+    assert rho * (2.0 - math.sqrt(2.0)) > 0.2
+
+
+@pytest.mark.parametrize("rho", [0.4, 0.8])
+def test_cycle95_face_chamfer_with_a_nose(tmp_path, rho):
+    # VARI 10 (face, outside) on the bar of 40: the spigot of 20, 8 long, its chamfer from radius 10 at
+    # Z-2 to 5 at Z0 (radius 7.5 at Z-1); the outside tool cuts towards the axis
+    face = "KONT_A: G1 X40 Z-8\nX20\nZ-2\nX10 Z0\nKONT_E: X0\n"
+    call = 'CYCLE95("KONT_A:KONT_E", 2, 0, 0, 0, 0.25, 0.15, 0.1, 10, 0, 0, 1)'
+    text = (f"N10 G18 G90 G95 DIAMON\nN20 T1 D1\nN30 S500 M3 F0.2\nN40 G0 X44 Z5\nN50 {call}\n"
+            f"N60 G0 X60 Z20\nN70 M30\n{face}")
+    res = run(tmp_path, text, rho)
+    for z, r in ((-1.0, 7.5), (-5.0, 10.0), (-20.0, 20.0)):
+        assert float(radii_at(res.part, z).min()) == pytest.approx(r, abs=0.01), z
+
+
 def test_cycle95_refuses_a_fillet_narrower_than_the_nose(tmp_path):
     # the fillet R4 replaced by one of 0.7 (from the cylinder at Z-13.3 to the face at radius 10.7)
     text = program(9).replace("Z-10\nG2 X28 Z-14 CR=4", "Z-13.3\nG2 X21.4 Z-14 CR=0.7\nG1 X28")
@@ -178,8 +221,10 @@ def test_cycle96_flank_and_floor_with_a_nose(tmp_path, rho):
     flank = 8.0 - 0.75  # halfway down the flank
     got = float(radii_at(part, z).min())
     assert got == pytest.approx(flank, abs=0.01)
-    # uncompensated it would be rho (1 - cos 30 + sin 30) / cos 30 deeper: more than the tolerance
-    assert rho * (1 - math.cos(math.radians(30)) + 0.5) / math.cos(math.radians(30)) > 0.25
+    # uncompensated the nose would leave it rho (1 - cos 30 + sin 30) / cos 30 deeper (0.2928 for
+    # 0.4, 0.5857 for 0.8; measured so on the old path): far outside the tolerance
+    old = flank - rho * (1 - math.cos(math.radians(30)) + 0.5) / math.cos(math.radians(30))
+    assert abs(got - old) > 0.25
     assert float(radii_at(part, FACE + 1.0 + (7.0 - run_z - 1.0) / 2.0).min()) == pytest.approx(6.5, abs=0.01)
     assert float(radii_at(part, FACE + 7.5).min()) == pytest.approx(8.0, abs=0.01)  # the cylinder beyond
 
@@ -190,7 +235,11 @@ def test_cycle94_ramp_with_a_nose(tmp_path, rho):
     part = undercut_part(tmp_path, 'CYCLE94(20, -30, "E", 3)', 20.0, rho)
     run_z = 0.3 / math.tan(math.radians(15.0))
     z = FACE + 2.5 - run_z / 2.0
-    assert float(radii_at(part, z).min()) == pytest.approx(10.0 - 0.15, abs=0.01)
+    got = float(radii_at(part, z).min())
+    assert got == pytest.approx(10.0 - 0.15, abs=0.01)
+    # uncompensated: rho (1 - cos 15 + sin 15) / cos 15 = 0.1218 deeper (measured so on the old path)
+    assert abs(got - (9.85 - rho * (1 - math.cos(math.radians(15)) + math.sin(math.radians(15)))
+                      / math.cos(math.radians(15)))) > 0.1
     assert float(radii_at(part, FACE + 0.6 + (2.5 - run_z - 0.6) / 2.0).min()) == pytest.approx(9.7, abs=0.01)
 
 
