@@ -270,7 +270,10 @@ def tip_path(elems: list, fa: float, fb: float, fal: float, nose: float, shift: 
             raise ValueError(e[2])
     end = elems[-1][2]
     ext = [("L", end, (end[0], end[1] - 2.0 * (nose + fa + fb + fal) - 1.0))] if blank else []
-    return moved(offset(list(elems) + ext, fa, fb, fal + nose), shift)
+    path = moved(offset(list(elems) + ext, fa, fb, fal + nose), shift)
+    while blank and len(path) > 1 and min(path[-1][1][0], path[-1][2][0]) >= end[0] - EPS:
+        path.pop()  # along the blank's level: no material there, the path ends where it reaches it
+    return path
 
 
 # ---------------------------------------------------------------------------------------------

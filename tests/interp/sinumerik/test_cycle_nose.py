@@ -28,6 +28,7 @@ import pytest
 
 import cutsim
 from cutsim.reports.measure import plane_section, radii_at
+from cutsim.testing import assert_matches_design
 
 SETUP = """
 [machine]
@@ -247,3 +248,22 @@ def test_cycle94_refuses_a_fillet_narrower_than_the_nose(tmp_path):
     with pytest.raises(cutsim.CutsimError) as e:
         undercut_part(tmp_path, 'CYCLE94(20, -30, "E", 3)', 20.0, 0.8)
     assert "smaller than the tool's nose radius 0.8" in str(e.value)
+
+
+@pytest.mark.parametrize("rho", [0.4, 0.8])
+def test_cycle95_relief_shaft_with_a_nose_against_its_design(tmp_path, rho):
+    # test_cycle95's relief cut shaft (its contour and design) complete with a nose: nothing of the
+    # design removed (within the chords: the nose's polygon rolling round the outer corners, under
+    # 0.02 mm^3), and the part's farthest point from the design is the nose's rounding in the square
+    # inner corner at the collar (radius 13 to the face at Z-35): the spandrel's point on the
+    # bisector, rho (sqrt 2 - 1) from the corner, lies rho (1 - 1 / sqrt 2) from each leg
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    import test_cycle95 as c95
+
+    (tmp_path / "setup.toml").write_text(c95.SETUP.format(profile=c95.BAR).replace("tip_radius = 0.0",
+                                                                                     f"tip_radius = {rho}"))
+    res = cutsim.simulate("c95.mpf", str(tmp_path / "setup.toml"), text=c95.prog(c95.RELIEF, c95.c95(9)))
+    rec = assert_matches_design(res, c95.design(c95.EXACT, 15), tol=rho + 0.01, max_gouge=0.02)
+    assert rec["details"]["worst_deviation"] == pytest.approx(rho * (1 - 1 / math.sqrt(2)), abs=0.01)
