@@ -582,13 +582,13 @@ def _undercut(p: _Path, tool: ToolEdge, outside: bool, s: float, R: float, face:
            ("A", (rf, wall + s * r), (top, wall), (top, wall + s * r), (s > 0) == outside)]
     if t2 > EPS:
         con.append(("L", (top, wall), (top - d * t2 / math.tan(math.radians(DIN509_FACE)), face)))
-    up = clear_r + d * tool.nose  # the tip that far below the clearance level: the nose's centre on it
+    up = clear_r - tool.tip_shift()[0]  # the face so far that the tip reaches the clearance level
     if (con[-1][2][0] - up) * d > 0:  # up the face to the clearance level
         con.append(("L", con[-1][2], (up, face)))
     if tool.nose > EPS:  # in the frame (a, b) = (-d radius, s z): out of the part, running towards -b
         m = lambda pt: (-d * pt[0], s * pt[1])  # noqa: E731  (its own inverse)
         flip = (d > 0) != (s < 0)
-        lead = [("L", m((R, face + s * (f + tool.nose))), m(con[0][1]))]
+        lead = [("L", (R, face + s * (f + tool.nose)), con[0][1])]  # the cylinder before: the tip enters on it
         frame = [(e[0], m(e[1]), m(e[2])) + ((m(e[3]), e[4] != flip) if e[0] == "A" else ()) for e in lead + con]
         try:
             path = tip_path(frame, 0.0, 0.0, 0.0, tool.nose, m(tool.tip_shift()), blank=False)
