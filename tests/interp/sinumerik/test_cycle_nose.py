@@ -56,6 +56,14 @@ tip_radius = {rho}
 approach = 93.0
 hand = "R"
 side = "inside"
+[[tool]]
+number = 3
+kind = "turning"
+insert = "V"
+size = 9.525
+tip_radius = {rho}
+approach = 93.0
+hand = "L"
 [simulation]
 tolerance = 0.005
 """
@@ -291,3 +299,20 @@ def test_cycle96_every_form_with_a_nose(tmp_path, form, rho):
     assert c96.verdict(res.part, u, 0.01) == []
     removed = 1.0 - res.report["part_volume"] / res.report["stock_volume"]
     assert removed == pytest.approx(c96.ring_volume(u) / c96.stock_volume(u, 16), rel=3e-3)
+
+
+@pytest.mark.parametrize("rho", [0.2, 0.4])
+def test_cycle94_form_f_towards_minus_z_with_a_hand_l_tool(tmp_path, rho):
+    # _VARI 4 with a hand L tool (edge 4: its tip the centre + (-rho, +rho)): the shaft of 20 runs from
+    # the shoulder's face at Z-30 towards -Z, the undercut D 20 form F (r 0.6, t1 0.3, f 2.5, t2 0.2)
+    # below it: the ramp's middle at Z-30 - (2.5 - run / 2) radius 9.85, the floor 9.7 (the fillet
+    # tangent to the face moved t2 into the shoulder, Z-29.8), the shaft 10 beyond the ramp
+    profile = "[[0, 0], [20, 0], [20, -30], [10, -30], [10, -50], [0, -50]]"
+    text = "N10 G18 G90 G95 T3 D1\nN20 S500 M3 F0.1\nN30 G0 X30 Z-60\nN40 CYCLE94(20, -30, \"F\", 4)\nN50 G0 X60\nN60 M30\n"
+    part = run(tmp_path, text, rho, profile).part
+    run_z = 0.3 / math.tan(math.radians(15.0))
+    assert float(radii_at(part, FACE - 2.5 + run_z / 2.0).min()) == pytest.approx(9.85, abs=0.01)
+    assert float(radii_at(part, FACE - 0.6 - (2.5 - run_z - 0.6) / 2.0).min()) == pytest.approx(9.7, abs=0.01)
+    # (the 8 degree relief into the face is not measured: the 93 degree insert's major edge, 3 degrees
+    # off the face, cuts the shoulder beyond it with or without a nose -- the tool's shape, not its path)
+    assert float(radii_at(part, FACE - 3.0).min()) == pytest.approx(10.0, abs=0.01)
