@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass
 
 from ..core.compensation import nose_shift
-from .removalgeom import tip_path
+from .removalgeom import mapped, tip_path
 from .threading import METRIC_PITCH
 
 EPS = 1e-9
@@ -589,13 +589,12 @@ def _undercut(p: _Path, tool: ToolEdge, outside: bool, s: float, R: float, face:
         m = lambda pt: (-d * pt[0], s * pt[1])  # noqa: E731  (its own inverse)
         flip = (d > 0) != (s < 0)
         lead = [("L", (R, face + s * (f + tool.nose)), con[0][1])]  # the cylinder before: the tip enters on it
-        frame = [(e[0], m(e[1]), m(e[2])) + ((m(e[3]), e[4] != flip) if e[0] == "A" else ()) for e in lead + con]
         try:
-            path = tip_path(frame, 0.0, 0.0, 0.0, tool.nose, m(tool.tip_shift()), blank=False)
+            path = tip_path(mapped(lead + con, m, flip), 0.0, 0.0, 0.0, tool.nose, m(tool.tip_shift()), blank=False)
         except ValueError:
             raise GrooveParamError(size, f"the undercut's radius {r:g} is smaller than the tool's nose radius "
                                          f"{tool.nose:g}: the nose cannot follow it") from None
-        con = [(e[0], m(e[1]), m(e[2])) + ((m(e[3]), e[4] != flip) if e[0] == "A" else ()) for e in path]
+        con = mapped(path, m, flip)
     _enter(p, tool, outside, clear_r, con[0][1][1])
     p.g1(*con[0][1])
     for e in con:
@@ -625,8 +624,7 @@ def plan_cycle94(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[
 
 def plan_cycle96(v: dict, tool: ToolEdge, max_moves: int | None = None) -> list[tuple]:
     """Thread undercut DIN 76 form A / B (outside, normal / short) or C / D (inside, normal / short)
-    for the metric coarse thread DIATH (M3..M60: its pitch from ISO 261; the short forms up to pitch
-    3.5), at the face SPL, in one pass. A short form is the normal one of its pitch, shorter."""
+    for the metric coarse thread DIATH (M3..M60: its pitch from ISO 261), at the face SPL, in one pass. A short form is the normal one of its pitch, shorter."""
     diath = _unsigned(v, "DIATH", positive=True)
     form = str(v.get("FORM", "")).strip().upper()
     if form not in ("A", "B", "C", "D"):

@@ -248,10 +248,10 @@ def offset(elems: list, fa: float, fb: float, fal: float) -> list:
             if math.hypot(e[2][0] - e[1][0], e[2][1] - e[1][1]) > 1e-9]
 
 
-def moved(elems: list, v: tuple[float, float]) -> list:
-    """The elements translated by ``v`` (a, b)."""
-    sh = lambda pt: (pt[0] + v[0], pt[1] + v[1])  # noqa: E731
-    return [(e[0], sh(e[1]), sh(e[2])) + ((sh(e[3]), e[4]) if e[0] == "A" else ()) for e in elems]
+def mapped(elems: list, f, flip: bool = False) -> list:
+    """The elements with every point taken through ``f`` (a rigid map); ``flip``: it mirrors, so
+    each arc turns the other way."""
+    return [(e[0], f(e[1]), f(e[2])) + ((f(e[3]), e[4] != flip) if e[0] == "A" else ()) for e in elems]
 
 
 def tip_path(elems: list, fa: float, fb: float, fal: float, nose: float, shift: tuple[float, float],
@@ -270,7 +270,7 @@ def tip_path(elems: list, fa: float, fb: float, fal: float, nose: float, shift: 
             raise ValueError(e[2])
     end = elems[-1][2]
     ext = [("L", end, (end[0], end[1] - 2.0 * (nose + fa + fb + fal) - 1.0))] if blank else []
-    path = moved(offset(list(elems) + ext, fa, fb, fal + nose), shift)
+    path = mapped(offset(list(elems) + ext, fa, fb, fal + nose), lambda pt: (pt[0] + shift[0], pt[1] + shift[1]))
     while blank and len(path) > 1 and min(path[-1][1][0], path[-1][2][0]) >= end[0] - EPS:
         path.pop()  # along the blank's level: no material there, the path ends where it reaches it
     return path
